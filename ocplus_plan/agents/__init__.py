@@ -1,0 +1,32 @@
+"""Controllers with one interface (see :mod:`.base`) and a registry by name.
+
+Names: ``random``, ``stay``; later issues add ``greedy``, ``planner:NAME`` and
+``ppo:PATH`` to :data:`FACTORIES` (``kind`` -> factory taking the text after the colon).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from ..errors import ConfigError
+from .base import Controller, RandomAgent, StayAgent, Team
+
+#: agent kind -> factory(argument after ':' or None, seed) -> Controller
+FACTORIES: dict[str, Callable[[str | None, int], Controller]] = {
+    "random": lambda arg, seed: RandomAgent(seed),
+    "stay": lambda arg, seed: StayAgent(),
+}
+
+
+def make_controller(spec: str, seed: int = 0) -> Controller:
+    """Build a controller from a name such as ``random`` or ``planner:fast-downward``."""
+    kind, _, arg = spec.partition(":")
+    if kind not in FACTORIES:
+        raise ConfigError(
+            f"unknown agent {spec!r}; known agents: {', '.join(sorted(FACTORIES))} "
+            "(planner:NAME and ppo:PATH take an argument)"
+        )
+    return FACTORIES[kind](arg or None, seed)
+
+
+__all__ = ["FACTORIES", "Controller", "RandomAgent", "StayAgent", "Team", "make_controller"]

@@ -1,0 +1,72 @@
+"""The ``ocplus`` command. Each subcommand lives in ``ocplus_plan/commands/<name>.py``
+and exposes ``register(subparsers)`` (adds its parser, sets ``func``); this module
+only dispatches, maps errors to exit codes and keeps heavy imports lazy.
+
+Exit codes, grouped by meaning (as Fast Downward's driver does):
+  0   success
+  1   unexpected internal error (a bug: please report it with the traceback)
+  2   bad input: unknown preset / map / planner / agent, malformed map, bad option
+  3   an optional dependency is missing (the message names the extra to install)
+  130 interrupted (Ctrl-C); results written so far are kept
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+
+from .errors import DependencyNotInstalled, OcplusError
+
+#: subcommand name -> module in ocplus_plan.commands (imported only when listed in help
+#: or run, so `ocplus check-map` never loads unified_planning or torch).
+COMMANDS: dict[str, str] = {
+    "check-map": "check_map",
+    "rollout": "rollout",
+    "demo": "demo",
+}
+
+EXAMPLES = """examples:
+  ocplus check-map mapC
+  ocplus check-map maps/hard_switch.yaml
+  ocplus rollout --preset hard --n-agents 2 --steps 200 --seed 0 --json
+"""
+
+EXIT_OK, EXIT_BUG, EXIT_INPUT, EXIT_DEPENDENCY, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="ocplus",
+        description="ocplus-plan: planning and learning in an Overcooked-style kitchen.",
+        epilog=EXAMPLES + "\n" + __doc__.split("Exit codes", 1)[1].join(["exit codes", ""]),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for module in COMMANDS.values():
+        importlib.import_module(f"ocplus_plan.commands.{module}").register(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return EXIT_INPUT
+    try:
+        return int(args.func(args) or 0)
+    except DependencyNotInstalled as exc:
+        print(f"ocplus: {exc}", file=sys.stderr)
+        return EXIT_DEPENDENCY
+    except OcplusError as exc:
+        print(f"ocplus: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except KeyboardInterrupt:
+        print("ocplus: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

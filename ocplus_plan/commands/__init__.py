@@ -1,0 +1,1 @@
+"""Subcommands of ``ocplus``; each module has ``register(subparsers)``."""

@@ -1,0 +1,319 @@
+"""Map files (SPEC section 2): loading, validation and the ``maps/`` registry.
+
+``load_map`` accepts a registered name (``"mapC"``), a path to a YAML file, or an
+already-parsed dict. Every problem is a :class:`MapFormatError` whose message names
+the source, and the row / column / value or key at fault.
+"""
+
+from __future__ import annotations
+
+import os
+from collections import deque
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import MapFormatError
+from .codes import (
+    COUNTERS,
+    SPAWN_TILES,
+    STATIONS,
+    SWITCHABLE,
+    VALID_CODES,
+    WALKABLE,
+    Cell,
+)
+
+#: canonical key -> accepted spellings (the paper's first).
+KEY_ALIASES: dict[str, tuple[str, ...]] = {
+    "name": ("name",),
+    "description": ("description",),
+    "dimensions": ("dimensions",),
+    "game_map": ("game_map", "map"),
+    "max_n_agent": ("max_n_agent", "max_n_agnet", "max_agents"),
+    "is_dynamic_map": ("is_dynamic_map", "dynamic_map"),
+    "switch_map": ("switch_map",),
+    "map_switch_step": ("map_switch_step",),
+    "agent_spawn_points": ("agent_spawn_points", "agent_initial_coordinates"),
+}
+_SPELLING_TO_KEY = {s: k for k, spellings in KEY_ALIASES.items() for s in spellings}
+
+#: Folder of the shipped maps (top-level ``maps/``); ``OCPLUS_MAPS`` adds more folders.
+MAPS_DIR = Path(__file__).resolve().parents[2] / "maps"
+
+
+@dataclass(frozen=True, eq=False)
+class Layout:
+    """A loaded map: the main grid, the optional switch grid and the spawn points.
+
+    Grids are read-only ``int8`` arrays of cell codes, shape ``(rows, cols)``.
+    """
+
+    name: str
+    source: str
+    grid: np.ndarray
+    switch_grid: np.ndarray | None
+    spawn_points: tuple[tuple[int, int], ...]
+    max_agents: int
+    is_dynamic: bool
+    map_switch_step: int
+    description: str = ""
+    #: cell code -> sorted (row, col) cells of that station / spawn tile kind
+    stations: dict[int, tuple[tuple[int, int], ...]] = field(default_factory=dict)
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (int(self.grid.shape[0]), int(self.grid.shape[1]))
+
+    @property
+    def rows(self) -> int:
+        return int(self.grid.shape[0])
+
+    @property
+    def cols(self) -> int:
+        return int(self.grid.shape[1])
+
+    def grids(self) -> tuple[np.ndarray, ...]:
+        """The layouts in switching order: main first, then the switch grid if any."""
+        return (self.grid,) if self.switch_grid is None else (self.grid, self.switch_grid)
+
+    def switching_cells(self) -> list[tuple[int, int]]:
+        if self.switch_grid is None:
+            return []
+        rr, cc = np.nonzero(self.grid != self.switch_grid)
+        return [(int(r), int(c)) for r, c in zip(rr, cc)]
+
+    def cells_of(self, code: Cell | int) -> tuple[tuple[int, int], ...]:
+        return self.stations.get(int(code), ())
+
+    def spawn_tile_counts(self) -> dict[int, int]:
+        return {int(c): len(self.cells_of(c)) for c in SPAWN_TILES}
+
+
+def available_maps() -> dict[str, Path]:
+    """Registered map names -> files: the shipped ``maps/`` plus ``OCPLUS_MAPS`` folders."""
+    folders = [MAPS_DIR]
+    extra = os.environ.get("OCPLUS_MAPS", "")
+    folders += [Path(p) for p in extra.split(os.pathsep) if p]
+    found: dict[str, Path] = {}
+    for folder in folders:
+        if folder.is_dir():
+            for path in sorted(folder.glob("*.yaml")):
+                found.setdefault(path.stem, path)
+    return found
+
+
+def load_map(spec: str | os.PathLike[str] | dict[str, Any], *, source: str | None = None) -> Layout:
+    """Load a map by registered name, by path, or from a dict (SPEC section 2)."""
+    if isinstance(spec, dict):
+        return _parse(spec, source or "<dict>")
+    text_spec = os.fspath(spec)
+    path = Path(text_spec)
+    if not path.exists():
+        registry = available_maps()
+        if text_spec in registry:
+            path = registry[text_spec]
+        else:
+            names = ", ".join(sorted(registry)) or "(none)"
+            raise MapFormatError(
+                f"map {text_spec!r}: no such file and no registered map of that name; "
+                f"registered maps: {names}"
+            )
+    import yaml  # local: the core imports pyyaml only when a file is read
+
+    try:
+        raw = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        raise MapFormatError(f"{path}: YAML syntax error{where}: {exc}") from None
+    if raw is None:
+        raise MapFormatError(f"{path}: the file is empty; a map needs at least 'game_map'")
+    if not isinstance(raw, dict):
+        raise MapFormatError(
+            f"{path}: expected a mapping of keys (name, game_map, ...), got {type(raw).__name__}"
+        )
+    return _parse(raw, str(path))
+
+
+def _canonical_keys(raw: dict[str, Any], src: str) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    seen_as: dict[str, str] = {}
+    for key, value in raw.items():
+        canon = _SPELLING_TO_KEY.get(str(key))
+        if canon is None:
+            allowed = ", ".join(sorted(_SPELLING_TO_KEY))
+            raise MapFormatError(f"{src}: unknown key {key!r}; allowed keys: {allowed}")
+        if canon in out:
+            raise MapFormatError(
+                f"{src}: key {key!r} repeats {seen_as[canon]!r} (two spellings of one key); keep one"
+            )
+        out[canon] = value
+        seen_as[canon] = str(key)
+    return out
+
+
+def _parse_grid(value: Any, src: str, key: str) -> np.ndarray:
+    if not isinstance(value, list) or not value:
+        raise MapFormatError(f"{src}: '{key}' must be a non-empty list of rows of integer codes")
+    width = None
+    for r, row in enumerate(value):
+        if not isinstance(row, list) or not row:
+            raise MapFormatError(f"{src}: '{key}' row {r} must be a non-empty list, got {row!r}")
+        if width is None:
+            width = len(row)
+        elif len(row) != width:
+            raise MapFormatError(
+                f"{src}: '{key}' row {r} has {len(row)} cells but row 0 has {width}; "
+                "every row must have the same length"
+            )
+        for c, v in enumerate(row):
+            if isinstance(v, bool) or not isinstance(v, int) or v not in VALID_CODES:
+                codes = ", ".join(str(x) for x in sorted(VALID_CODES))
+                raise MapFormatError(
+                    f"{src}: '{key}' row {r}, column {c}: invalid cell code {v!r}; valid codes: {codes}"
+                )
+    grid = np.array(value, dtype=np.int8)
+    grid.setflags(write=False)
+    return grid
+
+
+def _parse(raw: dict[str, Any], src: str) -> Layout:
+    d = _canonical_keys(raw, src)
+    if "game_map" not in d:
+        raise MapFormatError(f"{src}: missing 'game_map' (alias 'map'), the grid of cell codes")
+    grid = _parse_grid(d["game_map"], src, "game_map")
+    rows, cols = grid.shape
+
+    if "dimensions" in d:
+        dims = d["dimensions"]
+        if not (isinstance(dims, list) and len(dims) == 2 and all(isinstance(x, int) for x in dims)):
+            raise MapFormatError(f"{src}: 'dimensions' must be [cols, rows], got {dims!r}")
+        if tuple(dims) != (cols, rows):
+            raise MapFormatError(
+                f"{src}: 'dimensions' says {dims} ([cols, rows]) but game_map is "
+                f"{cols} columns x {rows} rows"
+            )
+
+    if not np.any(grid == Cell.DELIVERY):
+        raise MapFormatError(f"{src}: no delivery cell (code 7); a kitchen needs one to serve orders")
+
+    switch_grid = None
+    if "switch_map" in d and d["switch_map"] is not None:
+        switch_grid = _parse_grid(d["switch_map"], src, "switch_map")
+        if switch_grid.shape != grid.shape:
+            raise MapFormatError(
+                f"{src}: 'switch_map' is {switch_grid.shape[1]}x{switch_grid.shape[0]} "
+                f"but game_map is {cols}x{rows} (cols x rows); they must match"
+            )
+        for r, c in zip(*np.nonzero(grid != switch_grid)):
+            a, b = int(grid[r, c]), int(switch_grid[r, c])
+            if a not in SWITCHABLE or b not in SWITCHABLE:
+                raise MapFormatError(
+                    f"{src}: switch_map row {r}, column {c} changes {Cell(a).name.lower()} ({a}) "
+                    f"to {Cell(b).name.lower()} ({b}); a switch may only change block (-1), "
+                    "floor (0) and counter (1) cells, never move a station or spawn tile"
+                )
+
+    is_dynamic = d.get("is_dynamic_map", switch_grid is not None)
+    if not isinstance(is_dynamic, bool):
+        raise MapFormatError(f"{src}: 'is_dynamic_map' must be true or false, got {is_dynamic!r}")
+    if is_dynamic and switch_grid is None:
+        raise MapFormatError(f"{src}: 'is_dynamic_map' is true but there is no 'switch_map'")
+    switch_step = d.get("map_switch_step", 15)
+    if isinstance(switch_step, bool) or not isinstance(switch_step, int) or switch_step < 1:
+        raise MapFormatError(f"{src}: 'map_switch_step' must be a positive integer, got {switch_step!r}")
+
+    grids = [grid] if switch_grid is None else [grid, switch_grid]
+    if "agent_spawn_points" in d:
+        pts = d["agent_spawn_points"]
+        if not isinstance(pts, list) or not pts:
+            raise MapFormatError(f"{src}: 'agent_spawn_points' must be a non-empty list of [row, col]")
+        spawns = []
+        for i, p in enumerate(pts):
+            if not (isinstance(p, list) and len(p) == 2 and all(isinstance(x, int) for x in p)):
+                raise MapFormatError(f"{src}: agent_spawn_points[{i}] must be [row, col], got {p!r}")
+            r, c = p
+            if not (0 <= r < rows and 0 <= c < cols):
+                raise MapFormatError(
+                    f"{src}: agent_spawn_points[{i}] = [{r}, {c}] is outside the "
+                    f"{rows}-row x {cols}-column grid"
+                )
+            for g, label in zip(grids, ("game_map", "switch_map")):
+                if int(g[r, c]) not in WALKABLE:
+                    raise MapFormatError(
+                        f"{src}: agent_spawn_points[{i}] = [{r}, {c}] is on "
+                        f"{Cell(int(g[r, c])).name.lower()} ({int(g[r, c])}) in {label}; "
+                        "spawn points must be floor (0 or 2)"
+                    )
+            spawns.append((r, c))
+        if len(set(spawns)) != len(spawns):
+            raise MapFormatError(f"{src}: agent_spawn_points has a repeated cell: {pts}")
+    else:
+        spawns = [(int(r), int(c)) for r, c in zip(*np.nonzero(grid == Cell.SPAWN))]
+        if not spawns:
+            raise MapFormatError(
+                f"{src}: no spawn points: add 'agent_spawn_points' or cells with code 2"
+            )
+
+    max_agents = d.get("max_n_agent", len(spawns))
+    if isinstance(max_agents, bool) or not isinstance(max_agents, int) or max_agents < 1:
+        raise MapFormatError(f"{src}: 'max_n_agent' must be a positive integer, got {max_agents!r}")
+    if max_agents > len(spawns):
+        raise MapFormatError(
+            f"{src}: 'max_n_agent' is {max_agents} but only {len(spawns)} spawn points are given; "
+            "add spawn points or lower max_n_agent"
+        )
+
+    stations: dict[int, tuple[tuple[int, int], ...]] = {}
+    for code in STATIONS | {Cell.COUNTER}:
+        cells = tuple((int(r), int(c)) for r, c in zip(*np.nonzero(grid == code)))
+        if cells:
+            stations[int(code)] = cells
+
+    name = d.get("name") or (Path(src).stem if src != "<dict>" else "unnamed")
+    return Layout(
+        name=str(name),
+        source=src,
+        grid=grid,
+        switch_grid=switch_grid,
+        spawn_points=tuple(spawns),
+        max_agents=max_agents,
+        is_dynamic=bool(is_dynamic),
+        map_switch_step=switch_step,
+        description=str(d.get("description") or ""),
+        stations=stations,
+    )
+
+
+def reachable_floor(grid: np.ndarray, start: tuple[int, int]) -> set[tuple[int, int]]:
+    """Floor cells reachable from ``start`` by 4-connected walking in ``grid``."""
+    rows, cols = grid.shape
+    seen = {start}
+    queue = deque([start])
+    while queue:
+        r, c = queue.popleft()
+        for dr, dc in ((0, 1), (1, 0), (0, -1), (-1, 0)):
+            nr, nc = r + dr, c + dc
+            if 0 <= nr < rows and 0 <= nc < cols and (nr, nc) not in seen:
+                if int(grid[nr, nc]) in WALKABLE:
+                    seen.add((nr, nc))
+                    queue.append((nr, nc))
+    return seen
+
+
+def station_reachability(layout: Layout) -> list[dict[str, Any]]:
+    """For each station and layout: which spawn points can reach a floor cell next to it."""
+    out = []
+    for li, grid in enumerate(layout.grids()):
+        regions = [reachable_floor(grid, sp) for sp in layout.spawn_points]
+        for code, cells in sorted(layout.stations.items()):
+            if code in COUNTERS and code not in SPAWN_TILES:
+                continue
+            for r, c in cells:
+                nbrs = {(r + dr, c + dc) for dr, dc in ((0, 1), (1, 0), (0, -1), (-1, 0))}
+                by = [i for i, reg in enumerate(regions) if reg & nbrs]
+                out.append({"layout": li, "cell": (r, c), "code": code, "reachable_from": by})
+    return out

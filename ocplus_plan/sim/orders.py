@@ -1,0 +1,69 @@
+"""Orders (SPEC section 4): drawing from the seeded RNG, matching plates, expiry."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from .codes import READY_STATE, Item, ItemState, Where
+
+if TYPE_CHECKING:
+    from .state import Event, State
+
+
+def draw_order(state: State) -> None:
+    """Append one order drawn uniformly from the recipe pool with the episode's RNG."""
+    from .state import Order
+
+    recipes = state.rules.recipes
+    recipe = recipes[int(state.rng.integers(len(recipes)))]
+    limit = state.rules.order_time_limit
+    deadline = state.t + limit if limit is not None else -1
+    state.orders.append(Order(state.next_order_id, recipe, state.t, deadline))
+    state.next_order_id += 1
+
+
+def plate_recipe(state: State, plate: int) -> tuple[Item, ...] | None:
+    """The recipe a plate would serve, or None when it cannot serve any (dirty, empty,
+    or holding an ingredient that is not in its ready state)."""
+    if state.item_state[plate] != ItemState.CLEAN:
+        return None
+    kinds = state.geo.item_kind
+    where, loc, st = state.item_where, state.item_loc, state.item_state
+    contents = []
+    for i in range(len(where)):
+        if where[i] == Where.PLATE and loc[i] == plate:
+            kind = Item(kinds[i])
+            if st[i] != READY_STATE[kind]:
+                return None
+            contents.append(kind)
+    return tuple(sorted(contents)) if contents else None
+
+
+def matching_order(state: State, recipe: tuple[Item, ...] | None) -> int:
+    """Index in ``state.orders`` of the oldest order with exactly this recipe, or -1."""
+    if recipe is None:
+        return -1
+    for idx, order in enumerate(state.orders):
+        if order.recipe == recipe:
+            return idx
+    return -1
+
+
+def expire_orders(state: State, rewards: list[float], events: list[Event]) -> None:
+    """Replace every order whose deadline has come; the penalty is split over the team."""
+    from .state import Event
+
+    t = state.t
+    expired = [o for o in state.orders if 0 <= o.deadline <= t]
+    if not expired:
+        return
+    n = len(rewards)
+    share = state.rules.rewards.order_expired / n
+    for order in expired:
+        state.orders.remove(order)
+        state.stats["orders_expired"] += 1
+        for a in range(n):
+            rewards[a] += share
+        events.append(Event("order_expired", -1, None, -1, order.order_id))
+        draw_order(state)
+        events.append(Event("order_new", -1, None, -1, state.orders[-1].order_id))

@@ -1,0 +1,273 @@
+"""Rule parameters, rewards, presets and recipe pools (SPEC sections 3, 4, 6, 7).
+
+Everything the transition, the planning compiler and the executive need to know
+about the rules of one episode lives in one frozen :class:`Rules` object made by
+:func:`make_rules`. Every default is overridable by keyword.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field, fields, replace
+from typing import Any
+
+from ..errors import ConfigError, MapFormatError
+from .codes import ITEM_NAMES, PROCESS_STATION, VEGETABLES, Cell, Item
+from .maps import Layout, load_map
+
+Recipe = tuple[Item, ...]  # sorted multiset of ingredient kinds, each to be processed
+
+
+@dataclass(frozen=True)
+class Rewards:
+    """Reward values, keyed as in the paper's ``rewardList``."""
+
+    subtask_finished: float = 10.0
+    correct_delivery: float = 200.0
+    wrong_delivery: float = -5.0
+    step_penalty: float = -0.1
+    burned_penalty: float = -2.0
+    order_expired: float = -20.0
+
+    @classmethod
+    def from_mapping(cls, values: dict[str, float] | Rewards | None) -> Rewards:
+        if values is None:
+            return cls()
+        if isinstance(values, Rewards):
+            return values
+        known = {f.name for f in fields(cls)}
+        bad = sorted(set(values) - known)
+        if bad:
+            raise ConfigError(f"unknown reward key(s) {bad}; known keys: {sorted(known)}")
+        return cls(**{k: float(v) for k, v in values.items()})
+
+
+@dataclass(frozen=True)
+class Rules:
+    """The complete rule set of an episode. Build it with :func:`make_rules`."""
+
+    preset: str
+    layout: Layout
+    n_agents: int
+    recipes: tuple[Recipe, ...]
+    chop_steps: int = 3
+    cook_time: int = 10
+    burn_time: int = 20
+    wash_steps: int = 3
+    n_orders: int = 2
+    horizon: int = 200
+    order_time_limit: int | None = None
+    stop_after_orders: int | None = None
+    dirty_plates: bool = False
+    dynamic: bool = False
+    map_switch_step: int = 15
+    reward_mode: str = "individual"
+    rewards: Rewards = field(default_factory=Rewards)
+
+    def recipe_name(self, recipe: Recipe) -> str:
+        return recipe_name(recipe)
+
+
+def recipe_name(recipe: Recipe) -> str:
+    return "+".join(i.name.lower() for i in recipe)
+
+
+@dataclass(frozen=True)
+class Preset:
+    """A preset of SPEC section 7: a default map, agent count, and recipe rule."""
+
+    name: str
+    map: str
+    n_agents: int
+    recipe_sizes: tuple[int, ...]
+    steak: str  # "never" | "required" | "allowed"
+    stations: tuple[Cell, ...]
+    dirty_plates: bool
+    dynamic: bool
+    description: str
+
+
+PRESETS: dict[str, Preset] = {
+    "easy": Preset(
+        "easy", "easy_open", 1, (1,), "never", (Cell.BOARD,), False, False,
+        "one chopped vegetable; cutting boards; plates stay clean; static layout",
+    ),
+    "medium": Preset(
+        "medium", "medium_kitchen", 1, (2, 3), "required", (Cell.BOARD, Cell.PAN, Cell.TRASH),
+        False, False,
+        "one steak + 1-2 chopped vegetables; boards, pan, trash; plates stay clean; static layout",
+    ),
+    "hard": Preset(
+        "hard", "mapC", 2, (3,), "allowed",
+        (Cell.BOARD, Cell.PAN, Cell.TRASH, Cell.SINK), True, True,
+        "at least three ingredients, steak allowed; boards, pan, trash, sink; "
+        "plates dirty after delivery; dynamic layout",
+    ),
+}
+
+_RULE_FIELDS = {
+    f.name for f in fields(Rules) if f.name not in ("preset", "layout", "recipes", "rewards")
+}
+_OVERRIDES = _RULE_FIELDS | {"map", "rewards", "recipes", "recipe_sizes"}
+
+
+def recipe_pool(
+    layout: Layout, sizes: tuple[int, ...], steak: str = "allowed"
+) -> tuple[Recipe, ...]:
+    """All recipes of the given sizes that ``layout`` can make.
+
+    An ingredient appears at most as often as the map has spawn tiles for it, and
+    only if the station that processes it is on the map. ``steak`` is ``never``,
+    ``required`` (exactly one steak) or ``allowed``.
+    """
+    supply = {}
+    for item in (Item.TOMATO, Item.LETTUCE, Item.ONION, Item.STEAK):
+        if layout.cells_of(PROCESS_STATION[item]):
+            supply[item] = len(layout.cells_of(Cell(int(item))))
+    kinds = sorted(k for k, n in supply.items() if n > 0)
+    pool: list[Recipe] = []
+    for size in sizes:
+        for combo in itertools.combinations_with_replacement(kinds, size):
+            if any(combo.count(k) > supply[k] for k in set(combo)):
+                continue
+            n_steak = combo.count(Item.STEAK)
+            if steak == "never" and n_steak:
+                continue
+            if steak == "required" and n_steak != 1:
+                continue
+            pool.append(tuple(combo))
+    return tuple(pool)
+
+
+def parse_recipe(spec: Any) -> Recipe:
+    """``"tomato+lettuce"`` or ``["tomato", "lettuce"]`` -> a sorted recipe."""
+    names = spec.split("+") if isinstance(spec, str) else list(spec)
+    items = []
+    for n in names:
+        key = str(n).strip().lower()
+        if key not in ITEM_NAMES or ITEM_NAMES[key] == Item.PLATE:
+            raise ConfigError(
+                f"recipe {spec!r}: unknown ingredient {n!r}; use tomato, lettuce, onion, steak"
+            )
+        items.append(ITEM_NAMES[key])
+    if not items:
+        raise ConfigError(f"recipe {spec!r} is empty")
+    return tuple(sorted(items))
+
+
+def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, **overrides: Any) -> Rules:
+    """Rules for a preset, with any parameter overridden by keyword.
+
+    Raises :class:`ConfigError` for an unknown preset or parameter, and for an
+    impossible combination (a map without the stations the preset needs, more
+    agents than spawn points, an empty recipe pool, ...).
+    """
+    if preset not in PRESETS:
+        raise ConfigError(f"unknown preset {preset!r}; choose one of {', '.join(PRESETS)}")
+    p = PRESETS[preset]
+    bad = sorted(set(overrides) - _OVERRIDES)
+    if bad:
+        raise ConfigError(f"unknown rule parameter(s) {bad}; known: {sorted(_OVERRIDES)}")
+
+    try:
+        layout = map if isinstance(map, Layout) else load_map(map if map is not None else p.map)
+    except MapFormatError:
+        raise
+    n_agents = overrides.pop("n_agents", p.n_agents)
+    if not isinstance(n_agents, int) or n_agents < 1:
+        raise ConfigError(f"n_agents must be a positive integer, got {n_agents!r}")
+    if n_agents > layout.max_agents:
+        raise ConfigError(
+            f"n_agents={n_agents} but map {layout.name!r} allows at most {layout.max_agents} "
+            f"(max_n_agent); pick another map or fewer agents"
+        )
+    dynamic = overrides.pop("dynamic", p.dynamic)
+    if dynamic and not layout.is_dynamic:
+        raise ConfigError(
+            f"preset {preset!r} wants a dynamic layout but map {layout.name!r} has no switch_map; "
+            "use a dynamic map (e.g. mapC) or pass dynamic=False"
+        )
+    missing = [c.name.lower() for c in p.stations if not layout.cells_of(c)]
+    dirty = overrides.pop("dirty_plates", p.dirty_plates)
+    if dirty and not layout.cells_of(Cell.SINK) and "sink" not in missing:
+        missing.append("sink")
+    if missing:
+        raise ConfigError(
+            f"preset {preset!r} needs {', '.join(missing)} but map {layout.name!r} has none; "
+            "choose a map that has them"
+        )
+
+    recipe_sizes = tuple(overrides.pop("recipe_sizes", p.recipe_sizes))
+    if "recipes" in overrides:
+        recipes = tuple(parse_recipe(r) for r in overrides.pop("recipes"))
+        can = set(recipe_pool(layout, tuple(sorted({len(r) for r in recipes})), "allowed"))
+        for r in recipes:
+            if r not in can:
+                raise ConfigError(
+                    f"recipe {recipe_name(r)!r} cannot be made on map {layout.name!r} "
+                    "(missing spawn tiles or stations)"
+                )
+    else:
+        recipes = recipe_pool(layout, recipe_sizes, p.steak)
+    if not recipes:
+        raise ConfigError(
+            f"no recipe of preset {preset!r} can be made on map {layout.name!r}; "
+            "it lacks the ingredients or stations the preset's recipes need"
+        )
+
+    rewards = Rewards.from_mapping(overrides.pop("rewards", None))
+    params: dict[str, Any] = {"map_switch_step": layout.map_switch_step}
+    params.update(overrides)
+    rules = Rules(
+        preset=preset,
+        layout=layout,
+        n_agents=n_agents,
+        recipes=recipes,
+        dirty_plates=bool(dirty),
+        dynamic=bool(dynamic),
+        rewards=rewards,
+        **params,
+    )
+    _check(rules)
+    return rules
+
+
+def _check(rules: Rules) -> None:
+    for name in ("chop_steps", "cook_time", "burn_time", "wash_steps", "n_orders", "horizon",
+                 "map_switch_step"):
+        v = getattr(rules, name)
+        if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+            raise ConfigError(f"{name} must be a positive integer, got {v!r}")
+    if rules.burn_time < rules.cook_time:
+        raise ConfigError(
+            f"burn_time ({rules.burn_time}) must be >= cook_time ({rules.cook_time}), "
+            "or a steak would burn before it is cooked"
+        )
+    for name in ("order_time_limit", "stop_after_orders"):
+        v = getattr(rules, name)
+        if v is not None and (isinstance(v, bool) or not isinstance(v, int) or v < 1):
+            raise ConfigError(f"{name} must be a positive integer or None, got {v!r}")
+    if rules.reward_mode not in ("individual", "shared"):
+        raise ConfigError(f"reward_mode must be 'individual' or 'shared', got {rules.reward_mode!r}")
+
+
+def with_overrides(rules: Rules, **changes: Any) -> Rules:
+    """A copy of ``rules`` with some fields changed (checked again)."""
+    new = replace(rules, **changes)
+    _check(new)
+    return new
+
+
+__all__ = [
+    "PRESETS",
+    "Preset",
+    "Recipe",
+    "Rewards",
+    "Rules",
+    "VEGETABLES",
+    "make_rules",
+    "parse_recipe",
+    "recipe_name",
+    "recipe_pool",
+    "with_overrides",
+]

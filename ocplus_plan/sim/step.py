@@ -1,0 +1,337 @@
+"""The transition function (SPEC sections 3-6).
+
+``transition(state, joint_action)`` updates ``state`` in place and returns a
+:class:`StepResult` with the step's events and per-agent rewards. Order of a
+step: bumps in agent-index order (then waiting items respawn on freed tiles),
+simultaneous moves, pans tick, the layout switch is considered, orders expire,
+the horizon is checked.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import NamedTuple
+
+from ..errors import InvalidActionError
+from .codes import COUNTERS, VEGETABLES, Cell, Item, ItemState, Where
+from .dynamics import maybe_switch
+from .orders import draw_order, expire_orders, matching_order, plate_recipe
+from .state import Event, State
+
+_CELL, _HAND, _PLATE, _WAITING = int(Where.CELL), int(Where.HAND), int(Where.PLATE), int(Where.WAITING)
+_FRESH, _CHOPPED, _COOKED = int(ItemState.FRESH), int(ItemState.CHOPPED), int(ItemState.COOKED)
+_BURNT, _CLEAN, _DIRTY = int(ItemState.BURNT), int(ItemState.CLEAN), int(ItemState.DIRTY)
+_PLATE_KIND, _STEAK = int(Item.PLATE), int(Item.STEAK)
+_VEG = frozenset(int(v) for v in VEGETABLES)
+_COUNTERS = frozenset(int(c) for c in COUNTERS)
+_BOARD, _PAN, _SINK = int(Cell.BOARD), int(Cell.PAN), int(Cell.SINK)
+_DELIVERY, _TRASH = int(Cell.DELIVERY), int(Cell.TRASH)
+
+
+class StepResult(NamedTuple):
+    events: list[Event]
+    rewards: list[float]
+    terminated: bool
+    truncated: bool
+
+
+def is_plateable(state: State, item: int) -> bool:
+    """A chopped vegetable or a cooked steak (the only things a plate takes)."""
+    kind = state.geo.item_kind[item]
+    st = state.item_state[item]
+    return (kind in _VEG and st == _CHOPPED) or (kind == _STEAK and st == _COOKED)
+
+
+def transition(state: State, joint_action: Sequence[int]) -> StepResult:
+    """Apply one joint action (one action index per agent) to ``state`` in place."""
+    n = len(state.agent_pos)
+    if len(joint_action) != n:
+        raise InvalidActionError(
+            f"joint action has {len(joint_action)} entries but there are {n} agents"
+        )
+    rules = state.rules
+    geo = state.geo
+    rewards = [rules.rewards.step_penalty] * n
+    events: list[Event] = []
+    pos = state.agent_pos
+    walk = geo.walkables[state.layout_index]
+    nbrs = geo.neighbors
+    targets = [-1] * n
+    moving = False
+    for a in range(n):
+        act = int(joint_action[a])
+        if act == 4:
+            continue
+        if not 0 <= act < 4:
+            raise InvalidActionError(
+                f"agent {a}: action {joint_action[a]!r} is not one of 0 right, 1 down, 2 left, "
+                "3 up, 4 stay"
+            )
+        tgt = nbrs[pos[a]][act]
+        if tgt < 0:
+            continue
+        if walk[tgt]:
+            targets[a] = tgt
+            moving = True
+        else:
+            _interact(state, a, tgt, rewards, events)
+
+    if _WAITING in state.item_where:
+        _respawn_waiting(state, events)
+    if moving:
+        _resolve_moves(state, targets, events)
+
+    for p in geo.pans:
+        it = state.cell_item[p]
+        if it >= 0:
+            _tick_pan(state, it, p, rewards, events)
+
+    state.t += 1
+    if rules.dynamic:
+        maybe_switch(state, events)
+    if rules.order_time_limit is not None:
+        expire_orders(state, rewards, events)
+
+    if rules.reward_mode == "shared":
+        total = sum(rewards)
+        rewards = [total] * n
+    terminated = (
+        rules.stop_after_orders is not None
+        and state.stats["orders_completed"] >= rules.stop_after_orders
+    )
+    truncated = not terminated and state.t >= rules.horizon
+    return StepResult(events, rewards, terminated, truncated)
+
+
+# ---------------------------------------------------------------- moves
+def _resolve_moves(state: State, targets: list[int], events: list[Event]) -> None:
+    """Simultaneous moves: contested cells, swaps and cycles block everyone involved; a
+    mover may follow an agent that leaves its cell. Independent of agent order."""
+    pos = state.agent_pos
+    n = len(pos)
+    occupant = {pos[a]: a for a in range(n)}
+    count: dict[int, int] = {}
+    for t in targets:
+        if t >= 0:
+            count[t] = count.get(t, 0) + 1
+    # status: 0 undecided, 1 moves, 2 stays (or not a mover)
+    status = [0 if targets[a] >= 0 and count[targets[a]] == 1 else 2 for a in range(n)]
+    contested = [a for a in range(n) if targets[a] >= 0 and status[a] == 2]
+    for a in range(n):
+        if status[a] != 0:
+            continue
+        chain = [a]
+        b = occupant.get(targets[a], -1)
+        while b >= 0 and status[b] == 0 and b not in chain:
+            chain.append(b)
+            b = occupant.get(targets[b], -1)
+        ok = b < 0 or status[b] == 1
+        for c in chain:
+            status[c] = 1 if ok else 2
+    for a in range(n):
+        if status[a] == 1:
+            pos[a] = targets[a]
+        elif targets[a] >= 0:
+            why = "contested" if a in contested else "occupied"
+            events.append(Event("move_blocked", a, state.geo.rc(targets[a]), -1, why))
+
+
+# ---------------------------------------------------------------- interactions
+def _interact(state: State, a: int, cell: int, rewards: list[float], events: list[Event]) -> None:
+    code = state.geo.terrains[state.layout_index][cell]
+    held = state.agent_hand[a]
+    here = state.cell_item[cell]
+    if code in _COUNTERS:
+        if held < 0:
+            if here >= 0:
+                _pick(state, a, cell, here, events)
+        elif here < 0:
+            _put(state, a, cell, held, events)
+        else:
+            _plate_exchange(state, a, cell, held, here, events)
+    elif code == _BOARD:
+        kinds = state.geo.item_kind
+        if held < 0:
+            if here < 0:
+                return
+            if kinds[here] in _VEG and state.item_state[here] == _FRESH:
+                _advance(state, a, cell, here, "chop", state.rules.chop_steps, _CHOPPED,
+                         "chops", rewards, events)
+            else:
+                _pick(state, a, cell, here, events)
+        elif here < 0:
+            if kinds[held] in _VEG and state.item_state[held] == _FRESH:
+                _put(state, a, cell, held, events)
+        else:
+            _plate_exchange(state, a, cell, held, here, events)
+    elif code == _PAN:
+        if held < 0:
+            if here >= 0:
+                _pick(state, a, cell, here, events)
+        elif here < 0:
+            if state.geo.item_kind[held] == _STEAK and state.item_state[held] in (_FRESH, _COOKED):
+                _put(state, a, cell, held, events)
+        else:
+            _plate_exchange(state, a, cell, held, here, events)
+    elif code == _SINK:
+        if held < 0:
+            if here < 0:
+                return
+            if state.item_state[here] == _DIRTY:
+                _advance(state, a, cell, here, "wash", state.rules.wash_steps, _CLEAN,
+                         "washes", rewards, events)
+            else:
+                _pick(state, a, cell, here, events)
+        elif here < 0 and state.item_state[held] == _DIRTY:
+            _put(state, a, cell, held, events)
+    elif code == _DELIVERY:
+        if held >= 0:
+            _deliver(state, a, cell, held, rewards, events)
+    elif code == _TRASH:
+        if held >= 0:
+            _trash(state, a, cell, held, events)
+
+
+def _pick(state: State, a: int, cell: int, item: int, events: list[Event]) -> None:
+    state.cell_item[cell] = -1
+    state.agent_hand[a] = item
+    state.item_where[item] = _HAND
+    state.item_loc[item] = a
+    state.item_agent[item] = a
+    events.append(Event("pickup", a, state.geo.rc(cell), item))
+
+
+def _put(state: State, a: int, cell: int, item: int, events: list[Event]) -> None:
+    state.agent_hand[a] = -1
+    state.cell_item[cell] = item
+    state.item_where[item] = _CELL
+    state.item_loc[item] = cell
+    events.append(Event("putdown", a, state.geo.rc(cell), item))
+
+
+def _plate_exchange(
+    state: State, a: int, cell: int, held: int, here: int, events: list[Event]
+) -> None:
+    """Held ingredient onto a clean plate lying here, or the ingredient lying here
+    onto the held clean plate. Anything else does nothing."""
+    kinds = state.geo.item_kind
+    if kinds[here] == _PLATE_KIND and state.item_state[here] == _CLEAN and is_plateable(state, held):
+        state.agent_hand[a] = -1
+        state.item_where[held] = _PLATE
+        state.item_loc[held] = here
+        events.append(Event("plate_add", a, state.geo.rc(cell), held, here))
+    elif kinds[held] == _PLATE_KIND and state.item_state[held] == _CLEAN and is_plateable(state, here):
+        state.cell_item[cell] = -1
+        state.item_where[here] = _PLATE
+        state.item_loc[here] = held
+        state.item_agent[here] = a
+        events.append(Event("plate_add", a, state.geo.rc(cell), here, held))
+
+
+def _advance(
+    state: State, a: int, cell: int, item: int, kind: str, needed: int, done_state: int,
+    stat: str, rewards: list[float], events: list[Event],
+) -> None:
+    """One chop or wash interaction; completes the process after ``needed`` of them."""
+    state.item_progress[item] += 1
+    state.item_agent[item] = a
+    if state.item_progress[item] >= needed:
+        state.item_state[item] = done_state
+        state.item_progress[item] = 0
+        state.stats[stat] += 1
+        rewards[a] += state.rules.rewards.subtask_finished
+        events.append(Event(kind + "_done", a, state.geo.rc(cell), item))
+    else:
+        events.append(Event(kind, a, state.geo.rc(cell), item, state.item_progress[item]))
+
+
+def _tick_pan(
+    state: State, item: int, cell: int, rewards: list[float], events: list[Event]
+) -> None:
+    rules = state.rules
+    ticks = state.item_progress[item] + 1
+    state.item_progress[item] = ticks
+    st = state.item_state[item]
+    owner = state.item_agent[item]
+    if st == _FRESH and ticks >= rules.cook_time:
+        state.item_state[item] = _COOKED
+        state.stats["cooks"] += 1
+        if owner >= 0:
+            rewards[owner] += rules.rewards.subtask_finished
+        events.append(Event("cook_done", owner, state.geo.rc(cell), item))
+        st = _COOKED
+    if st != _BURNT and ticks > rules.burn_time:
+        state.item_state[item] = _BURNT
+        state.stats["burns"] += 1
+        if owner >= 0:
+            rewards[owner] += rules.rewards.burned_penalty
+        events.append(Event("burnt", owner, state.geo.rc(cell), item))
+
+
+def _send_home(state: State, item: int, item_state: int, events: list[Event]) -> None:
+    """Respawn an item fresh (or a plate clean/dirty) at its spawn tile, or queue it."""
+    home = state.geo.item_home[item]
+    state.item_state[item] = item_state
+    state.item_progress[item] = 0
+    state.item_agent[item] = -1
+    if state.cell_item[home] < 0:
+        state.cell_item[home] = item
+        state.item_where[item] = _CELL
+        state.item_loc[item] = home
+        events.append(Event("respawn", -1, state.geo.rc(home), item))
+    else:
+        state.item_where[item] = _WAITING
+        state.item_loc[item] = home
+        events.append(Event("respawn_waiting", -1, state.geo.rc(home), item))
+
+
+def _respawn_waiting(state: State, events: list[Event]) -> None:
+    where, loc = state.item_where, state.item_loc
+    for i in range(len(where)):
+        if where[i] == _WAITING and state.cell_item[loc[i]] < 0:
+            state.cell_item[loc[i]] = i
+            where[i] = _CELL
+            events.append(Event("respawn", -1, state.geo.rc(loc[i]), i))
+
+
+def _trash(state: State, a: int, cell: int, held: int, events: list[Event]) -> None:
+    """A held ingredient goes back fresh to its spawn tile; a held plate is emptied."""
+    if state.geo.item_kind[held] == _PLATE_KIND:
+        contents = state.plate_contents(held)
+        if not contents:
+            return
+        for i in contents:
+            _send_home(state, i, _FRESH, events)
+        events.append(Event("trash", a, state.geo.rc(cell), held, len(contents)))
+        return
+    state.agent_hand[a] = -1
+    events.append(Event("trash", a, state.geo.rc(cell), held, 1))
+    _send_home(state, held, _FRESH, events)
+
+
+def _deliver(
+    state: State, a: int, cell: int, held: int, rewards: list[float], events: list[Event]
+) -> None:
+    r = state.rules.rewards
+    idx = -1
+    if state.geo.item_kind[held] == _PLATE_KIND:
+        idx = matching_order(state, plate_recipe(state, held))
+    if idx < 0:
+        state.stats["wrong_deliveries"] += 1
+        rewards[a] += r.wrong_delivery
+        events.append(Event("wrong_delivery", a, state.geo.rc(cell), held))
+        return
+    order = state.orders.pop(idx)
+    state.stats["dishes_served"] += 1
+    state.stats["orders_completed"] += 1
+    rewards[a] += r.correct_delivery
+    events.append(Event("delivery", a, state.geo.rc(cell), held, order.order_id))
+    for i in state.plate_contents(held):
+        _send_home(state, i, _FRESH, events)
+    state.agent_hand[a] = -1
+    _send_home(state, held, _DIRTY if state.rules.dirty_plates else _CLEAN, events)
+    draw_order(state)
+    events.append(Event("order_new", -1, None, -1, state.orders[-1].order_id))
+
+
+__all__ = ["StepResult", "is_plateable", "transition"]
