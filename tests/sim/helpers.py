@@ -1,0 +1,58 @@
+"""Direct state set-up for rule tests (keeps every item in exactly one place)."""
+
+from __future__ import annotations
+
+from ocplus_plan.sim import State, Where, transition
+from ocplus_plan.sim.codes import Item
+
+
+def detach(state: State, item: int) -> None:
+    """Take an item out of wherever it is (cell, hand)."""
+    where, loc = state.item_where[item], state.item_loc[item]
+    if where == Where.CELL:
+        state.cell_item[loc] = -1
+    elif where == Where.HAND:
+        state.agent_hand[loc] = -1
+
+
+def give(state: State, agent: int, item: int) -> None:
+    detach(state, item)
+    state.agent_hand[agent] = item
+    state.item_where[item], state.item_loc[item] = int(Where.HAND), agent
+    state.item_agent[item] = agent
+
+
+def place(state: State, item: int, rc: tuple[int, int]) -> None:
+    detach(state, item)
+    f = state.geo.flat(*rc)
+    assert state.cell_item[f] < 0, "cell occupied"
+    state.cell_item[f] = item
+    state.item_where[item], state.item_loc[item] = int(Where.CELL), f
+
+
+def on_plate(state: State, item: int, plate: int) -> None:
+    detach(state, item)
+    state.item_where[item], state.item_loc[item] = int(Where.PLATE), plate
+
+
+def item_of(state: State, kind: Item, k: int = 0) -> int:
+    ids = [i for i, kk in enumerate(state.geo.item_kind) if kk == kind]
+    return ids[k]
+
+
+def set_pos(state: State, agent: int, rc: tuple[int, int]) -> None:
+    state.agent_pos[agent] = state.geo.flat(*rc)
+
+
+def run(state: State, *joint_actions):
+    """Apply several joint actions (each an int for one agent, or a list); return all events."""
+    events, rewards = [], []
+    for ja in joint_actions:
+        res = transition(state, [ja] if isinstance(ja, int) else list(ja))
+        events += res.events
+        rewards.append(res.rewards)
+    return events, rewards
+
+
+def kinds(events) -> list[str]:
+    return [e.kind for e in events]

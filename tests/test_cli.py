@@ -1,0 +1,49 @@
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+from ocplus_plan.cli import main
+
+
+def test_check_map_summarises_a_map(capsys):
+    assert main(["check-map", "mapC"]) == 0
+    out = capsys.readouterr().out
+    assert "9 rows x 9 cols" in out and "pan" in out
+    assert "cells that switch" in out and "every station reachable" in out
+
+
+def test_check_map_reports_unreachable_stations(tmp_path, capsys):
+    p = tmp_path / "walled.yaml"
+    p.write_text("game_map: [[1, 3, 1, 1, 6, 1], [5, 0, 1, 0, 0, 7], [1, 1, 1, 1, 1, 1]]\n"
+                 "agent_spawn_points: [[1, 1]]\n")
+    assert main(["check-map", str(p)]) == 0
+    assert "UNREACHABLE" in capsys.readouterr().out
+
+
+def test_check_map_bad_file_exits_2_with_the_error_on_stderr(tmp_path):
+    p = tmp_path / "bad.yaml"
+    p.write_text("game_map: [[1, 3, 1], [5, 0, 99], [1, 7, 1]]\nagent_spawn_points: [[1, 1]]\n")
+    proc = subprocess.run([sys.executable, "-m", "ocplus_plan.cli", "check-map", str(p)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2 and proc.stdout == ""
+    assert "bad.yaml" in proc.stderr and "row 1, column 2" in proc.stderr and "99" in proc.stderr
+
+
+def test_rollout_json_has_the_promised_keys_and_is_deterministic(capsys):
+    args = ["rollout", "--preset", "hard", "--n-agents", "2", "--steps", "60", "--seed", "3",
+            "--json"]
+    assert main(args) == 0
+    first = json.loads(capsys.readouterr().out)
+    for key in ("dishes_served", "orders_completed", "burns", "wrong_deliveries", "reward",
+                "items_conserved", "state_hash"):
+        assert key in first
+    assert first["items_conserved"] is True and first["steps"] == 60
+    assert main(args) == 0
+    assert json.loads(capsys.readouterr().out)["state_hash"] == first["state_hash"]
+
+
+def test_unknown_preset_is_exit_2(capsys):
+    assert main(["rollout", "--preset", "impossible"]) == 2
+    assert "unknown preset" in capsys.readouterr().err
