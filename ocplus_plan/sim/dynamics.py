@@ -12,9 +12,10 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from .codes import Cell
+from .state import Event
 
 if TYPE_CHECKING:
-    from .state import Event, State
+    from .state import State
 
 
 def switch_blockers(state: State) -> list[tuple[int, int]]:
@@ -36,8 +37,6 @@ def switch_blockers(state: State) -> list[tuple[int, int]]:
 
 def maybe_switch(state: State, events: list[Event], *, force: bool = False) -> bool:
     """Switch the layout if one is due (or ``force``) and nothing blocks it."""
-    from .state import Event
-
     if not force and (not state.rules.dynamic or state.t < state.next_switch):
         return False
     if len(state.geo.terrains) < 2:

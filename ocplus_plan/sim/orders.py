@@ -5,15 +5,14 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from .codes import READY_STATE, Item, ItemState, Where
+from .state import Event, Order
 
 if TYPE_CHECKING:
-    from .state import Event, State
+    from .state import State
 
 
 def draw_order(state: State) -> None:
     """Append one order drawn uniformly from the recipe pool with the episode's RNG."""
-    from .state import Order
-
     recipes = state.rules.recipes
     recipe = recipes[int(state.rng.integers(len(recipes)))]
     limit = state.rules.order_time_limit
@@ -51,8 +50,6 @@ def matching_order(state: State, recipe: tuple[Item, ...] | None) -> int:
 
 def expire_orders(state: State, rewards: list[float], events: list[Event]) -> None:
     """Replace every order whose deadline has come; the penalty is split over the team."""
-    from .state import Event
-
     t = state.t
     expired = [o for o in state.orders if 0 <= o.deadline <= t]
     if not expired:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import hashlib
 import struct
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -91,6 +92,12 @@ class Geometry:
 
     def flat(self, row: int, col: int) -> int:
         return row * self.cols + col
+
+
+@lru_cache(maxsize=64)
+def geometry_for(rules: Rules) -> Geometry:
+    """The (cached) geometry of a rule set: resets do not rebuild it."""
+    return Geometry.build(rules)
 
 
 class State:
@@ -250,7 +257,7 @@ def new_state(rules: Rules, seed: int | None = 0, *, geometry: Geometry | None =
     ``n_orders`` orders drawn from the recipe pool with ``numpy.random.default_rng(seed)``."""
     from .orders import draw_order  # orders imports State for typing only
 
-    geo = geometry or Geometry.build(rules)
+    geo = geometry or geometry_for(rules)
     s = State.__new__(State)
     s.rules, s.geo, s.t, s.seed = rules, geo, 0, seed
     s.layout_index = 0
