@@ -1,0 +1,489 @@
+"""A strong scripted baseline: per-agent task allocation over the open orders.
+
+Each step the controller reads the symbolic state and builds a list of useful
+subtasks (serve a finished plate, rescue a cooked steak from the pan before it
+burns, chop, carry a ready ingredient to a plate, wash a dirty plate, fetch a raw
+ingredient that the open orders still need, clear a wrong plate or a burnt steak).
+Free agents are matched to subtasks by priority, then by walking distance; an agent
+keeps its subtask while it stays valid so that agents do not swap jobs back and
+forth. An agent that holds something carries it to where it is useful (a board, a
+pan, a plate, the window, the sink, the trash) or, when it cannot reach such a
+place, puts it on a counter that a cook who can reach it also reaches (hand-over
+through counters, SPEC section 3).
+
+Movement: breadth-first paths on the current layout with the other agents' cells
+and the cells already claimed this step as obstacles (so the controller itself
+never causes a swap or a contested move); an agent whose way is blocked steps
+aside at random after waiting, and an idle agent steps off a busy agent's path.
+Nothing here re-implements a rule: plateability comes from ``sim.step.is_plateable``.
+"""
+
+from __future__ import annotations
+
+from collections import Counter, deque
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..sim.codes import COUNTERS, READY_STATE, VEGETABLES, Cell, Item, ItemState, Where
+from ..sim.state import State
+from ..sim.step import is_plateable
+from .base import Controller
+
+_STAY = 4
+_COUNTER_CODES = frozenset(int(c) for c in COUNTERS)
+_PLAIN_COUNTER = int(Cell.COUNTER)
+_VEG = frozenset(int(v) for v in VEGETABLES)
+_STEAK, _PLATE = int(Item.STEAK), int(Item.PLATE)
+_FRESH, _CHOPPED, _COOKED = int(ItemState.FRESH), int(ItemState.CHOPPED), int(ItemState.COOKED)
+_BURNT, _CLEAN, _DIRTY = int(ItemState.BURNT), int(ItemState.CLEAN), int(ItemState.DIRTY)
+#: destinations only one cook should head for at a time (many may bump a plate or the window)
+_EXCLUSIVE = frozenset({"to_board", "to_pan", "to_sink", "put_down", "handover"})
+
+
+@dataclass(frozen=True)
+class Task:
+    """A subtask for an empty-handed agent: bump ``cell`` (to pick up or work ``item``)."""
+
+    kind: str
+    cell: int
+    item: int
+    priority: float
+    budget: tuple[str, int] | None = None  # a shared, limited need this task uses up
+
+
+class _View:
+    """Per-step facts derived from the state (terrain, reachability, plates, needs)."""
+
+    def __init__(self, state: State) -> None:
+        self.s = state
+        geo = state.geo
+        self.terrain = geo.terrains[state.layout_index]
+        self.walk = geo.walkables[state.layout_index]
+        self.nbrs = geo.neighbors
+        self.kind = geo.item_kind
+        self.dist = [self._bfs(p) for p in state.agent_pos]
+        self.cells_of: dict[int, list[int]] = {}
+        for f, code in enumerate(self.terrain):
+            self.cells_of.setdefault(code, []).append(f)
+        self.switch_cells = set(geo.switch_cells)
+        self._plates()
+
+    # ---------------------------------------------------------------- geometry
+    def _bfs(self, start: int, blocked: frozenset[int] = frozenset()) -> dict[int, int]:
+        dist = {start: 0}
+        queue = deque([start])
+        while queue:
+            f = queue.popleft()
+            for n in self.nbrs[f]:
+                if n >= 0 and n not in dist and self.walk[n] and n not in blocked:
+                    dist[n] = dist[f] + 1
+                    queue.append(n)
+        return dist
+
+    def reach(self, agent: int, cell: int) -> float:
+        """Steps for ``agent`` to stand next to ``cell`` (inf when it cannot)."""
+        d = self.dist[agent]
+        best = float("inf")
+        for n in self.nbrs[cell]:
+            if n >= 0 and n in d and d[n] < best:
+                best = d[n]
+        return best
+
+    def stations(self, code: Cell) -> list[int]:
+        return self.cells_of.get(int(code), [])
+
+    def free_counters(self) -> list[int]:
+        """Empty counters; plain ones first (items on spawn tiles delay respawns), and never
+        a counter that a layout switch removes (it would hold the switch back)."""
+        s = self.s
+        plain, spawn = [], []
+        for code in _COUNTER_CODES:
+            for f in self.cells_of.get(code, []):
+                if s.cell_item[f] < 0 and f not in self.switch_cells:
+                    (plain if code == _PLAIN_COUNTER else spawn).append(f)
+        return plain + spawn
+
+    # ---------------------------------------------------------------- plates and needs
+    def contents(self, plate: int) -> Counter:
+        return Counter(self.kind[i] for i in self.s.plate_contents(plate))
+
+    def _plates(self) -> None:
+        """Match clean plates to open orders and count what each still needs."""
+        s = self.s
+        recipes = [Counter(int(k) for k in o.recipe) for o in s.orders]
+        self.recipes = recipes
+        clean = [i for i in range(s.n_items) if self.kind[i] == _PLATE
+                 and s.item_state[i] == _CLEAN and s.item_where[i] in (Where.CELL, Where.HAND)]
+        self.plate_contents = {p: self.contents(p) for p in clean}
+        self.plate_order: dict[int, int] = {}
+        used: set[int] = set()
+        for oi, rec in enumerate(recipes):
+            best, best_n = -1, -1
+            for p in clean:
+                c = self.plate_contents[p]
+                if p not in used and not (c - rec) and sum(c.values()) > best_n:
+                    best, best_n = p, sum(c.values())
+            if best >= 0:
+                used.add(best)
+                self.plate_order[best] = oi
+        self.plate_missing = {p: recipes[oi] - self.plate_contents[p]
+                              for p, oi in self.plate_order.items()}
+        need: Counter = Counter()
+        for m in self.plate_missing.values():
+            need.update(m)
+        for oi, rec in enumerate(recipes):
+            if oi not in self.plate_order.values():
+                need.update(rec)
+        self.need = need
+        #: kind -> index of the oldest open order that still needs it (older orders go first)
+        self.first_need: dict[int, int] = {}
+        for oi, rec in enumerate(recipes):
+            plate = next((p for p, o in self.plate_order.items() if o == oi), None)
+            missing = rec if plate is None else self.plate_missing[plate]
+            for k in missing:
+                self.first_need.setdefault(k, oi)
+        self.bad_plates = [p for p in clean if p not in self.plate_order
+                           and self.plate_contents[p]
+                           and not any(not (self.plate_contents[p] - r) for r in recipes)]
+        supply: Counter = Counter()
+        for i in range(s.n_items):
+            k, st, w = self.kind[i], s.item_state[i], s.item_where[i]
+            if k == _PLATE or w in (Where.PLATE, Where.WAITING):
+                continue
+            if st == READY_STATE[Item(k)] or (st == _FRESH and (
+                    w == Where.HAND or self.terrain[s.item_loc[i]] in (Cell.BOARD, Cell.PAN))):
+                supply[k] += 1
+        self.supply = supply
+
+    def exact_match(self, plate: int) -> bool:
+        c = self.plate_contents.get(plate)
+        return bool(c) and any(c == r for r in self.recipes)
+
+    def plate_wants(self, plate: int, kind: int) -> bool:
+        """Would adding ``kind`` keep this clean plate on the way to some open order?"""
+        c = self.plate_contents.get(plate)
+        if c is None:
+            return False
+        c = c + Counter({kind: 1})
+        return any(not (c - r) for r in self.recipes)
+
+
+class GreedyAgent(Controller):
+    """Scripted task-allocation controller (see the module docstring)."""
+
+    name = "greedy"
+
+    def __init__(self, seed: int = 0, patience: int = 2) -> None:
+        self.seed = seed
+        self.patience = patience
+        self.rng = np.random.default_rng(seed)
+
+    def _reset(self, state: State) -> None:
+        self.rng = np.random.default_rng([self.seed, state.seed or 0])
+        self.tasks: dict[int, Task | None] = {a: None for a in self.agent_ids}
+        self.waited: dict[int, int] = {a: 0 for a in self.agent_ids}
+        self.counts: Counter = Counter()
+
+    def info(self) -> dict[str, object]:
+        """Task choices, hand-overs, yields and idle steps of the episode."""
+        return {f"greedy_{k}": v for k, v in sorted(self.counts.items())}
+
+    # ---------------------------------------------------------------- main loop
+    def act(self, state: State) -> list[int]:
+        v = _View(state)
+        goals: dict[int, tuple[int, str]] = {}  # agent -> (cell to bump, label)
+        claimed: set[int] = set()
+        budget = self._budgets(v)
+        for a in self.agent_ids:  # holders first: their destinations are claims too
+            if state.agent_hand[a] >= 0:
+                goal = self._carry(v, a, claimed, budget)
+                if goal is not None:
+                    goals[a] = goal
+                    if goal[1] in _EXCLUSIVE:
+                        claimed.add(goal[0])
+        self._assign(v, [a for a in self.agent_ids if state.agent_hand[a] < 0], claimed,
+                     budget, goals)
+        return self._moves(v, goals)
+
+    def _budgets(self, v: _View) -> Counter:
+        s = v.s
+        b: Counter = Counter()
+        for k in (int(Item.TOMATO), int(Item.LETTUCE), int(Item.ONION), _STEAK):
+            b[("need", k)] = max(0, v.need[k] - v.supply[k])
+        b[("board", 0)] = sum(1 for f in v.stations(Cell.BOARD) if s.cell_item[f] < 0)
+        b[("pan", 0)] = sum(1 for f in v.stations(Cell.PAN) if s.cell_item[f] < 0)
+        for p, miss in v.plate_missing.items():
+            for k, n in miss.items():
+                b[("plate", k)] += n
+        return b
+
+    # ---------------------------------------------------------------- holding agents
+    def _carry(self, v: _View, a: int, claimed: set[int], budget: Counter) -> tuple[int, str] | None:
+        """Where agent ``a`` takes what it holds: a useful station, or a counter."""
+        s = v.s
+        item = s.agent_hand[a]
+        k, st = v.kind[item], s.item_state[item]
+        dests: list[int] = []
+        label = "put_down"
+        if k == _PLATE and st == _CLEAN:
+            if v.exact_match(item):
+                dests, label = v.stations(Cell.DELIVERY), "deliver"
+            elif item in v.bad_plates and v.stations(Cell.TRASH):
+                dests, label = v.stations(Cell.TRASH), "empty_plate"
+            else:
+                dests = [f for f in range(len(s.cell_item)) if s.cell_item[f] >= 0
+                         and is_plateable(s, s.cell_item[f])
+                         and v.plate_wants(item, v.kind[s.cell_item[f]])]
+                label = "collect"
+        elif k == _PLATE:
+            dests = [f for f in v.stations(Cell.SINK) if s.cell_item[f] < 0]
+            label = "to_sink"
+        elif st == _BURNT:
+            dests, label = v.stations(Cell.TRASH), "trash"
+        elif k in _VEG and st == _FRESH:
+            dests = [f for f in v.stations(Cell.BOARD) if s.cell_item[f] < 0]
+            label = "to_board"
+        elif k == _STEAK and st == _FRESH:
+            dests = [f for f in v.stations(Cell.PAN) if s.cell_item[f] < 0]
+            label = "to_pan"
+        elif is_plateable(s, item):
+            plates = [p for p in v.plate_contents if s.item_where[p] == Where.CELL
+                      and v.terrain[s.item_loc[p]] in _COUNTER_CODES and v.plate_wants(p, k)]
+            plates.sort(key=lambda p: (p not in v.plate_missing
+                                       or not v.plate_missing[p][k], -len(v.plate_contents[p])))
+            dests = [s.item_loc[p] for p in plates]
+            label = "to_plate"
+        if label in _EXCLUSIVE:
+            dests = [d for d in dests if d not in claimed]
+        if label in ("to_board", "to_pan") and not dests:
+            # every board / pan is busy: wait at the nearest one (a bump there is harmless)
+            code = Cell.BOARD if label == "to_board" else Cell.PAN
+            wait = self._nearest(v, a, [f for f in v.stations(code) if f not in claimed])
+            return None if wait is None else (wait, "wait_station")
+        best = self._nearest(v, a, dests)
+        if best is not None:
+            if label == "to_board":
+                budget[("board", 0)] -= 1
+            elif label == "to_pan":
+                budget[("pan", 0)] -= 1
+            elif label == "to_plate":
+                budget[("plate", k)] -= 1
+            return best, label
+        if dests and any(v.reach(b, d) < float("inf") for b in range(s.n_agents) if b != a
+                         for d in dests):
+            handover = self._handover(v, a, dests, claimed)
+            if handover is not None:
+                return handover, "handover"
+        # nothing useful in reach right now: free the hands
+        spot = self._nearest(v, a, [f for f in v.free_counters() if f not in claimed])
+        return None if spot is None else (spot, "put_down")
+
+    def _handover(self, v: _View, a: int, dests: list[int], claimed: set[int]) -> int | None:
+        """A free counter that ``a`` reaches and some cook who reaches a destination reaches."""
+        helpers = [b for b in range(v.s.n_agents) if b != a
+                   and any(v.reach(b, d) < float("inf") for d in dests)]
+        spots = [f for f in v.free_counters() if f not in claimed
+                 and any(v.reach(b, f) < float("inf") for b in helpers)]
+        return self._nearest(v, a, spots)
+
+    @staticmethod
+    def _nearest(v: _View, a: int, cells: list[int]) -> int | None:
+        best, best_d = None, float("inf")
+        for f in cells:
+            d = v.reach(a, f)
+            if d < best_d:
+                best, best_d = f, d
+        return best
+
+    # ---------------------------------------------------------------- free agents
+    def _candidates(self, v: _View, budget: Counter) -> list[Task]:
+        s = v.s
+        out: list[Task] = []
+        for f, it in enumerate(s.cell_item):
+            if it < 0:
+                continue
+            code, k, st = v.terrain[f], v.kind[it], s.item_state[it]
+            if k == _PLATE:
+                if st == _CLEAN and v.exact_match(it) and code in _COUNTER_CODES:
+                    out.append(Task("serve", f, it, 0))
+                elif st == _DIRTY and code == Cell.SINK:
+                    out.append(Task("wash", f, it, 3 if self._plates_short(v) else 6))
+                elif st == _DIRTY and v.stations(Cell.SINK):
+                    out.append(Task("dirty_to_sink", f, it, 4))
+                elif st == _CLEAN and code == Cell.SINK:
+                    out.append(Task("unsink", f, it, 3))
+                elif it in v.bad_plates and v.stations(Cell.TRASH):
+                    out.append(Task("clear_plate", f, it, 6))
+            elif code == Cell.PAN and st in (_COOKED, _BURNT):
+                out.append(Task("rescue", f, it, 1))
+            elif code == Cell.BOARD and st == _FRESH:
+                out.append(Task("chop", f, it, 2))
+            elif code == Cell.BOARD and budget[("plate", k)] <= 0:
+                # a chopped vegetable nobody can plate now: free the board for the next one
+                out.append(Task("clear_board", f, it, 7))
+            elif st == _BURNT and v.stations(Cell.TRASH):
+                out.append(Task("trash", f, it, 6))
+            elif is_plateable(s, it):
+                if any(v.plate_wants(p, k) for p in v.plate_contents):
+                    out.append(Task("gather", f, it, 3, ("plate", k)))
+            elif st == _FRESH and code in _COUNTER_CODES:
+                station = ("pan", 0) if k == _STEAK else ("board", 0)
+                prio = 5 + 0.1 * min(v.first_need.get(k, 9), 9)
+                out.append(Task("fetch", f, it, prio, ("need", k)))
+                out.append(Task("fetch", f, it, prio, station))
+        return out
+
+    def _plates_short(self, v: _View) -> bool:
+        return len(v.plate_contents) < len(v.recipes)
+
+    def _assign(self, v: _View, free: list[int], claimed: set[int], budget: Counter,
+                goals: dict[int, tuple[int, str]]) -> None:
+        """Match free agents to subtasks: priority first, then distance (kept tasks win ties)."""
+        by_cell: dict[int, list[Task]] = {}
+        for t in self._candidates(v, budget):
+            by_cell.setdefault(t.cell, []).append(t)
+        options = []
+        for a in free:
+            prev = self.tasks.get(a)
+            for cell, ts in by_cell.items():
+                if cell in claimed:
+                    continue
+                d = v.reach(a, cell)
+                if d == float("inf") or not self._useful_for(v, a, ts[0]):
+                    continue
+                keep = prev is not None and prev.cell == cell and prev.kind == ts[0].kind
+                options.append((ts[0].priority, d - (3 if keep else 0), a, cell))
+        options.sort()
+        taken: set[int] = set()
+        for _, _, a, cell in options:
+            if a in taken or cell in claimed:
+                continue
+            ts = by_cell[cell]
+            if any(t.budget is not None and budget[t.budget] <= 0 for t in ts):
+                continue
+            for t in ts:
+                if t.budget is not None:
+                    budget[t.budget] -= 1
+            taken.add(a)
+            claimed.add(cell)
+            goals[a] = (cell, ts[0].kind)
+            if self.tasks.get(a) is None or self.tasks[a].cell != cell:
+                self.counts[f"task_{ts[0].kind}"] += 1
+            self.tasks[a] = ts[0]
+        for a in free:
+            if a not in taken:
+                self.tasks[a] = None
+                self.counts["idle_steps"] += 1
+
+    def _useful_for(self, v: _View, a: int, task: Task) -> bool:
+        """Whether ``a`` should pick this up: it can finish the job, or it is the hand-over
+        side (nobody who can finish can reach the item where it lies)."""
+        s = v.s
+        if task.kind in ("chop", "wash"):
+            return True
+        it = task.item
+        k = v.kind[it]
+        if task.kind == "serve":
+            dests = v.stations(Cell.DELIVERY)
+        elif task.kind in ("dirty_to_sink",):
+            dests = v.stations(Cell.SINK)
+        elif task.kind in ("clear_plate", "trash"):
+            dests = v.stations(Cell.TRASH)
+        elif task.kind == "fetch":
+            dests = v.stations(Cell.PAN) if k == _STEAK else v.stations(Cell.BOARD)
+        elif task.kind in ("gather", "rescue") and s.item_state[it] != _BURNT:
+            dests = [s.item_loc[p] for p in v.plate_contents if s.item_where[p] == Where.CELL
+                     and v.plate_wants(p, k)] or v.free_counters()
+        elif task.kind == "rescue":
+            dests = v.stations(Cell.TRASH) or v.free_counters()
+        else:  # unsink: any counter will do
+            return True
+        if any(v.reach(a, d) < float("inf") for d in dests):
+            return True
+        finishers = [b for b in range(s.n_agents) if b != a
+                     and any(v.reach(b, d) < float("inf") for d in dests)]
+        return bool(finishers) and all(v.reach(b, task.cell) == float("inf") for b in finishers)
+
+    # ---------------------------------------------------------------- movement
+    def _moves(self, v: _View, goals: dict[int, tuple[int, str]]) -> list[int]:
+        s = v.s
+        actions: dict[int, int] = {}
+        reserved: set[int] = set()
+        paths: set[int] = set()
+        busy = sorted(goals, key=lambda a: (v.reach(a, goals[a][0]), a))
+        for a in busy:
+            cell, label = goals[a]
+            pos = s.agent_pos[a]
+            bump = self._direction(v, pos, cell)
+            if bump is not None:
+                actions[a] = bump
+                self.waited[a] = 0
+                if label == "handover":
+                    self.counts["handovers"] += 1
+                continue
+            others = frozenset(p for b, p in enumerate(s.agent_pos) if b != a) | reserved
+            step, path = self._step_towards(v, pos, cell, others)
+            if step is None:
+                paths.update(self._step_towards(v, pos, cell, frozenset())[1])
+                self.waited[a] += 1
+                step = self._sidestep(v, a, others) if self.waited[a] > self.patience else None
+                if step is not None:
+                    self.counts["yields"] += 1
+            else:
+                self.waited[a] = 0
+                paths.update(path)
+            if step is None:
+                actions[a] = _STAY
+            else:
+                actions[a] = self._direction(v, pos, step)
+                reserved.add(step)
+        for a in self.agent_ids:
+            if a in actions:
+                continue
+            pos = s.agent_pos[a]
+            actions[a] = _STAY
+            reserved.add(pos)
+            if pos in paths:  # idle and in the way: step off the path
+                others = frozenset(p for b, p in enumerate(s.agent_pos) if b != a) | reserved
+                step = self._sidestep(v, a, others | paths)
+                if step is not None:
+                    actions[a] = self._direction(v, pos, step)
+                    reserved.add(step)
+                    self.counts["yields"] += 1
+        return [int(actions[a]) for a in self.agent_ids]
+
+    def _direction(self, v: _View, pos: int, target: int) -> int | None:
+        for d, n in enumerate(v.nbrs[pos]):
+            if n == target:
+                return d
+        return None
+
+    def _step_towards(self, v: _View, pos: int, cell: int,
+                      blocked: frozenset[int]) -> tuple[int | None, list[int]]:
+        """First step of a shortest path to a floor cell next to ``cell`` avoiding ``blocked``."""
+        goals = {n for n in v.nbrs[cell] if n >= 0 and v.walk[n]}
+        parent = {pos: -1}
+        queue = deque([pos])
+        while queue:
+            f = queue.popleft()
+            if f in goals:
+                path = [f]
+                while parent[path[-1]] != pos:
+                    path.append(parent[path[-1]])
+                return path[-1], path
+            for n in v.nbrs[f]:
+                if n >= 0 and n not in parent and v.walk[n] and n not in blocked:
+                    parent[n] = f
+                    queue.append(n)
+        return None, []
+
+    def _sidestep(self, v: _View, a: int, blocked: frozenset[int] | set[int]) -> int | None:
+        pos = v.s.agent_pos[a]
+        opts = [n for n in v.nbrs[pos] if n >= 0 and v.walk[n] and n not in blocked]
+        if not opts:
+            return None
+        return int(opts[int(self.rng.integers(len(opts)))])
+
+
+__all__ = ["GreedyAgent", "Task"]
