@@ -1,0 +1,428 @@
+"""Grid paths for the executive: BFS distances and multi-agent space-time reservations.
+
+Agents interact by bumping a non-walkable cell from a walkable neighbour (its
+*interaction spot*), so every task of the executive is "get to a spot next to
+cell X, then bump X". This module answers the "get to" part for several agents
+at once, with the simulator's move rules (SPEC section 5) as constraints:
+
+- never two agents in one cell at the same time (vertex reservations);
+- no swaps (edge reservations: a->b and b->a in the same step);
+- an agent may wait; agents that nobody plans for (a human, another controller)
+  are treated as standing still where they are.
+
+:func:`plan_paths` is prioritised planning (one space-time A* per agent in
+priority order, each avoiding the reservations of the agents planned before it).
+An agent whose goal cannot be reached inside the window is given an *evasion*
+path instead: it keeps out of the way of higher-priority agents and ends as close
+to its goal as it can. The caller (the executive) detects lack of progress and
+rotates priorities, which resolves head-on meetings in one-lane corridors.
+
+Walkability may depend on time (``walk_at``) so that planned paths can route
+around a layout switch that is known to come.
+"""
+
+from __future__ import annotations
+
+import heapq
+from collections import deque
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+from ..errors import ConfigError
+from ..sim.codes import Action
+from ..sim.state import Geometry, State
+
+#: walkable flags per cell for the layout in force at a relative time step
+WalkAt = Callable[[int], Sequence[bool]]
+
+_DIRS = (int(Action.RIGHT), int(Action.DOWN), int(Action.LEFT), int(Action.UP))
+STAY = int(Action.STAY)
+
+
+# ------------------------------------------------------------------ static geometry
+def bfs_distances(
+    geo: Geometry, walkable: Sequence[bool], sources: Iterable[int],
+    blocked: Iterable[int] = (),
+) -> list[int]:
+    """Steps from the nearest of ``sources`` to every cell over walkable cells (-1: unreachable).
+
+    Sources themselves get distance 0 even when they are not walkable (so the
+    distance from a station's spot set can be asked directly); ``blocked`` cells
+    are treated as walls.
+    """
+    n = geo.rows * geo.cols
+    dist = [-1] * n
+    wall = set(blocked)
+    queue: deque[int] = deque()
+    for s in sources:
+        if not 0 <= s < n:
+            raise ConfigError(f"cell {s} is outside the {geo.rows}x{geo.cols} grid")
+        if dist[s] < 0:
+            dist[s] = 0
+            queue.append(s)
+    nbrs = geo.neighbors
+    while queue:
+        c = queue.popleft()
+        d = dist[c] + 1
+        for nb in nbrs[c]:
+            if nb >= 0 and dist[nb] < 0 and walkable[nb] and nb not in wall:
+                dist[nb] = d
+                queue.append(nb)
+    return dist
+
+
+def interaction_spots(geo: Geometry, walkable: Sequence[bool], cell: int) -> list[int]:
+    """Walkable neighbours of ``cell`` from which an agent can bump it."""
+    return [nb for nb in geo.neighbors[cell] if nb >= 0 and walkable[nb]]
+
+
+def step_action(geo: Geometry, src: int, dst: int) -> int:
+    """The action that moves from ``src`` to the adjacent ``dst`` (or bumps ``dst``); STAY if equal."""
+    if src == dst:
+        return STAY
+    for act, nb in zip(_DIRS, geo.neighbors[src]):
+        if nb == dst:
+            return act
+    raise ConfigError(f"cells {geo.rc(src)} and {geo.rc(dst)} are not adjacent")
+
+
+class DistanceOracle:
+    """Memoised BFS distances per (layout, goal set): the executive asks the same ones a lot."""
+
+    def __init__(self, geo: Geometry) -> None:
+        self.geo = geo
+        self._cache: dict[tuple[int, frozenset[int]], list[int]] = {}
+
+    def to_goals(self, layout_index: int, goals: Iterable[int]) -> list[int]:
+        key = (layout_index, frozenset(goals))
+        d = self._cache.get(key)
+        if d is None:
+            d = bfs_distances(self.geo, self.geo.walkables[layout_index], key[1])
+            self._cache[key] = d
+        return d
+
+    def to_station(self, layout_index: int, cell: int) -> list[int]:
+        """Distance of every cell to the nearest interaction spot of ``cell`` (-1: none)."""
+        spots = interaction_spots(self.geo, self.geo.walkables[layout_index], cell)
+        return self.to_goals(layout_index, spots) if spots else [-1] * len(self.geo.neighbors)
+
+
+def layout_schedule(state: State, anticipate: bool) -> WalkAt:
+    """Walkability over relative time: the current layout, or (``anticipate``) the layout
+    after the next due switch from the step it is due on (``state.next_switch``)."""
+    geo = state.geo
+    now = geo.walkables[state.layout_index]
+    if not anticipate or not state.rules.dynamic or len(geo.walkables) < 2:
+        return lambda t: now
+    other = geo.walkables[1 - state.layout_index]
+    due = max(0, state.next_switch - state.t)
+    period = state.rules.map_switch_step
+    layouts = (now, other)
+
+    def walk_at(t: int) -> Sequence[bool]:
+        if t < due:
+            return now
+        return layouts[(1 + (t - due) // period) % 2]
+
+    return walk_at
+
+
+# ------------------------------------------------------------------ reservations
+@dataclass
+class Reservations:
+    """Cells (and moves) taken by already planned agents at each relative time step."""
+
+    horizon: int
+    vertex: dict[tuple[int, int], int] = field(default_factory=dict)  # (cell, t) -> agent
+    edge: set[tuple[int, int, int]] = field(default_factory=set)  # (from, to, t): move t -> t+1
+    #: cells held from some time on until the end of the window (parked agents)
+    parked: dict[int, int] = field(default_factory=dict)  # cell -> first t held
+
+    def free(self, cell: int, t: int) -> bool:
+        if (cell, t) in self.vertex:
+            return False
+        p = self.parked.get(cell)
+        return p is None or t < p
+
+    def free_from(self, cell: int, t: int) -> bool:
+        """Free at ``t`` and every later step of the window (a place to park)."""
+        if cell in self.parked:
+            return False
+        return all((cell, u) not in self.vertex for u in range(t, self.horizon + 1))
+
+    def can_move(self, src: int, dst: int, t: int) -> bool:
+        """Move src -> dst between t and t+1: dst free at t+1 and nobody moving dst -> src."""
+        return self.free(dst, t + 1) and (dst, src, t) not in self.edge
+
+    def add_path(self, agent: int, path: Sequence[int]) -> None:
+        """Reserve ``path`` (cell per step from t=0); the last cell stays held afterwards."""
+        for t, c in enumerate(path):
+            self.vertex[(c, t)] = agent
+            if t + 1 < len(path) and path[t + 1] != c:
+                self.edge.add((c, path[t + 1], t))
+        last = path[-1]
+        self.parked[last] = min(self.parked.get(last, len(path) - 1), len(path) - 1)
+
+    def add_static(self, agent: int, cell: int) -> None:
+        """An agent nobody plans for: assumed to stay where it is for the whole window."""
+        self.vertex[(cell, 0)] = agent
+        self.parked[cell] = 0
+
+
+@dataclass(frozen=True)
+class PathRequest:
+    """One agent to route: from ``start`` to any of ``goals`` (empty: just keep out of the way)."""
+
+    agent: int
+    start: int
+    goals: frozenset[int]
+
+
+@dataclass
+class PathResult:
+    agent: int
+    path: list[int]  # cell at relative t = 0, 1, ...; path[0] == start
+    reached: bool  # the path ends on a goal (False: an evasion / waiting path)
+    #: the agent can follow the path and then stay, for the whole window, without conflict
+    safe: bool = True
+
+    def next_action(self, geo: Geometry) -> int:
+        if len(self.path) < 2:
+            return STAY
+        return step_action(geo, self.path[0], self.path[1])
+
+
+def _heuristic(geo: Geometry, walk: Sequence[bool], goals: frozenset[int]) -> list[int]:
+    d = bfs_distances(geo, walk, goals)
+    big = geo.rows * geo.cols
+    return [big if v < 0 else v for v in d]
+
+
+def space_time_astar(
+    geo: Geometry, walk_at: WalkAt, request: PathRequest, res: Reservations,
+    soft: Mapping[int, int] | None = None,
+) -> PathResult:
+    """Earliest path from ``request.start`` to a goal where the agent can then stay.
+
+    ``soft`` maps cells to an extra cost (cells where not-yet-planned agents stand,
+    so a higher-priority agent prefers to go around them when it can). Falls back
+    to :func:`evasion_path` when no goal can be reached inside the window.
+    """
+    goals = request.goals
+    start = request.start
+    if not goals:
+        return evasion_path(geo, walk_at, request, res)
+    h = _heuristic(geo, walk_at(0), goals)
+    soft = soft or {}
+    horizon = res.horizon
+    nbrs = geo.neighbors
+    # node: (f, g, tie, cell, t); g counts time steps plus soft penalties
+    tie = 0
+    openq: list[tuple[int, int, int, int, int]] = [(h[start], 0, tie, start, 0)]
+    parent: dict[tuple[int, int], tuple[int, int] | None] = {(start, 0): None}
+    best_g: dict[tuple[int, int], int] = {(start, 0): 0}
+    while openq:
+        _f, g, _tie, cell, t = heapq.heappop(openq)
+        if best_g.get((cell, t), 1 << 30) < g:
+            continue
+        if cell in goals and res.free_from(cell, t):
+            return PathResult(request.agent, _unwind(parent, (cell, t)), True)
+        if t >= horizon:
+            continue
+        walk = walk_at(t + 1)
+        for nb in (*nbrs[cell], cell):
+            if nb < 0 or not walk[nb]:
+                continue
+            if nb == cell:
+                if not res.free(cell, t + 1):
+                    continue
+            elif not res.can_move(cell, nb, t):
+                continue
+            ng = g + 1 + soft.get(nb, 0)
+            key = (nb, t + 1)
+            if ng < best_g.get(key, 1 << 30):
+                best_g[key] = ng
+                parent[key] = (cell, t)
+                tie += 1
+                heapq.heappush(openq, (ng + h[nb], ng, tie, nb, t + 1))
+    return evasion_path(geo, walk_at, request, res)
+
+
+def evasion_path(
+    geo: Geometry, walk_at: WalkAt, request: PathRequest, res: Reservations
+) -> PathResult:
+    """A path that avoids every reservation for the whole window and ends as close to the
+    goals as possible (or, with no goals, as close to the start: step aside, not away).
+
+    If even that is impossible (cornered), the agent stays (the move rules keep it safe).
+    """
+    horizon = res.horizon
+    start = request.start
+    ref = request.goals or frozenset({start})
+    h = _heuristic(geo, walk_at(0), ref)
+    nbrs = geo.neighbors
+    layer = {start: None}
+    parents: list[dict[int, int | None]] = [layer]
+    for t in range(horizon):
+        walk = walk_at(t + 1)
+        nxt: dict[int, int | None] = {}
+        for cell in layer:
+            for nb in (cell, *nbrs[cell]):
+                if nb < 0 or nb in nxt or not walk[nb]:
+                    continue
+                if nb == cell:
+                    if res.free(cell, t + 1):
+                        nxt[nb] = cell
+                elif res.can_move(cell, nb, t):
+                    nxt[nb] = cell
+        if not nxt:
+            break
+        parents.append(nxt)
+        layer = nxt
+    # prefer a survivor of the last layer that can stay; else the latest survivor
+    t_end = len(parents) - 1
+    candidates = [c for c in parents[t_end] if res.free_from(c, t_end)]
+    safe = bool(candidates) and t_end == horizon
+    candidates = candidates or list(parents[t_end])
+    best = min(candidates, key=lambda c: (h[c], c != start))
+    path = [best]
+    for t in range(t_end, 0, -1):
+        path.append(parents[t][path[-1]])  # type: ignore[arg-type]
+    path.reverse()
+    # trim the trailing waits so the reservation parks at the first arrival
+    while len(path) > 1 and path[-1] == path[-2]:
+        path.pop()
+    return PathResult(request.agent, path, best in request.goals, safe)
+
+
+def _unwind(parent: dict[tuple[int, int], tuple[int, int] | None], node: tuple[int, int]) -> list[int]:
+    out = []
+    cur: tuple[int, int] | None = node
+    while cur is not None:
+        out.append(cur[0])
+        cur = parent[cur]
+    out.reverse()
+    return out
+
+
+def plan_paths(
+    geo: Geometry,
+    requests: Sequence[PathRequest],
+    others: Mapping[int, int] | None = None,
+    *,
+    horizon: int = 40,
+    walk_at: WalkAt | None = None,
+    layout_index: int = 0,
+    soft_penalty: int = 2,
+) -> dict[int, PathResult]:
+    """Prioritised space-time planning: ``requests`` in priority order (first = highest).
+
+    ``others`` maps agents nobody plans for to their cell (assumed to stay). Returns
+    one :class:`PathResult` per request; no two results occupy one cell at one
+    step or swap cells, and none enters a cell held by ``others``.
+    """
+    if horizon < 1:
+        raise ConfigError(f"path horizon must be >= 1, got {horizon}")
+    walk_at = walk_at or (lambda t, w=geo.walkables[layout_index]: w)
+    starts = [r.start for r in requests]
+    if len(set(starts)) != len(starts):
+        raise ConfigError(f"two path requests start on the same cell: {starts}")
+    order = list(requests)
+    best: tuple[int, dict[int, PathResult]] | None = None
+    # prioritised planning is incomplete: when an agent is left without a safe path (it is
+    # in the way of a higher-priority agent and cannot step aside in time), plan it first,
+    # towards the nearest cell off the others' routes (a pocket), and try again
+    for _attempt in range(len(requests) + 1):
+        out, unsafe, used = _plan_in_order(geo, order, others, horizon, walk_at, soft_penalty)
+        if best is None or len(unsafe) < best[0]:
+            best = (len(unsafe), out)
+        if not unsafe:
+            break
+        j = unsafe[0]
+        req = next(r for r in order if r.agent == j)
+        pockets = _pockets(geo, walk_at(0), req.start, used[j])
+        rest = [r for r in order if r.agent != j]
+        first = PathRequest(j, req.start, pockets) if pockets else req
+        order = [first, *rest]
+    assert best is not None
+    # report against the original goals
+    for req in requests:
+        r = best[1][req.agent]
+        r.reached = r.path[-1] in req.goals
+    return best[1]
+
+
+def _plan_in_order(
+    geo: Geometry, order: Sequence[PathRequest], others: Mapping[int, int] | None,
+    horizon: int, walk_at: WalkAt, soft_penalty: int,
+) -> tuple[dict[int, PathResult], list[int], dict[int, set[int]]]:
+    res = Reservations(horizon)
+    for agent, cell in (others or {}).items():
+        res.add_static(agent, cell)
+    out: dict[int, PathResult] = {}
+    unsafe: list[int] = []
+    used: dict[int, set[int]] = {}  # agent -> cells on the paths planned before it
+    taken: set[int] = set()
+    for i, req in enumerate(order):
+        # lower-priority agents still stand where they are: a soft cost keeps us off their
+        # cells when a detour exists (stepping onto a cell its occupant leaves in the same
+        # step is allowed by the move rules; if it cannot leave, the move is merely blocked)
+        soft = {r.start: soft_penalty for r in order[i + 1:]}
+        result = space_time_astar(geo, walk_at, req, res, soft)
+        used[req.agent] = set(taken)
+        taken.update(result.path)
+        if not result.safe:
+            unsafe.append(req.agent)
+        res.add_path(req.agent, result.path)
+        out[req.agent] = result
+    return out, unsafe, used
+
+
+def _pockets(geo: Geometry, walk: Sequence[bool], start: int, avoid: set[int]) -> frozenset[int]:
+    """Walkable cells reachable from ``start`` that are off the cells in ``avoid``."""
+    dist = bfs_distances(geo, walk, [start])
+    return frozenset(c for c, d in enumerate(dist) if d >= 0 and c not in avoid and c != start)
+
+
+def check_paths(paths: Mapping[int, Sequence[int]], others: Mapping[int, int] | None = None) -> list[str]:
+    """Every conflict between planned paths (empty = none): shared cells, swaps, standing
+    agents entered. Paths are extended by waiting at their last cell."""
+    problems = []
+    length = max((len(p) for p in paths.values()), default=0)
+
+    def at(p: Sequence[int], t: int) -> int:
+        return p[min(t, len(p) - 1)]
+
+    agents = sorted(paths)
+    for t in range(length):
+        seen: dict[int, int] = {}
+        for a in agents:
+            c = at(paths[a], t)
+            if c in seen:
+                problems.append(f"t={t}: agents {seen[c]} and {a} both on cell {c}")
+            seen[c] = a
+            for o, oc in (others or {}).items():
+                if c == oc:
+                    problems.append(f"t={t}: agent {a} on cell {c} held by agent {o}")
+        for i, a in enumerate(agents):
+            for b in agents[i + 1:]:
+                if t + 1 < length and at(paths[a], t) == at(paths[b], t + 1) and \
+                        at(paths[b], t) == at(paths[a], t + 1) and at(paths[a], t) != at(paths[a], t + 1):
+                    problems.append(f"t={t}: agents {a} and {b} swap cells")
+    return problems
+
+
+__all__ = [
+    "DistanceOracle",
+    "PathRequest",
+    "PathResult",
+    "Reservations",
+    "bfs_distances",
+    "check_paths",
+    "evasion_path",
+    "interaction_spots",
+    "layout_schedule",
+    "plan_paths",
+    "space_time_astar",
+    "step_action",
+]
