@@ -27,11 +27,12 @@ COMMANDS: dict[str, str] = {
     "demo": "demo",
 }
 
-EXAMPLES = """examples:
-  ocplus check-map mapC
-  ocplus check-map maps/hard_switch.yaml
-  ocplus rollout --preset hard --n-agents 2 --steps 200 --seed 0 --json
-"""
+#: Printed by --help and replayed by tests/test_cli.py (each must exit 0, quickly).
+EXAMPLES: list[str] = [
+    "ocplus check-map mapC",
+    "ocplus check-map maps/hard_switch.yaml",
+    "ocplus rollout --preset hard --n-agents 2 --steps 200 --seed 0 --json",
+]
 
 EXIT_OK, EXIT_BUG, EXIT_INPUT, EXIT_DEPENDENCY, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 
@@ -40,7 +41,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="ocplus",
         description="ocplus-plan: planning and learning in an Overcooked-style kitchen.",
-        epilog=EXAMPLES + "\n" + __doc__.split("Exit codes", 1)[1].join(["exit codes", ""]),
+        epilog="examples:\n" + "".join(f"  {e}\n" for e in EXAMPLES)
+        + "\nexit codes" + (__doc__ or "").split("Exit codes", 1)[1],
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")

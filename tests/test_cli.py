@@ -47,3 +47,15 @@ def test_rollout_json_has_the_promised_keys_and_is_deterministic(capsys):
 def test_unknown_preset_is_exit_2(capsys):
     assert main(["rollout", "--preset", "impossible"]) == 2
     assert "unknown preset" in capsys.readouterr().err
+
+
+def test_every_help_example_runs(capsys):
+    import shlex
+
+    from ocplus_plan.cli import EXAMPLES
+
+    for example in EXAMPLES:
+        argv = shlex.split(example)
+        assert argv[0] == "ocplus"
+        assert main(argv[1:]) == 0, example
+    capsys.readouterr()
