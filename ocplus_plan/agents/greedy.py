@@ -63,6 +63,17 @@ class _View:
         self.nbrs = geo.neighbors
         self.kind = geo.item_kind
         self.dist = [self._bfs(p) for p in state.agent_pos]
+        # on a dynamic map a place out of reach now may be reachable after a switch: a lone
+        # cook plans over the union of the layouts' floors, at a price for the wait (with
+        # partners, hand-overs through counters are faster than waiting for switches)
+        self.dynamic = state.rules.dynamic and len(geo.walkables) > 1 and state.n_agents == 1
+        self.walk_any = tuple(any(w) for w in zip(*geo.walkables)) if self.dynamic else self.walk
+        self.dist_any = ([self._bfs(p, walk=self.walk_any) for p in state.agent_pos]
+                         if self.dynamic else self.dist)
+        self.wait_cost = state.rules.map_switch_step / 2
+        # the same with the other cooks as walls: who can get there without anybody moving
+        self.dist_now = [self._bfs(p, frozenset(q for q in state.agent_pos if q != p))
+                         for p in state.agent_pos]
         self.cells_of: dict[int, list[int]] = {}
         for f, code in enumerate(self.terrain):
             self.cells_of.setdefault(code, []).append(f)
@@ -70,20 +81,31 @@ class _View:
         self._plates()
 
     # ---------------------------------------------------------------- geometry
-    def _bfs(self, start: int, blocked: frozenset[int] = frozenset()) -> dict[int, int]:
+    def _bfs(self, start: int, blocked: frozenset[int] = frozenset(),
+             walk: tuple[bool, ...] | None = None) -> dict[int, int]:
+        walkable = self.walk if walk is None else walk
         dist = {start: 0}
         queue = deque([start])
         while queue:
             f = queue.popleft()
             for n in self.nbrs[f]:
-                if n >= 0 and n not in dist and self.walk[n] and n not in blocked:
+                if n >= 0 and n not in dist and walkable[n] and n not in blocked:
                     dist[n] = dist[f] + 1
                     queue.append(n)
         return dist
 
     def reach(self, agent: int, cell: int) -> float:
         """Steps for ``agent`` to stand next to ``cell`` (inf when it cannot)."""
-        d = self.dist[agent]
+        best = self._reach(self.dist[agent], cell)
+        if best == float("inf") and self.dynamic:
+            best = self._reach(self.dist_any[agent], cell) + self.wait_cost
+        return best
+
+    def reach_now(self, agent: int, cell: int) -> float:
+        """Like :meth:`reach` but around the other cooks where they stand now."""
+        return self._reach(self.dist_now[agent], cell)
+
+    def _reach(self, d: dict[int, int], cell: int) -> float:
         best = float("inf")
         for n in self.nbrs[cell]:
             if n >= 0 and n in d and d[n] < best:
@@ -281,11 +303,16 @@ class GreedyAgent(Controller):
 
     def _handover(self, v: _View, a: int, dests: list[int], claimed: set[int]) -> int | None:
         """A free counter that ``a`` reaches and some cook who reaches a destination reaches."""
+        reach = v.reach
         helpers = [b for b in range(v.s.n_agents) if b != a
-                   and any(v.reach(b, d) < float("inf") for d in dests)]
-        spots = [f for f in v.free_counters() if f not in claimed
-                 and any(v.reach(b, f) < float("inf") for b in helpers)]
-        return self._nearest(v, a, spots)
+                   and any(reach(b, d) < float("inf") for d in dests)]
+        spots = [f for f in v.free_counters() if f not in claimed and reach(a, f) < float("inf")
+                 and any(reach(b, f) < float("inf") for b in helpers)]
+        best, best_d = None, float("inf")
+        for f in spots:
+            if reach(a, f) < best_d:
+                best, best_d = f, reach(a, f)
+        return best
 
     @staticmethod
     def _nearest(v: _View, a: int, cells: list[int]) -> int | None:
@@ -349,7 +376,9 @@ class GreedyAgent(Controller):
             for cell, ts in by_cell.items():
                 if cell in claimed:
                     continue
-                d = v.reach(a, cell)
+                d = v.reach_now(a, cell)
+                if d == float("inf"):  # behind another cook: possible, but costs a detour
+                    d = v.reach(a, cell) + 20
                 if d == float("inf") or not self._useful_for(v, a, ts[0]):
                     continue
                 keep = prev is not None and prev.cell == cell and prev.kind == ts[0].kind
@@ -459,10 +488,14 @@ class GreedyAgent(Controller):
                 return d
         return None
 
-    def _step_towards(self, v: _View, pos: int, cell: int,
-                      blocked: frozenset[int]) -> tuple[int | None, list[int]]:
-        """First step of a shortest path to a floor cell next to ``cell`` avoiding ``blocked``."""
-        goals = {n for n in v.nbrs[cell] if n >= 0 and v.walk[n]}
+    def _step_towards(self, v: _View, pos: int, cell: int, blocked: frozenset[int],
+                      walk: tuple[bool, ...] | None = None) -> tuple[int | None, list[int]]:
+        """First step of a shortest path to a floor cell next to ``cell`` avoiding ``blocked``.
+
+        When the current layout has no path but a switch would open one, head along the
+        path over both layouts' floors as far as the current layout allows."""
+        walkable = v.walk if walk is None else walk
+        goals = {n for n in v.nbrs[cell] if n >= 0 and walkable[n]}
         parent = {pos: -1}
         queue = deque([pos])
         while queue:
@@ -473,9 +506,15 @@ class GreedyAgent(Controller):
                     path.append(parent[path[-1]])
                 return path[-1], path
             for n in v.nbrs[f]:
-                if n >= 0 and n not in parent and v.walk[n] and n not in blocked:
+                if n >= 0 and n not in parent and walkable[n] and n not in blocked:
                     parent[n] = f
                     queue.append(n)
+        if walk is None and v.dynamic:
+            step, path = self._step_towards(v, pos, cell, blocked, v.walk_any)
+            if step is not None and v.walk[step]:
+                return step, path
+            if step is not None:  # wait for the switch off the cells that it changes
+                return None, path
         return None, []
 
     def _sidestep(self, v: _View, a: int, blocked: frozenset[int] | set[int]) -> int | None:
