@@ -1,0 +1,188 @@
+"""Run one function in a killable child process with its own process group.
+
+Planners are run this way because several of them cannot be trusted to stop:
+TAMER ignores ``timeout``; Fast Downward, SymK, ENHSP's JVM and the Aries server
+are grandchildren that survive their Python parent. The child made here is the
+leader of a fresh process group, so every process a planner starts belongs to
+that group and one ``killpg`` ends them all, on a timeout, on a crash, and after
+a normal finish (the Aries server otherwise lingers).
+
+The child is forked (not spawned), so it inherits the already-built
+unified-planning problem without pickling it; only the function's (small,
+picklable) return value travels back through a pipe. A watchdog thread in the
+child kills the group if the parent dies, so nothing is left behind when the
+caller itself is killed.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import signal
+import sys
+import tempfile
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+#: Outcome kinds of :func:`run_isolated`.
+OK, RAISED, TIMEOUT, CRASHED = "ok", "raised", "timeout", "crashed"
+
+_LOG_TAIL_CHARS = 2000
+
+
+@dataclass
+class Outcome:
+    """What happened to an isolated call.
+
+    ``kind`` is ``ok`` (``value`` holds the return value), ``raised`` (``value``
+    holds ``"ExcType: message"``), ``timeout`` (killed at the hard limit) or
+    ``crashed`` (died without reporting; ``value`` says how). ``log_tail`` is the
+    end of what the child wrote to stdout/stderr, ``pgid`` its process group.
+    """
+
+    kind: str
+    value: Any
+    wall_time: float
+    pgid: int
+    log_tail: str = ""
+
+
+def _watch_parent(parent_pid: int) -> None:
+    """Kill our own process group as soon as the parent is gone."""
+    while True:
+        if os.getppid() != parent_pid:
+            os.killpg(0, signal.SIGKILL)
+        time.sleep(0.5)
+
+
+def _child_main(conn: Any, log_path: str, parent_pid: int,
+                fn: Callable[..., Any], args: tuple[Any, ...]) -> None:
+    os.setpgid(0, 0)
+    threading.Thread(target=_watch_parent, args=(parent_pid,), daemon=True).start()
+    # Planners print a lot (and some print from native code): send fds 1 and 2 to a file.
+    log_fd = os.open(log_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os.dup2(log_fd, 1)
+    os.dup2(log_fd, 2)
+    try:
+        result = (OK, fn(*args))
+    except BaseException as exc:  # noqa: BLE001 - everything must be reported, not lost
+        result = (RAISED, f"{type(exc).__name__}: {exc}")
+    try:
+        conn.send(result)
+    except Exception as exc:  # an unpicklable return value is a bug in the caller
+        conn.send((RAISED, f"result could not be sent back: {type(exc).__name__}: {exc}"))
+    conn.close()
+
+
+def group_alive(pgid: int) -> bool:
+    """True if any process of group ``pgid`` still exists (zombies excluded)."""
+    return bool(group_members(pgid))
+
+
+def group_members(pgid: int) -> list[int]:
+    """PIDs of the live (non-zombie) processes whose process group is ``pgid``."""
+    members = []
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/stat", encoding="utf-8", errors="replace") as fh:
+                fields = fh.read().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        # fields after the command name: state, ppid, pgrp, ...
+        if fields[0] != "Z" and int(fields[2]) == pgid:
+            members.append(int(entry))
+    return members
+
+
+def kill_group(pgid: int, wait: float = 2.0) -> bool:
+    """SIGKILL every process in group ``pgid``; wait until gone. True if none is left."""
+    deadline = time.monotonic() + wait
+    while True:
+        try:
+            os.killpg(pgid, signal.SIGKILL)
+        except ProcessLookupError:
+            return True
+        except PermissionError:  # the pgid was recycled by someone else's group
+            return True
+        if not group_alive(pgid):
+            return True
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.02)
+
+
+def run_isolated(fn: Callable[..., Any], args: tuple[Any, ...], hard_limit: float) -> Outcome:
+    """Call ``fn(*args)`` in a forked child that leads its own process group.
+
+    The child is killed (with its whole group) after ``hard_limit`` seconds of
+    wall time. Whatever happens, the group is killed before this returns, so no
+    planner process outlives the call.
+    """
+    if sys.platform == "win32":  # pragma: no cover - the project targets Linux
+        raise OSError("isolated planner runs need fork and process groups (Linux/macOS)")
+    ctx = multiprocessing.get_context("fork")
+    recv, send = ctx.Pipe(duplex=False)
+    log = tempfile.NamedTemporaryFile(prefix="ocplus-planner-", suffix=".log", delete=False)
+    log.close()
+    proc = ctx.Process(target=_child_main, args=(send, log.name, os.getpid(), fn, args),
+                       daemon=False)
+    start = time.perf_counter()
+    proc.start()
+    send.close()
+    pgid = proc.pid
+    try:
+        os.setpgid(pgid, pgid)  # also done by the child: whoever runs first wins the race
+    except OSError:
+        pass
+    kind: str
+    value: Any
+    try:
+        if recv.poll(hard_limit):
+            try:
+                kind, value = recv.recv()
+            except EOFError:
+                proc.join(1.0)
+                kind, value = CRASHED, _death_reason(proc.exitcode)
+        else:
+            kind, value = TIMEOUT, f"killed after the hard limit of {hard_limit:g} s"
+        wall = time.perf_counter() - start
+    finally:
+        kill_group(pgid)
+        proc.join(2.0)
+        recv.close()
+    tail = _read_tail(log.name)
+    try:
+        os.unlink(log.name)
+    except OSError:
+        pass
+    return Outcome(kind, value, wall, pgid, tail)
+
+
+def _death_reason(exitcode: int | None) -> str:
+    if exitcode is None:
+        return "the planner process stopped answering"
+    if exitcode < 0:
+        try:
+            name = signal.Signals(-exitcode).name
+        except ValueError:
+            name = str(-exitcode)
+        hint = " (out of memory?)" if -exitcode == signal.SIGKILL else ""
+        return f"the planner process was killed by {name}{hint}"
+    return f"the planner process exited with code {exitcode} without a result"
+
+
+def _read_tail(path: str) -> str:
+    try:
+        with open(path, "rb") as fh:
+            fh.seek(0, os.SEEK_END)
+            fh.seek(max(0, fh.tell() - _LOG_TAIL_CHARS * 4))
+            return fh.read().decode("utf-8", errors="replace")[-_LOG_TAIL_CHARS:]
+    except OSError:
+        return ""

@@ -1,0 +1,428 @@
+"""Named planners, their availability, and ``solve(problem, planner) -> PlanResult``.
+
+Each planner is one YAML file in ``planners/`` (the UP engine name, its
+parameters, a default time limit, the encoding it is meant for, what must be
+installed, notes). :func:`solve` runs the engine in a forked child that leads
+its own process group (see :mod:`._proc`), kills the group at a hard limit,
+rebuilds the plan against the caller's problem, and validates it with UP's
+validator and, where installed, VAL. Outcomes are data: a missing planner, a
+timeout, an unsolvable problem, a crash or an invalid plan is a
+:class:`PlanResult` status, never an exception. Unknown planner names and
+malformed configurations raise :class:`~ocplus_plan.errors.PlannerError`.
+
+Typical use::
+
+    from ocplus_plan.planning.engines import solve
+    result = solve(problem, "fast-downward", timeout=30)
+    print(result.status, result.cost, result.validated)
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import os
+import shutil
+import warnings
+from dataclasses import asdict, dataclass, field
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+from ..errors import DependencyNotInstalled, PlannerError
+from . import _proc
+from .validate import plan_from_steps, plan_quality, plan_to_steps, validate_plan
+
+#: Where the planner configurations live (override with ``OCPLUS_PLANNERS_DIR``).
+PLANNERS_DIR = Path(__file__).resolve().parents[2] / "planners"
+
+ENCODINGS = ("classical", "temporal")
+
+#: Every status a :class:`PlanResult` can have.
+STATUSES = ("solved", "unsolvable", "timeout", "memout", "error", "crashed", "unsupported",
+            "unavailable", "invalid")
+
+#: Seconds a planner gets past its own time limit to report before its group is killed.
+GRACE_SECONDS = 2.0
+
+_UP_STATUS = {
+    "SOLVED_SATISFICING": "solved",
+    "SOLVED_OPTIMALLY": "solved",
+    "UNSOLVABLE_PROVEN": "unsolvable",
+    "UNSOLVABLE_INCOMPLETELY": "unsolvable",
+    "TIMEOUT": "timeout",
+    "MEMOUT": "memout",
+    "INTERNAL_ERROR": "error",
+    "UNSUPPORTED_PROBLEM": "unsupported",
+}
+
+
+@dataclass(frozen=True)
+class PlannerConfig:
+    """One planner: a registry name bound to a UP engine and how to run it."""
+
+    name: str
+    engine: str
+    encoding: str
+    timeout: float = 60.0
+    params: dict[str, Any] = field(default_factory=dict, hash=False)
+    modules: tuple[str, ...] = ()
+    binaries: tuple[str, ...] = ()
+    register: str | None = None
+    notes: str = ""
+
+    @classmethod
+    def from_mapping(cls, data: dict[str, Any], source: str = "<dict>") -> PlannerConfig:
+        """Build a config from a parsed YAML mapping; bad fields raise PlannerError."""
+        if not isinstance(data, dict):
+            raise PlannerError(f"{source}: a planner config must be a mapping, got {data!r}")
+        known = {"name", "engine", "encoding", "timeout", "params", "requires", "register",
+                 "notes"}
+        bad = sorted(set(data) - known)
+        if bad:
+            raise PlannerError(f"{source}: unknown key(s) {bad}; known keys: {sorted(known)}")
+        for key in ("name", "engine", "encoding"):
+            if not isinstance(data.get(key), str) or not data[key]:
+                raise PlannerError(f"{source}: '{key}' must be a non-empty string")
+        if data["encoding"] not in ENCODINGS:
+            raise PlannerError(f"{source}: encoding {data['encoding']!r} is not one of {ENCODINGS}")
+        timeout = data.get("timeout", 60.0)
+        if not isinstance(timeout, (int, float)) or timeout <= 0:
+            raise PlannerError(f"{source}: timeout must be a positive number of seconds")
+        params = data.get("params") or {}
+        requires = data.get("requires") or {}
+        if not isinstance(params, dict) or not isinstance(requires, dict):
+            raise PlannerError(f"{source}: 'params' and 'requires' must be mappings")
+        return cls(
+            name=data["name"], engine=data["engine"], encoding=data["encoding"],
+            timeout=float(timeout), params=dict(params),
+            modules=tuple(requires.get("modules") or ()),
+            binaries=tuple(requires.get("binaries") or ()),
+            register=data.get("register"), notes=str(data.get("notes") or "").strip(),
+        )
+
+
+@dataclass
+class PlanResult:
+    """The outcome of one planner run. ``status`` is one of :data:`STATUSES`.
+
+    ``plan`` is the UP plan (SequentialPlan / TimeTriggeredPlan) bound to the
+    caller's problem, ``steps`` the same plan as JSON-friendly dicts. ``cost`` is
+    the value of the problem's action-cost metric (or the plan length),
+    ``makespan`` the end of the last action of a temporal plan. ``validated`` is
+    None when validation was skipped, else whether every validator accepted.
+    """
+
+    status: str
+    engine: str
+    planner: str
+    plan: Any = None
+    steps: list[dict[str, Any]] = field(default_factory=list)
+    planning_time: float = 0.0
+    cost: float | None = None
+    makespan: float | None = None
+    plan_length: int | None = None
+    optimal: bool = False
+    validated: bool | None = None
+    validation_detail: str = ""
+    reason: str = ""
+    notes: list[str] = field(default_factory=list)
+    pgid: int | None = None
+
+    @property
+    def solved(self) -> bool:
+        return self.status == "solved"
+
+    def to_dict(self) -> dict[str, Any]:
+        """Everything but the UP plan object, ready for ``json.dumps``."""
+        out = asdict(self)
+        out.pop("plan")
+        return out
+
+
+# ---------------------------------------------------------------- registry
+
+def load_registry(directory: str | os.PathLike[str] | None = None) -> dict[str, PlannerConfig]:
+    """Read every ``*.yaml`` planner config in ``directory`` (default :data:`PLANNERS_DIR`)."""
+    import yaml
+
+    root = Path(directory or os.environ.get("OCPLUS_PLANNERS_DIR") or PLANNERS_DIR)
+    if not root.is_dir():
+        raise PlannerError(f"planner configs not found: {root} is not a directory; "
+                           "run from a source checkout or set OCPLUS_PLANNERS_DIR")
+    registry: dict[str, PlannerConfig] = {}
+    for path in sorted(root.glob("*.yaml")):
+        try:
+            data = yaml.safe_load(path.read_text(encoding="utf-8"))
+        except yaml.YAMLError as exc:
+            raise PlannerError(f"{path}: not valid YAML: {exc}") from exc
+        config = PlannerConfig.from_mapping(data, str(path))
+        if config.name in registry:
+            raise PlannerError(f"{path}: planner name {config.name!r} is defined twice")
+        registry[config.name] = config
+    return registry
+
+
+@lru_cache(maxsize=1)
+def _default_registry() -> dict[str, PlannerConfig]:
+    return load_registry()
+
+
+def planner_names(encoding: str | None = None) -> list[str]:
+    """Registry names, optionally only those for one encoding."""
+    return sorted(n for n, c in _default_registry().items()
+                  if encoding is None or c.encoding == encoding)
+
+
+def get_planner(name: str | PlannerConfig) -> PlannerConfig:
+    """The config of a registry name; an unknown name raises PlannerError listing all."""
+    if isinstance(name, PlannerConfig):
+        return name
+    registry = _default_registry()
+    if name not in registry:
+        raise PlannerError(f"unknown planner {name!r}; known planners: {', '.join(sorted(registry))}")
+    return registry[name]
+
+
+@dataclass(frozen=True)
+class Availability:
+    """Whether a planner can run here, and if not, why (the fix is in the reason)."""
+
+    ok: bool
+    reason: str = ""
+
+
+def availability(name: str | PlannerConfig) -> Availability:
+    """Check modules, binaries and the UP factory entry of a planner (cached per process)."""
+    return _availability(get_planner(name))
+
+
+@lru_cache(maxsize=None)
+def _availability(config: PlannerConfig) -> Availability:
+    for module in config.modules:
+        if importlib.util.find_spec(module) is None:
+            return Availability(False, f"Python package {module!r} is not installed; "
+                                       "install the planners extra: pip install -e '.[planners]'")
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                importlib.import_module(module)
+        except Exception as exc:  # e.g. up_lpg without pkg_resources (setuptools>=81)
+            return Availability(False, f"importing {module!r} failed ({type(exc).__name__}: "
+                                       f"{exc}); see planners/README.md for working pins")
+    for binary in config.binaries:
+        if shutil.which(binary) is None:
+            return Availability(False, f"the {binary!r} executable is not on PATH "
+                                       f"(e.g. apt-get install default-jre-headless for java)")
+    try:
+        _register(config)
+    except Exception as exc:
+        return Availability(False, f"registering {config.engine!r} with unified-planning "
+                                   f"failed: {type(exc).__name__}: {exc}")
+    factory = _up_environment().factory
+    if config.engine not in factory.engines:
+        return Availability(False, f"unified-planning has no engine named {config.engine!r}")
+    return Availability(True)
+
+
+def available_planners(encoding: str | None = None) -> list[str]:
+    """Registry names whose planner is installed and runnable here."""
+    return [n for n in planner_names(encoding) if availability(n).ok]
+
+
+def _up_environment() -> Any:
+    try:
+        from unified_planning.shortcuts import get_environment
+    except ImportError as exc:  # pragma: no cover - a core dependency
+        raise DependencyNotInstalled("unified-planning is missing: pip install -e .") from exc
+    return get_environment()
+
+
+def _register(config: PlannerConfig) -> None:
+    if not config.register:
+        return
+    module, _, func = config.register.partition(":")
+    if not func:
+        raise PlannerError(f"planner {config.name!r}: register must be 'module:function', "
+                           f"got {config.register!r}")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        getattr(importlib.import_module(module), func)()
+
+
+# ------------------------------------------------------------------ solving
+
+def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = None,
+          validate: bool = True, use_val: bool = True) -> PlanResult:
+    """Solve a UP problem with a named planner in an isolated, time-limited process.
+
+    ``timeout`` (seconds, default: the planner's) is passed to the engine, and the
+    process group is killed ``GRACE_SECONDS`` later whatever the engine does.
+    With ``validate``, the plan is checked by UP's validator and by VAL (unless
+    ``use_val`` is False or VAL is missing); a rejected plan gets status ``invalid``.
+    """
+    config = get_planner(planner)
+    limit = float(timeout if timeout is not None else config.timeout)
+    if limit <= 0:
+        raise PlannerError(f"timeout must be positive, got {timeout!r}")
+    result = PlanResult(status="unavailable", engine=config.engine, planner=config.name)
+    avail = availability(config)
+    if not avail.ok:
+        result.reason = avail.reason
+        return result
+
+    outcome = _proc.run_isolated(_solve_in_child, (problem, config, limit),
+                                 hard_limit=limit + GRACE_SECONDS)
+    result.planning_time = round(outcome.wall_time, 4)
+    result.pgid = outcome.pgid
+    if outcome.kind == _proc.TIMEOUT:
+        result.status, result.reason = "timeout", outcome.value
+        return result
+    if outcome.kind in (_proc.CRASHED, _proc.RAISED):
+        result.status = "crashed" if outcome.kind == _proc.CRASHED else "error"
+        result.reason = outcome.value + _tail_hint(outcome.log_tail)
+        return result
+
+    report: dict[str, Any] = outcome.value
+    result.notes = report["notes"]
+    result.status = _UP_STATUS.get(report["up_status"], "error")
+    result.optimal = report["up_status"] == "SOLVED_OPTIMALLY"
+    result.reason = report.get("reason", "")
+    if result.status != "solved":
+        if not result.reason:
+            result.reason = f"engine reported {report['up_status']}" + _tail_hint(report["log"])
+        return result
+    if report["steps"] is None:
+        result.status, result.reason = "error", "engine reported success but returned no plan"
+        return result
+    try:
+        result.plan = plan_from_steps(problem, report["steps"], report["temporal"])
+    except Exception as exc:
+        result.status = "error"
+        result.reason = f"the plan names something the problem lacks: {type(exc).__name__}: {exc}"
+        return result
+    result.steps = plan_to_steps(result.plan)
+    result.plan_length = len(result.steps)
+    quality = plan_quality(problem, result.plan)
+    result.cost, result.makespan = quality.cost, quality.makespan
+    if validate:
+        check = validate_plan(problem, result.plan, use_val=use_val)
+        result.validated, result.validation_detail = check.ok, check.detail
+        if check.cost is not None:
+            result.cost = check.cost
+        if not check.ok:
+            result.status = "invalid"
+            result.reason = "the planner's plan was rejected by validation: " + check.detail
+    return result
+
+
+def _tail_hint(log: str) -> str:
+    lines = [ln for ln in log.strip().splitlines() if ln.strip()]
+    return f"; last output: {' | '.join(lines[-3:])[:400]}" if lines else ""
+
+
+def _solve_in_child(problem: Any, config: PlannerConfig, limit: float) -> dict[str, Any]:
+    """Runs in the forked child: call the engine and return a picklable report."""
+    warnings.simplefilter("ignore")
+    from unified_planning.shortcuts import OneshotPlanner
+
+    env = _up_environment()
+    env.credits_stream = None
+    _register(config)
+    notes: list[str] = []
+    report: dict[str, Any] = {"notes": notes, "steps": None, "log": "",
+                              "temporal": False, "up_status": "INTERNAL_ERROR"}
+    with OneshotPlanner(name=config.engine, params=dict(config.params) or None) as engine:
+        target = problem
+        if not engine.supports(problem.kind):
+            stripped = without_quality_metrics(problem)
+            if problem.quality_metrics and engine.supports(stripped.kind):
+                metrics = ", ".join(type(m).__name__ for m in problem.quality_metrics)
+                notes.append(f"{config.engine} does not optimise {metrics}: solved without it; "
+                             "cost/makespan are measured on the original problem")
+                target = stripped
+            else:
+                unsupported = sorted(set(problem.kind.features)
+                                     - set(type(engine).supported_kind().features))
+                report["up_status"] = "UNSUPPORTED_PROBLEM"
+                report["reason"] = (f"{config.engine} does not support this problem "
+                                    f"(features it lacks: {', '.join(unsupported) or 'unknown'})")
+                return report
+        res = engine.solve(target, timeout=limit)
+    report["up_status"] = res.status.name
+    report["log"] = "\n".join(str(m) for m in (res.log_messages or []))[-2000:]
+    if res.plan is not None:
+        report["temporal"] = res.plan.kind.name == "TIME_TRIGGERED_PLAN"
+        report["steps"] = plan_to_steps(res.plan)
+    return report
+
+
+def without_quality_metrics(problem: Any) -> Any:
+    """A copy of ``problem`` with no quality metric and no fluent used only by the metric.
+
+    Lets a planner that cannot optimise action costs or makespan (pyperplan,
+    TAMER) still solve the problem; numeric fluents that only fed the cost
+    expressions would otherwise make the problem numeric for it.
+    """
+    from unified_planning.model import Problem
+
+    env = problem.environment
+    used: set[Any] = set()
+
+    def note(expr: Any) -> None:
+        for fexp in env.free_vars_extractor.get(env.expression_manager.auto_promote(expr)[0]):
+            used.add(fexp.fluent())
+
+    for action in problem.actions:
+        for cond in getattr(action, "preconditions", []):
+            note(cond)
+        for conds in getattr(action, "conditions", {}).values():
+            for cond in conds:
+                note(cond)
+        duration = getattr(action, "duration", None)
+        if duration is not None:
+            note(duration.lower)
+            note(duration.upper)
+        effs = getattr(action, "effects", [])
+        effects = [e for group in effs.values() for e in group] if isinstance(effs, dict) \
+            else list(effs)
+        for eff in effects:
+            if hasattr(eff, "fluent"):
+                note(eff.fluent)
+                note(eff.value)
+                note(eff.condition)
+    for goal in problem.goals:
+        note(goal)
+    for goals in problem.timed_goals.values():
+        for goal in goals:
+            note(goal)
+    for effs in problem.timed_effects.values():
+        for eff in effs:
+            note(eff.fluent)
+            note(eff.value)
+
+    out = Problem(problem.name, env)
+    for fluent in problem.fluents:
+        if fluent in used:
+            out.add_fluent(fluent, default_initial_value=problem.fluents_defaults.get(fluent))
+    out.add_objects(problem.all_objects)
+    out.add_actions(problem.actions)
+    for fexp, value in problem.explicit_initial_values.items():
+        if fexp.fluent() in used:
+            out.set_initial_value(fexp, value)
+    for goal in problem.goals:
+        out.add_goal(goal)
+    for timing, goals in problem.timed_goals.items():
+        for goal in goals:
+            out.add_timed_goal(timing, goal)
+    for timing, effs in problem.timed_effects.items():
+        for eff in effs:
+            out.add_timed_effect(timing, eff.fluent, eff.value, eff.condition)
+    return out
+
+
+__all__ = [
+    "ENCODINGS", "GRACE_SECONDS", "PLANNERS_DIR", "STATUSES", "Availability",
+    "PlanResult", "PlannerConfig", "available_planners", "availability", "get_planner",
+    "load_registry", "planner_names", "solve", "without_quality_metrics",
+]
