@@ -15,6 +15,7 @@ from .base import Controller, RandomAgent, StayAgent, Team
 FACTORIES: dict[str, Callable[[str | None, int], Controller]] = {
     "random": lambda arg, seed: RandomAgent(seed),
     "stay": lambda arg, seed: StayAgent(),
+    "planner": lambda arg, seed: __import__("ocplus_plan.agents.planner", fromlist=["x"]).make_planner_agent(arg, seed),
     "greedy": lambda arg, seed: __import__("ocplus_plan.agents.greedy", fromlist=["x"]).GreedyAgent(seed),
 }
 

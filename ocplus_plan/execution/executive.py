@@ -1,0 +1,511 @@
+"""The executive: run a plan in the simulator, watch the world, and replan when it disagrees.
+
+A plan arrives as a list of :class:`PlanStep` (one interaction each: "agent A bumps
+cell X to pick up / put down / chop / ... items I"); moves in the plan are not
+needed, because every step names the cell to bump and :mod:`.paths` routes the
+agents there with space-time reservations. Steps become per-agent task queues;
+a step waits for the earlier steps of other agents that touch the same cell or
+item (a plan's causal links, recovered from the sequential order).
+
+Each call to :meth:`Executive.act` reads the state, settles the bumps of the
+previous step (the effect is checked on the state, so it works with or without
+:meth:`observe`), looks for surprises, asks for a new plan when the policy says so,
+and returns one action per driven agent. Surprises are recorded as triggers with
+their reason and time: ``layout_switch``, ``burnt``, ``burn_risk``, ``new_order``,
+``action_failed``, ``blocked``, ``deadlock``, ``stalled``, ``unreachable``, ``plan_finished``,
+``planner_failed`` (the planner timed out or failed: the last valid plan is kept
+and agents without work step out of the way; nothing raises).
+"""
+
+from __future__ import annotations
+
+import time
+from collections import Counter, deque
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+from ..errors import ConfigError
+from ..sim.codes import VEGETABLES, Cell, Item, ItemState
+from ..sim.state import State
+from .paths import (
+    STAY,
+    DistanceOracle,
+    PathRequest,
+    interaction_spots,
+    layout_schedule,
+    plan_paths,
+    step_action,
+)
+
+#: step kinds the executive understands; anything else is a generic "bump until something changes"
+STEP_KINDS = ("pickup", "putdown", "chop", "wash", "plate", "deliver", "trash", "bump")
+_VEG = frozenset(int(v) for v in VEGETABLES)
+_PAN, _SINK, _BOARD = int(Cell.PAN), int(Cell.SINK), int(Cell.BOARD)
+_RAW, _CHOPPED, _CLEAN, _DIRTY = (int(ItemState.FRESH), int(ItemState.CHOPPED),
+                                  int(ItemState.CLEAN), int(ItemState.DIRTY))
+_COOKED = int(ItemState.COOKED)
+_STEAK = int(Item.STEAK)
+
+
+@dataclass(frozen=True)
+class PlanStep:
+    """One interaction of a plan in simulator terms (what the planning layer maps back to)."""
+
+    index: int
+    agent: int
+    kind: str
+    target: int  # flat cell to bump
+    items: tuple[int, ...] = ()
+    start: float | None = None  # planned start (steps after planning), for time-triggered plans
+    duration: float | None = None
+
+
+@dataclass
+class PlanOutcome:
+    """What a planner call returns to the executive (a failure is data, not an exception)."""
+
+    status: str  # "solved" or anything else (timeout, unsolvable, error, ...)
+    steps: list[PlanStep] = field(default_factory=list)
+    planning_time: float = 0.0
+    message: str = ""
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "solved"
+
+
+#: planner(state, driven agent ids) -> PlanOutcome
+PlanFunction = Callable[[State, tuple[int, ...]], PlanOutcome]
+
+
+@dataclass(frozen=True)
+class Policy:
+    """When to ask for a new plan: ``on_event`` (any trigger), ``periodic(k)`` (every k
+    steps), ``never`` (open loop: a new plan only once the current one is used up)."""
+
+    kind: str = "on_event"
+    period: int = 0
+
+    @classmethod
+    def parse(cls, spec: str | Policy) -> Policy:
+        if isinstance(spec, Policy):
+            return spec
+        text = str(spec).strip().lower()
+        if text in ("on_event", "never"):
+            return cls(text)
+        if text.startswith("periodic"):
+            arg = text[len("periodic"):].strip("()= ")
+            if arg.isdigit() and int(arg) > 0:
+                return cls("periodic", int(arg))
+        raise ConfigError(
+            f"unknown replanning policy {spec!r}; use on_event, never or periodic(K) with K >= 1"
+        )
+
+    def __str__(self) -> str:
+        return f"periodic({self.period})" if self.kind == "periodic" else self.kind
+
+
+@dataclass
+class Task:
+    step: PlanStep
+    deps: frozenset[int]
+    bumps: int = 0
+    failures: int = 0
+    waited: int = 0
+    unreachable: bool = False
+
+
+@dataclass
+class _Bump:
+    task: Task
+    hand: int
+    here: int
+    here_state: tuple[int, int]
+    plate_sizes: tuple[int, int]
+
+
+def causal_dependencies(steps: Sequence[PlanStep]) -> dict[int, frozenset[int]]:
+    """For each step, the latest earlier step of every *other* agent that touches the same
+    cell or item: the order a sequential plan relies on between agents."""
+    deps: dict[int, frozenset[int]] = {}
+    for k, s in enumerate(steps):
+        touched = {("c", s.target), *(("i", i) for i in s.items)}
+        need: dict[int, int] = {}
+        for prev in steps[:k]:
+            if prev.agent != s.agent and touched & {("c", prev.target), *(("i", i) for i in prev.items)}:
+                need[prev.agent] = prev.index
+        deps[s.index] = frozenset(need.values())
+    return deps
+
+
+class Executive:
+    """Turns plans into joint actions for the driven agents and decides when to replan."""
+
+    def __init__(
+        self, planner: PlanFunction, policy: str | Policy = "on_event", *,
+        anticipate_switches: bool = False, path_horizon: int = 40,
+        retry_after: int = 5, patience: int = 25, block_patience: int = 6,
+        deliver_plan: Callable[[int], bool] | None = None,
+    ) -> None:
+        self.planner = planner
+        self.policy = Policy.parse(policy)
+        self.anticipate = anticipate_switches
+        self.path_horizon = path_horizon
+        self.retry_after = retry_after
+        self.patience = patience
+        self.block_patience = block_patience
+        #: message-loss hook: False means the agent does not receive its new task list
+        self.deliver_plan = deliver_plan or (lambda agent: True)
+        self.agent_ids: tuple[int, ...] = ()
+
+    # ------------------------------------------------------------------ episode
+    def reset(self, state: State, agent_ids: Sequence[int] | None = None) -> None:
+        self.agent_ids = tuple(range(state.n_agents)) if agent_ids is None else tuple(agent_ids)
+        bad = [a for a in self.agent_ids if not 0 <= a < state.n_agents]
+        if bad:
+            raise ConfigError(f"agents {bad} do not exist: the kitchen has {state.n_agents}")
+        self.oracle = DistanceOracle(state.geo)
+        self.queues: dict[int, deque[Task]] = {a: deque() for a in self.agent_ids}
+        self.done_steps: set[int] = set()
+        self.planned_orders: set[int] = set()
+        self.pending: dict[int, _Bump] = {}
+        self.last_pos: dict[int, int] = {a: state.agent_pos[a] for a in self.agent_ids}
+        self.stuck: Counter[int] = Counter()
+        self.boosted: dict[int, int] = {}
+        self.prev_layout = state.layout_index
+        self.prev_burns = state.stats["burns"]
+        self.last_plan_t: int | None = None
+        self.next_retry = 0
+        self.warned: set[tuple[str, int]] = set()
+        self.triggers: list[tuple[int, str]] = []
+        self.unhandled: list[str] = []  # triggers not yet answered by a replan
+        self.replans: list[tuple[int, str]] = []
+        self.statuses: Counter[str] = Counter()
+        self.planner_calls = 0
+        self.planning_time = 0.0
+        self.act_time = 0.0
+        self.steps_done = 0
+        self.failed_bumps = 0
+        self.messages_lost = 0
+        self.blocked_moves = 0
+        self.plan_id = 0
+
+    def observe(self, state: State, events: Sequence[object]) -> None:
+        """Optional: count blocked moves of the driven agents (everything else is read
+        from the state in :meth:`act`)."""
+        for e in events:
+            if getattr(e, "kind", "") == "move_blocked" and getattr(e, "agent", -1) in self.queues:
+                self.blocked_moves += 1
+
+    # ------------------------------------------------------------------ main loop
+    def act(self, state: State) -> list[int]:
+        """One action per driven agent, in ``agent_ids`` order."""
+        t0 = time.perf_counter()
+        reasons = self._monitor(state)
+        reason = self._decide(state, reasons)
+        if reason is not None:
+            self._replan(state, reason)
+        actions = self._actions(state)
+        self.act_time += time.perf_counter() - t0
+        return [actions[a] for a in self.agent_ids]
+
+    def _trigger(self, state: State, reason: str, out: list[str]) -> None:
+        self.triggers.append((state.t, reason))
+        out.append(reason)
+        self.unhandled.append(reason)
+
+    def _monitor(self, state: State) -> list[str]:
+        """Settle last step's bumps and compare the world with the plan's expectations."""
+        out: list[str] = []
+        for a, bump in list(self.pending.items()):
+            self._settle(state, a, bump, out)
+        self.pending.clear()
+        if state.layout_index != self.prev_layout:
+            self.prev_layout = state.layout_index
+            if self._switch_matters(state):
+                self._trigger(state, "layout_switch", out)
+        if state.stats["burns"] > self.prev_burns:
+            self.prev_burns = state.stats["burns"]
+            self._trigger(state, "burnt", out)
+        open_ids = {o.order_id for o in state.orders}
+        if self.last_plan_t is not None and open_ids - self.planned_orders:
+            self.planned_orders |= open_ids
+            self._trigger(state, "new_order", out)
+        self._check_burn_risk(state, out)
+        for a in self.agent_ids:
+            pos = state.agent_pos[a]
+            task = self._current(a)
+            moving = task is not None and pos not in self._spots(state, task.step.target)
+            self.stuck[a] = self.stuck[a] + 1 if moving and pos == self.last_pos[a] else 0
+            self.last_pos[a] = pos
+            if self.stuck[a] >= 3 and a not in self.boosted:
+                self.boosted[a] = state.t  # right of way until it gets there
+            if self.stuck[a] and self.stuck[a] % self.block_patience == 0:
+                self._trigger(state, "blocked", out)
+            if self.stuck[a] == 4 * self.block_patience:
+                self._trigger(state, "deadlock", out)
+            if task is not None and task.waited == self.patience:
+                self._trigger(state, "stalled", out)
+            if task is not None and not task.unreachable and \
+                    self.oracle.to_station(state.layout_index, task.step.target)[pos] < 0:
+                task.unreachable = True  # once per task: the planner is told by a replan
+                self._trigger(state, "unreachable", out)
+        if self.last_plan_t is not None and state.orders and not any(self.queues.values()):
+            self._trigger(state, "plan_finished", out)
+        return out
+
+    def _decide(self, state: State, reasons: list[str]) -> str | None:
+        if self.last_plan_t is None:
+            return "initial" if state.t >= self.next_retry else None
+        if state.t < self.next_retry:
+            return None
+        empty = not any(self.queues.values()) and bool(state.orders)
+        kind = self.policy.kind
+        if kind == "on_event" and self.unhandled:
+            return self.unhandled[0]
+        if kind == "periodic" and state.t - self.last_plan_t >= self.policy.period:
+            return "periodic"
+        if empty:
+            return "plan_finished"
+        return None
+
+    def _replan(self, state: State, reason: str) -> None:
+        self.planner_calls += 1
+        t0 = time.perf_counter()
+        try:
+            outcome = self.planner(state.copy(), self.agent_ids)
+        except Exception as exc:  # a planner must never crash the episode
+            outcome = PlanOutcome("error", [], time.perf_counter() - t0, repr(exc))
+        spent = outcome.planning_time or (time.perf_counter() - t0)
+        self.planning_time += spent
+        self.statuses[outcome.status] += 1
+        self.replans.append((state.t, reason))
+        self.unhandled.clear()
+        if not outcome.ok:
+            # keep the last valid plan; try again a little later
+            self.triggers.append((state.t, "planner_failed"))
+            self.next_retry = state.t + self.retry_after
+            if self.last_plan_t is None:
+                self.next_retry = state.t + self.retry_after
+            return
+        self.last_plan_t = state.t
+        self.plan_id += 1
+        self.planned_orders = {o.order_id for o in state.orders}
+        self.install(outcome.steps)
+
+    def install(self, steps: Sequence[PlanStep]) -> None:
+        """Replace the task queues with a new plan (agents the plan does not reach keep theirs)."""
+        base = self.plan_id * 100_000
+        steps = [PlanStep(base + i, s.agent, s.kind, s.target, s.items, s.start, s.duration)
+                 for i, s in enumerate(sorted(steps, key=lambda s: (s.start or 0.0, s.index)))]
+        deps = causal_dependencies(steps)
+        queues: dict[int, deque[Task]] = {a: deque() for a in self.agent_ids}
+        for s in steps:
+            if s.agent in queues:
+                queues[s.agent].append(Task(s, deps[s.index]))
+        # a dependency on a step of an agent we do not drive cannot be waited for
+        mine = {s.index for s in steps if s.agent in queues}
+        for q in queues.values():
+            for task in q:
+                task.deps = frozenset(d for d in task.deps if d in mine)
+        self.done_steps = set()
+        self.warned = set()
+        for a in self.agent_ids:
+            if self.deliver_plan(a):
+                self.queues[a] = queues[a]
+            else:
+                self.messages_lost += 1
+        self.boosted.clear()
+
+    # ------------------------------------------------------------------ tasks
+    def _current(self, agent: int) -> Task | None:
+        q = self.queues.get(agent)
+        return q[0] if q else None
+
+    def _spots(self, state: State, cell: int) -> list[int]:
+        return interaction_spots(state.geo, state.geo.walkables[state.layout_index], cell)
+
+    def _finish(self, agent: int) -> None:
+        task = self.queues[agent].popleft()
+        self.done_steps.add(task.step.index)
+        self.steps_done += 1
+        self.stuck[agent] = 0
+        self.boosted.pop(agent, None)
+
+    def _already_done(self, state: State, task: Task) -> bool:
+        """Chop/wash of an item that is already processed (e.g. per-level chop steps)."""
+        kind, here = task.step.kind, state.cell_item[task.step.target]
+        if kind == "chop":
+            return here < 0 or state.item_state[here] == _CHOPPED
+        if kind == "wash":
+            return here < 0 or state.item_state[here] == _CLEAN
+        return False
+
+    def _ready(self, state: State, agent: int, task: Task) -> bool:
+        if not task.deps <= self.done_steps:
+            return False
+        s = task.step
+        held, here = state.agent_hand[agent], state.cell_item[s.target]
+        code = state.geo.terrains[state.layout_index][s.target]
+        if s.kind == "chop":
+            return held < 0 and here >= 0 and state.geo.item_kind[here] in _VEG
+        if s.kind == "wash":
+            return held < 0 and here >= 0 and state.item_state[here] == _DIRTY
+        if code == _PAN and here >= 0 and s.kind != "putdown":
+            # never take a raw steak off the pan; only a cooked one goes on a plate
+            if s.kind == "plate" or held >= 0:
+                return state.item_state[here] == _COOKED
+            return state.item_state[here] != _RAW
+        if s.kind == "pickup":
+            return held < 0 and here >= 0
+        if s.kind in ("putdown", "deliver", "trash"):
+            return held >= 0
+        if s.kind == "plate":
+            return held >= 0 and here >= 0
+        return True
+
+    def _snapshot(self, state: State, task: Task, agent: int) -> _Bump:
+        held, here = state.agent_hand[agent], state.cell_item[task.step.target]
+        here_state = (state.item_state[here], state.item_progress[here]) if here >= 0 else (-1, -1)
+        sizes = (len(state.plate_contents(held)) if held >= 0 else -1,
+                 len(state.plate_contents(here)) if here >= 0 else -1)
+        return _Bump(task, held, here, here_state, sizes)
+
+    def _settle(self, state: State, agent: int, bump: _Bump, out: list[str]) -> None:
+        task = bump.task
+        if self._current(agent) is not task:
+            return
+        now = self._snapshot(state, task, agent)
+        if task.step.kind in ("chop", "wash"):
+            if bump.here >= 0 and state.item_state[bump.here] in (_CHOPPED, _CLEAN) \
+                    and state.item_state[bump.here] != bump.here_state[0]:
+                self._finish(agent)
+                return
+            progressed = now.here_state != bump.here_state
+        else:
+            progressed = (now.hand, now.here, now.plate_sizes) != (bump.hand, bump.here, bump.plate_sizes)
+            if progressed:
+                self._finish(agent)
+                return
+        if not progressed:
+            task.failures += 1
+            self.failed_bumps += 1
+            if task.failures % 5 == 2:
+                self._trigger(state, "action_failed", out)
+
+    def _switch_matters(self, state: State) -> bool:
+        """Did the switch cut a driven agent off its next target or change its distance?"""
+        old = 1 - state.layout_index
+        for a in self.agent_ids:
+            task = self._current(a)
+            if task is None:
+                continue
+            d_new = self.oracle.to_station(state.layout_index, task.step.target)[state.agent_pos[a]]
+            if d_new < 0:
+                return True
+            if not self.anticipate:
+                d_old = self.oracle.to_station(old, task.step.target)[state.agent_pos[a]]
+                if d_old != d_new:
+                    return True
+        return False
+
+    def _check_burn_risk(self, state: State, out: list[str]) -> None:
+        rules = state.rules
+        for pan in state.geo.pans:
+            steak = state.cell_item[pan]
+            if steak < 0 or state.item_state[steak] not in (_RAW, int(ItemState.COOKED)):
+                continue
+            left = rules.burn_time - state.item_progress[steak]  # steps in which it can be taken
+            eta = self._eta(state, pan)
+            key = (f"burn{self.plan_id}", steak)
+            if key in self.warned:
+                continue
+            if (eta is None and left <= 6) or (eta is not None and eta >= left):
+                self.warned.add(key)
+                self._trigger(state, "burn_risk", out)
+
+    def _eta(self, state: State, pan: int) -> int | None:
+        """Estimated steps until a queued task bumps ``pan`` to take its steak (None: no task)."""
+        best = None
+        layout = state.layout_index
+        for a in self.agent_ids:
+            pos, total = state.agent_pos[a], 0
+            for task in self.queues[a]:
+                d = self.oracle.to_station(layout, task.step.target)[pos]
+                if d < 0:
+                    break
+                total += d + 1
+                spots = self._spots(state, task.step.target)
+                if task.step.target == pan and task.step.kind != "putdown":
+                    best = total if best is None else min(best, total)
+                    break
+                if task.step.kind in ("chop", "wash"):
+                    total += state.rules.chop_steps - 1
+                pos = min(spots, key=lambda c: self.oracle.to_goals(layout, [pos])[c]) if spots else pos
+        return best
+
+    # ------------------------------------------------------------------ actions
+    def _actions(self, state: State) -> dict[int, int]:
+        geo = state.geo
+        actions: dict[int, int] = {}
+        requests: list[tuple[tuple[int, int, int], PathRequest]] = []
+        for a in self.agent_ids:
+            pos = state.agent_pos[a]
+            while (task := self._current(a)) is not None and self._already_done(state, task):
+                self._finish(a)
+            task = self._current(a)
+            if task is None:
+                requests.append(((3, 0, a), PathRequest(a, pos, frozenset())))
+                continue
+            spots = frozenset(self._spots(state, task.step.target))
+            if pos in spots and self._ready(state, a, task):
+                actions[a] = step_action(geo, pos, task.step.target)
+                self.pending[a] = self._snapshot(state, task, a)
+                task.bumps += 1
+                task.waited = 0
+                continue
+            if pos in spots:
+                task.waited += 1
+            urgent = 0 if geo.terrains[state.layout_index][task.step.target] == _PAN else 1
+            boost = self.boosted.get(a, 1 << 30)
+            prio = (0, boost, a) if a in self.boosted else (1 + urgent, 0, a)
+            requests.append((prio, PathRequest(a, pos, spots)))
+        if requests:
+            requests.sort(key=lambda x: x[0])
+            others = {b: state.agent_pos[b] for b in range(state.n_agents) if b not in self.queues}
+            walk_at = layout_schedule(state, self.anticipate)
+            paths = plan_paths(geo, [r for _, r in requests], others,
+                               horizon=self.path_horizon, walk_at=walk_at)
+            for a, res in paths.items():
+                actions[a] = res.next_action(geo)
+        return {a: actions.get(a, STAY) for a in self.agent_ids}
+
+    # ------------------------------------------------------------------ reporting
+    def info(self) -> dict[str, object]:
+        return {
+            "policy": str(self.policy),
+            "planner_calls": self.planner_calls,
+            "planning_time": round(self.planning_time, 4),
+            "executive_time": round(self.act_time, 4),
+            "statuses": dict(self.statuses),
+            "replans": len(self.replans),
+            "replans_by_reason": dict(Counter(r for _, r in self.replans)),
+            "triggers_by_reason": dict(Counter(r for _, r in self.triggers)),
+            "replan_log": list(self.replans),
+            "steps_done": self.steps_done,
+            "failed_bumps": self.failed_bumps,
+            "blocked_moves": self.blocked_moves,
+            "messages_lost": self.messages_lost,
+        }
+
+
+__all__ = [
+    "STEP_KINDS",
+    "Executive",
+    "PlanFunction",
+    "PlanOutcome",
+    "PlanStep",
+    "Policy",
+    "Task",
+    "causal_dependencies",
+]

@@ -1,0 +1,186 @@
+"""The executive with a hand-written planner: queues, monitoring, triggers, policies, faults."""
+
+from __future__ import annotations
+
+import pytest
+
+from ocplus_plan.errors import ConfigError
+from ocplus_plan.execution.executive import (
+    Executive,
+    PlanOutcome,
+    PlanStep,
+    Policy,
+    causal_dependencies,
+)
+from ocplus_plan.execution.faults import (
+    BlockingAgent,
+    FaultSchedule,
+    MessageLoss,
+    force_burn,
+    force_switch,
+    run_episode,
+)
+from ocplus_plan.sim import make_rules, new_state
+from ocplus_plan.sim.codes import ItemState
+
+from .toy_planner import crashing_planner, failing_planner, toy_planner
+
+
+def play(rules, seed=0, policy="on_event", planner=toy_planner, faults=None, agents=None,
+         extra=(), steps=None, **kw):
+    state = new_state(rules, seed)
+    ex = Executive(planner, policy, **kw)
+    ids = list(range(rules.n_agents)) if agents is None else agents
+    stats = run_episode(state, [(ex, ids), *extra], faults, steps)
+    return stats, ex.info(), state
+
+
+def test_policy_parsing():
+    assert Policy.parse("on_event").kind == "on_event"
+    assert Policy.parse("periodic(7)") == Policy("periodic", 7)
+    assert str(Policy.parse("periodic=3")) == "periodic(3)"
+    assert Policy.parse("never").kind == "never"
+    for bad in ("sometimes", "periodic(0)", "periodic(x)"):
+        with pytest.raises(ConfigError, match="policy"):
+            Policy.parse(bad)
+
+
+def test_causal_dependencies_link_agents_through_shared_cells_and_items():
+    steps = [PlanStep(0, 0, "pickup", 5, (1,)), PlanStep(1, 0, "putdown", 9, (1,)),
+             PlanStep(2, 1, "pickup", 9, (1,)), PlanStep(3, 1, "deliver", 4, (1,)),
+             PlanStep(4, 0, "pickup", 7, (2,))]
+    deps = causal_dependencies(steps)
+    assert deps[2] == {1}  # agent 1 picks up what agent 0 put down
+    assert deps[4] == frozenset()  # unrelated
+    assert deps[0] == frozenset()
+
+
+def test_easy_single_agent_serves_many_dishes():
+    stats, info, state = play(make_rules("easy", n_agents=1))
+    assert stats["dishes_served"] >= 5
+    assert stats["wrong_deliveries"] == 0
+    assert info["failed_bumps"] == 0
+    assert info["replans_by_reason"]["initial"] == 1
+    assert info["replans_by_reason"].get("new_order", 0) >= 4
+    assert info["statuses"] == {"solved": info["planner_calls"]}
+
+
+def test_two_agents_one_idle_never_collide():
+    stats, info, _ = play(make_rules("easy", n_agents=2))
+    assert stats["dishes_served"] >= 5
+    assert stats["max_agents_per_cell"] == 1
+    assert stats["blocked_moves"] == 0
+
+
+def test_planner_failure_never_crashes_and_agents_stay_safe():
+    for planner in (failing_planner, crashing_planner):
+        stats, info, state = play(make_rules("easy", n_agents=2), planner=planner, steps=30)
+        assert stats["dishes_served"] == 0
+        assert info["planner_calls"] >= 5  # retried every retry_after steps
+        assert sum(info["statuses"].values()) == info["planner_calls"]
+        assert info["triggers_by_reason"]["planner_failed"] == info["planner_calls"]
+
+
+def test_planner_timeout_after_a_valid_plan_keeps_the_old_plan():
+    calls = []
+
+    def flaky(state, agents):
+        calls.append(state.t)
+        return toy_planner(state, agents) if len(calls) == 1 else failing_planner(state, agents)
+
+    stats, info, _ = play(make_rules("easy", n_agents=1), planner=flaky, policy="periodic(3)",
+                          steps=60)
+    assert stats["dishes_served"] >= 1  # the first plan was carried out regardless
+    assert info["statuses"]["timeout"] >= 5
+
+
+def test_periodic_and_never_policies():
+    rules = make_rules("easy", n_agents=1)
+    _, info, _ = play(rules, policy="periodic(10)", steps=50)
+    assert info["replans_by_reason"].get("periodic", 0) >= 4
+    stats, info, _ = play(rules, policy="never", steps=100)
+    assert set(info["replans_by_reason"]) <= {"initial", "plan_finished"}
+    assert stats["dishes_served"] >= 2
+
+
+def test_forced_burn_leads_to_trash_recook_and_a_served_dish():
+    rules = make_rules("medium", recipes=["steak"])
+    faults = FaultSchedule(burns=[5])
+    stats, info, state = play(rules, faults=faults, steps=120)
+    assert faults.applied and faults.applied[0][1] == "burn"
+    assert stats["burns"] >= 1
+    assert info["replans_by_reason"].get("burnt", 0) >= 1
+    assert stats["dishes_served"] >= 1
+    assert stats["wrong_deliveries"] == 0
+
+
+def test_never_policy_does_worse_under_burn_faults():
+    rules = make_rules("medium", recipes=["steak"])
+    served = {}
+    for policy in ("on_event", "never"):
+        total = 0
+        for seed in range(3):
+            stats, _, _ = play(rules, seed=seed, policy=policy,
+                               faults=FaultSchedule(burns=[5, 60, 120]), steps=200)
+            total += stats["dishes_served"]
+        served[policy] = total
+    assert served["on_event"] > served["never"]
+
+
+def test_layout_switch_mid_path_triggers_replan_without_collision():
+    rules = make_rules("hard", map="hard_switch", recipes=["tomato"], dirty_plates=False,
+                       map_switch_step=500)
+    faults = FaultSchedule(switches=[4])
+    stats, info, state = play(rules, faults=faults, steps=100)
+    assert faults.applied == [(4, "switch")]
+    assert info["replans_by_reason"].get("layout_switch", 0) >= 1
+    assert stats["max_agents_per_cell"] == 1
+    assert stats["dishes_served"] >= 1
+
+
+def test_blocking_agent_is_avoided_or_waited_for():
+    rules = make_rules("easy", n_agents=2)
+    blocker = BlockingAgent((2, 3), start=0, duration=40)
+    stats, info, state = play(rules, agents=[0], extra=[(blocker, [1])], steps=120)
+    assert stats["dishes_served"] >= 2
+    assert stats["max_agents_per_cell"] == 1
+
+
+def test_message_loss_is_counted_and_recovered_from():
+    loss = MessageLoss(0.5, seed=1)
+    stats, info, _ = play(make_rules("easy", n_agents=1), deliver_plan=loss, steps=200)
+    assert info["messages_lost"] == loss.dropped >= 1
+    assert stats["dishes_served"] >= 2
+
+
+def test_fault_helpers():
+    rules = make_rules("medium", recipes=["steak"])
+    state = new_state(rules, 0)
+    assert force_burn(state) == []  # no steak on the pan yet
+    pan = state.geo.pans[0]
+    steak = next(i for i, k in enumerate(state.geo.item_kind) if k == 10)
+    state.cell_item[state.item_loc[steak]] = -1
+    state.cell_item[pan], state.item_loc[steak] = steak, pan
+    assert force_burn(state)[0].kind == "fault_burn"
+    from ocplus_plan.sim import transition
+    events = transition(state, [4]).events
+    assert state.item_state[steak] == ItemState.BURNT
+    assert "burnt" in [e.kind for e in events]
+    with pytest.raises(ConfigError, match="not a pan"):
+        force_burn(state, pan=0)
+    hard = new_state(make_rules("hard", map="hard_switch"), 0)
+    assert [e.kind for e in force_switch(hard)] == ["layout_switch"]
+    assert hard.layout_index == 1
+    assert force_switch(new_state(make_rules("easy"), 0)) == []
+    with pytest.raises(ConfigError, match="rate"):
+        MessageLoss(1.5)
+
+
+def test_executive_rejects_unknown_agents():
+    state = new_state(make_rules("easy", n_agents=1), 0)
+    with pytest.raises(ConfigError, match="do not exist"):
+        Executive(toy_planner).reset(state, [3])
+
+
+def test_outcome_ok():
+    assert PlanOutcome("solved").ok and not PlanOutcome("timeout").ok
