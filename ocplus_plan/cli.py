@@ -25,6 +25,10 @@ COMMANDS: dict[str, str] = {
     "check-map": "check_map",
     "rollout": "rollout",
     "demo": "demo",
+    "eval": "eval",
+    "report": "report",
+    "play": "play",
+    "replay": "replay",
 }
 
 #: Printed by --help and replayed by tests/test_cli.py (each must exit 0, quickly).

@@ -1,0 +1,16 @@
+"""Evaluation: run controllers on presets, compute metrics, write results and plots.
+
+- :mod:`.runner`: ``run_eval(EvalConfig)``, worker processes, ``--resume``.
+- :mod:`.metrics`: ``EpisodeLog`` and ``compute_metrics`` (from the simulator's events).
+- :mod:`.results`: ``results.jsonl`` / ``summary.csv`` and the terminal leaderboard.
+- :mod:`.plots`: PNG figures (matplotlib, the ``plots`` extra; imported lazily).
+"""
+
+from __future__ import annotations
+
+from .metrics import EpisodeLog, compute_metrics
+from .results import leaderboard, read_results, summarise
+from .runner import EvalConfig, run_eval
+
+__all__ = ["EpisodeLog", "EvalConfig", "compute_metrics", "leaderboard", "read_results",
+           "run_eval", "summarise"]

@@ -1,0 +1,387 @@
+"""Run every (preset, agent, seed) combination and write the result files.
+
+:func:`run_eval` is what ``ocplus eval`` calls. It checks the whole configuration
+before running anything (an unknown preset, map or agent is a :class:`ConfigError`;
+a planner or learned policy that is not installed, or an agent kind that this
+installation has not registered yet, becomes a ``skipped`` row with the reason),
+then runs the episodes, in worker processes with ``jobs > 1`` (one process per
+episode: a planner that crashes or hangs takes down only its episode, which is
+recorded as an ``error`` row), and appends each finished episode to
+``results.jsonl`` at once. ``resume=True`` reruns only what is missing.
+"""
+
+from __future__ import annotations
+
+import json
+import multiprocessing as mp
+import os
+import signal
+import time
+import traceback
+from dataclasses import asdict, dataclass, field
+from multiprocessing.connection import wait
+from pathlib import Path
+from typing import Any
+
+from ..errors import ConfigError, DependencyNotInstalled, OcplusError
+from ..sim import make_rules, new_state, transition
+from .metrics import EpisodeLog, compute_metrics, controller_metrics
+from .progress import progress_bar
+from .results import (
+    CONFIG_FILE,
+    RESULTS_FILE,
+    SUMMARY_FILE,
+    ResultsWriter,
+    episode_key,
+    leaderboard,
+    read_results,
+    summarise,
+    write_summary,
+)
+
+#: agent kinds that other parts of the project register when installed; until then an
+#: evaluation skips them (with the reason) instead of failing
+PENDING_KINDS: dict[str, str] = {
+    "planner": "the planner-backed controller (ocplus_plan/execution)",
+    "ppo": "the PPO policy (the `rl` extra: pip install -e '.[rl]')",
+}
+
+
+@dataclass(frozen=True)
+class EpisodeSpec:
+    """One episode to run: everything a worker process needs."""
+
+    preset: str
+    map: str  # the map's name (for tables)
+    map_spec: str | None  # what to pass to make_rules (None: the preset's map)
+    n_agents: int
+    agent: str
+    seed: int
+    horizon: int
+
+    def row_base(self) -> dict[str, Any]:
+        d = {"preset": self.preset, "map": self.map, "n_agents": self.n_agents,
+             "agent": self.agent, "seed": self.seed, "horizon": self.horizon}
+        d["key"] = episode_key(d)
+        return d
+
+
+@dataclass
+class EvalConfig:
+    """Everything ``ocplus eval`` takes."""
+
+    presets: list[str]
+    agents: list[str]
+    seeds: list[int]
+    out: Path
+    horizon: int = 200
+    n_agents: int | None = None
+    map: str | None = None
+    jobs: int = 1
+    resume: bool = False
+    episode_timeout: float | None = None
+    plots: bool = False
+    quiet: bool = False
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass
+class EvalOutcome:
+    out: Path
+    summary: list[dict[str, Any]]
+    leaderboard: str
+    ran: int
+    skipped: int
+    errors: int
+    plots: list[Path]
+
+
+def parse_list(text: str | list[str], what: str) -> list[str]:
+    """``"a,b, c"`` -> ``["a", "b", "c"]``; empty is an error naming ``what``."""
+    items = text if isinstance(text, list) else str(text).split(",")
+    out = [s.strip() for s in items if str(s).strip()]
+    if not out:
+        raise ConfigError(f"--{what} is empty; give a comma-separated list")
+    return out
+
+
+def parse_seeds(text: str | int | list[int]) -> list[int]:
+    """``10`` -> seeds 0..9; ``"3,7,11"`` or ``"5-9"`` -> exactly those seeds."""
+    if isinstance(text, int):
+        count = text
+    elif isinstance(text, list):
+        return [int(s) for s in text]
+    else:
+        s = str(text).strip()
+        try:
+            if "," in s:
+                return [int(x) for x in s.split(",") if x.strip()]
+            if "-" in s[1:]:
+                a, b = s.split("-", 1)
+                return list(range(int(a), int(b) + 1))
+            count = int(s)
+        except ValueError:
+            raise ConfigError(f"--seeds {text!r}: give a count (10), a list (0,4,7) or a "
+                              "range (5-9)") from None
+    if count < 1:
+        raise ConfigError(f"--seeds must be at least 1, got {count}")
+    return list(range(count))
+
+
+# ---------------------------------------------------------------- checking agents
+def check_agent(spec: str) -> str | None:
+    """None if ``spec`` can run here; the reason when it must be skipped.
+
+    Raises :class:`ConfigError` / :class:`PlannerError` for names that are simply wrong.
+    """
+    from ..agents import FACTORIES, make_controller
+
+    kind, _, arg = spec.partition(":")
+    if kind == "planner":
+        if not arg:
+            raise ConfigError("agent 'planner' needs a planner name: planner:NAME "
+                              "(e.g. planner:fast-downward)")
+        reason = _planner_unavailable(arg)
+        if reason:
+            return reason
+    if kind not in FACTORIES:
+        if kind in PENDING_KINDS:
+            return (f"agent kind {kind!r} is not registered in this installation: "
+                    f"{PENDING_KINDS[kind]} is not available yet")
+        make_controller(spec)  # raises the ConfigError listing the known agents
+    try:
+        make_controller(spec, 0)
+    except DependencyNotInstalled as exc:
+        return str(exc)
+    except OcplusError:
+        raise
+    except Exception as exc:  # a controller that cannot even be built is reported, not fatal
+        return f"could not be created: {type(exc).__name__}: {exc}"
+    return None
+
+
+def _planner_unavailable(name: str) -> str | None:
+    try:
+        from ..planning import engines
+    except ImportError as exc:
+        return f"the planning layer cannot be imported ({exc})"
+    engines.get_planner(name)  # unknown name: PlannerError listing the known ones
+    av = engines.availability(name)
+    return None if av.ok else f"planner {name!r} is not available: {av.reason}"
+
+
+# ---------------------------------------------------------------- one episode
+def run_episode(spec: EpisodeSpec) -> dict[str, Any]:
+    """Run one episode and return its results row (never raises for controller failures)."""
+    from ..agents import make_controller
+
+    row = spec.row_base()
+    t_start = time.perf_counter()
+    kw: dict[str, Any] = {"horizon": spec.horizon, "n_agents": spec.n_agents}
+    rules = make_rules(spec.preset, map=spec.map_spec, **kw)
+    state = new_state(rules, spec.seed)
+    log = EpisodeLog(state.geo.rows, state.geo.cols, state.n_agents, list(state.agent_pos))
+    for o in state.orders:
+        log.order_created.setdefault(o.order_id, o.created)
+    controller = None
+    status, reason = "ok", ""
+    try:
+        controller = make_controller(spec.agent, spec.seed)
+        controller.reset(state)
+        while not state.done:
+            t0 = time.perf_counter()
+            joint = controller.act(state)
+            dt = time.perf_counter() - t0
+            result = transition(state, joint)
+            controller.observe(state, result.events)
+            log.record(joint, state.agent_pos, result.rewards, result.events, dt)
+            for o in state.orders:
+                log.order_created.setdefault(o.order_id, o.created)
+            if result.terminated or result.truncated:
+                break
+    except DependencyNotInstalled as exc:
+        status, reason = "skipped", str(exc)
+    except Exception as exc:  # the controller (or its planner process) failed: keep going
+        status = "error"
+        reason = f"{type(exc).__name__}: {exc} (at step {state.t})"
+        row["traceback"] = traceback.format_exc(limit=6)
+    info: dict[str, Any] = {}
+    if controller is not None:
+        try:
+            info = dict(controller.info())
+        except Exception as exc:  # pragma: no cover - a broken info() must not lose the row
+            info = {"info_error": f"{type(exc).__name__}: {exc}"}
+    row.update(status=status, reason=reason, metrics=compute_metrics(log),
+               stats=dict(state.stats), planner=controller_metrics(info),
+               controller=json.loads(json.dumps(info, default=str)),
+               timings={"wall_time_s": round(time.perf_counter() - t_start, 4),
+                        "decision_time_s": round(sum(log.decision_times), 4)})
+    return row
+
+
+def _worker(conn: Any, spec: EpisodeSpec) -> None:
+    """Entry of a worker process: its own process group, so a timeout kills its children."""
+    try:
+        os.setsid()
+    except OSError:  # pragma: no cover
+        pass
+    try:
+        row = run_episode(spec)
+    except BaseException as exc:  # pragma: no cover - reported by the parent
+        row = {**spec.row_base(), "status": "error", "reason": f"{type(exc).__name__}: {exc}"}
+    conn.send(row)
+    conn.close()
+
+
+def _kill(proc: mp.Process) -> None:
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError, OSError):
+        proc.kill()
+    proc.join(5)
+
+
+# ---------------------------------------------------------------- the whole run
+def plan_episodes(cfg: EvalConfig) -> tuple[list[EpisodeSpec], list[dict[str, Any]]]:
+    """All episodes of ``cfg`` and the rows of the agents that must be skipped.
+
+    Every preset / map / agent-count combination and every agent name is checked first,
+    so a typo fails in a second, not after an hour."""
+    if cfg.horizon < 1:
+        raise ConfigError(f"--horizon must be a positive number of steps, got {cfg.horizon}")
+    if cfg.jobs < 1:
+        raise ConfigError(f"--jobs must be at least 1, got {cfg.jobs}")
+    kitchens = []
+    for preset in cfg.presets:
+        kw: dict[str, Any] = {"horizon": cfg.horizon}
+        if cfg.n_agents is not None:
+            kw["n_agents"] = cfg.n_agents
+        rules = make_rules(preset, map=cfg.map, **kw)
+        kitchens.append((preset, rules.layout.name, rules.n_agents))
+    skip_reason = {agent: check_agent(agent) for agent in cfg.agents}
+    episodes, skipped = [], []
+    for preset, map_name, n_agents in kitchens:
+        for agent in cfg.agents:
+            if skip_reason[agent]:
+                base = EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, -1, cfg.horizon)
+                row = base.row_base()
+                row.update(seed=None, status="skipped", reason=skip_reason[agent])
+                row["key"] = episode_key(row)
+                skipped.append(row)
+                continue
+            for seed in cfg.seeds:
+                episodes.append(EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, seed,
+                                            cfg.horizon))
+    return episodes, skipped
+
+
+def prepare_out_dir(out: Path, resume: bool) -> set[str]:
+    """Create ``out`` (or check it for ``--resume``); the keys of the episodes already done."""
+    results = out / RESULTS_FILE
+    if out.exists() and not resume:
+        if any(out.iterdir()):
+            raise ConfigError(
+                f"output folder {out} already exists and is not empty; continue that run "
+                "with --resume, or choose another --out")
+    out.mkdir(parents=True, exist_ok=True)
+    if not resume or not results.exists():
+        return set()
+    return {r["key"] for r in read_results(results) if r.get("status") in ("ok", "error")
+            and "key" in r}
+
+
+def run_eval(cfg: EvalConfig, echo: Any = print) -> EvalOutcome:
+    """Run (or continue) an evaluation and write results.jsonl, summary.csv and plots."""
+    out = Path(cfg.out)
+    episodes, skipped = plan_episodes(cfg)
+    done = prepare_out_dir(out, cfg.resume)
+    config = {k: (str(v) if isinstance(v, Path) else v) for k, v in asdict(cfg).items()}
+    (out / CONFIG_FILE).write_text(json.dumps(config, indent=2) + "\n")
+    todo = [e for e in episodes if e.row_base()["key"] not in done]
+    if cfg.resume and done:
+        echo(f"resuming {out}: {len(episodes) - len(todo)} episode(s) already done, "
+             f"{len(todo)} to run")
+    for row in skipped:
+        echo(f"skipping {row['agent']} on {row['preset']}: {row['reason']}")
+    n_err = 0
+    with ResultsWriter(out) as writer:
+        for row in skipped:
+            writer.write(row)
+        bar = progress_bar(len(todo), desc="eval", disable=cfg.quiet)
+        try:
+            for row in _run_all(todo, cfg):
+                writer.write(row)
+                n_err += row.get("status") == "error"
+                bar.set_postfix_str(f"{row['agent']} {row['preset']} s{row['seed']}")
+                bar.update(1)
+        finally:
+            bar.close()
+    summary = summarise(read_results(out))
+    write_summary(summary, out / SUMMARY_FILE)
+    plots: list[Path] = []
+    if cfg.plots:
+        from .plots import make_plots
+
+        plots = make_plots(out)
+    return EvalOutcome(out, summary, leaderboard(summary), len(todo), len(skipped), n_err, plots)
+
+
+def _run_all(todo: list[EpisodeSpec], cfg: EvalConfig):  # -> Iterator[dict]
+    if cfg.jobs <= 1 and cfg.episode_timeout is None:
+        for spec in todo:
+            yield run_episode(spec)
+        return
+    methods = mp.get_all_start_methods()
+    ctx = mp.get_context("fork" if "fork" in methods else "spawn")
+    pending = list(reversed(todo))
+    running: dict[Any, tuple[mp.Process, EpisodeSpec, float]] = {}
+    try:
+        while pending or running:
+            while pending and len(running) < cfg.jobs:
+                spec = pending.pop()
+                recv, send = ctx.Pipe(duplex=False)
+                proc = ctx.Process(target=_worker, args=(send, spec), daemon=True)
+                proc.start()
+                send.close()
+                running[recv] = (proc, spec, time.monotonic())
+            for conn in wait(list(running), timeout=0.5):
+                proc, spec, _ = running.pop(conn)
+                try:
+                    row = conn.recv()
+                except (EOFError, OSError):
+                    proc.join(5)
+                    row = {**spec.row_base(), "status": "error",
+                           "reason": f"worker process died (exit code {proc.exitcode}) "
+                                     "before reporting; a crash in the controller or planner"}
+                conn.close()
+                proc.join(5)
+                yield row
+            if cfg.episode_timeout is not None:
+                now = time.monotonic()
+                for conn, (proc, spec, started) in list(running.items()):
+                    if now - started > cfg.episode_timeout:
+                        _kill(proc)
+                        running.pop(conn)
+                        conn.close()
+                        yield {**spec.row_base(), "status": "error",
+                               "reason": f"episode timed out after {cfg.episode_timeout:g} s "
+                                         "(--episode-timeout); its processes were killed"}
+    finally:
+        for conn, (proc, _, _) in running.items():
+            _kill(proc)
+            conn.close()
+
+
+__all__ = [
+    "EpisodeSpec",
+    "EvalConfig",
+    "EvalOutcome",
+    "PENDING_KINDS",
+    "check_agent",
+    "parse_list",
+    "parse_seeds",
+    "plan_episodes",
+    "prepare_out_dir",
+    "run_episode",
+    "run_eval",
+]
