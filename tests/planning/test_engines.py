@@ -1,0 +1,426 @@
+"""Planner registry, isolated solving, statuses and validation (planning/engines.py).
+
+Every planner test skips with the availability reason when the planner is not
+installed. The problems are tiny and hand-built, so each solve takes well under
+a second; the whole file runs in about a minute.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+import warnings
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+
+up = pytest.importorskip("unified_planning")
+
+from unified_planning.engines import Engine, PlanGenerationResult, PlanGenerationResultStatus  # noqa: E402
+from unified_planning.engines.mixins import OneshotPlannerMixin  # noqa: E402
+from unified_planning.model import ProblemKind  # noqa: E402
+from unified_planning.model.metrics import MinimizeActionCosts, MinimizeMakespan  # noqa: E402
+from unified_planning.plans import ActionInstance, SequentialPlan, TimeTriggeredPlan  # noqa: E402
+from unified_planning.shortcuts import (  # noqa: E402
+    BoolType, DurativeAction, EndTiming, Fluent, InstantaneousAction, IntType, Not, Object,
+    Problem, StartTiming, UserType, get_environment,
+)
+
+from ocplus_plan.errors import PlannerError  # noqa: E402
+from ocplus_plan.planning import _proc  # noqa: E402
+from ocplus_plan.planning._lpg import parse_lpg_line  # noqa: E402
+from ocplus_plan.planning.engines import (  # noqa: E402
+    STATUSES, PlannerConfig, availability, get_planner, load_registry, planner_names, solve,
+    without_quality_metrics,
+)
+from ocplus_plan.planning.validate import val_binary, validate_plan  # noqa: E402
+
+warnings.filterwarnings("ignore", message=".*pkg_resources.*")
+
+REQUIRED = {"classical": {"fast-downward", "fast-downward-opt", "symk", "enhsp", "pyperplan"},
+            "temporal": {"tamer", "aries", "lpg", "kairos"}}
+OPTIMAL = {"fast-downward-opt", "symk"}
+
+
+# ------------------------------------------------------------ tiny problems
+
+def tiny_classical() -> Problem:
+    """Go from l0 to l3: l0-l1-l3 costs 10, l0-l2-l3 costs 3 (action costs = distances)."""
+    loc = UserType("loc")
+    at = Fluent("at", BoolType(), l=loc)
+    conn = Fluent("conn", BoolType(), a=loc, b=loc)
+    dist = Fluent("dist", IntType(), a=loc, b=loc)
+    move = InstantaneousAction("move", a=loc, b=loc)
+    a, b = move.parameters
+    move.add_precondition(at(a))
+    move.add_precondition(conn(a, b))
+    move.add_effect(at(a), False)
+    move.add_effect(at(b), True)
+    p = Problem("tiny_classical")
+    p.add_fluent(at, default_initial_value=False)
+    p.add_fluent(conn, default_initial_value=False)
+    p.add_fluent(dist, default_initial_value=0)
+    locs = [Object(f"l{i}", loc) for i in range(4)]
+    p.add_objects(locs)
+    p.add_action(move)
+    for i, j, d in [(0, 1, 5), (1, 3, 5), (0, 2, 1), (2, 3, 2)]:
+        for x, y in ((i, j), (j, i)):
+            p.set_initial_value(conn(locs[x], locs[y]), True)
+            p.set_initial_value(dist(locs[x], locs[y]), d)
+    p.set_initial_value(at(locs[0]), True)
+    p.add_goal(at(locs[3]))
+    p.add_quality_metric(MinimizeActionCosts({move: dist(a, b)}))
+    return p
+
+
+def tiny_temporal(envelope: bool = False) -> Problem:
+    """Walk l0 -> l1 -> l2 (durations 2 and 3) while a pan cooks (3, or [3, 6] with envelope)."""
+    loc = UserType("loc")
+    at = Fluent("at", BoolType(), l=loc)
+    conn = Fluent("conn", BoolType(), a=loc, b=loc)
+    dist = Fluent("dist", IntType(), a=loc, b=loc)
+    cooked = Fluent("cooked", BoolType())
+    pan_free = Fluent("pan_free", BoolType())
+    move = DurativeAction("move", a=loc, b=loc)
+    a, b = move.parameters
+    move.set_fixed_duration(dist(a, b))
+    move.add_condition(StartTiming(), at(a))
+    move.add_condition(StartTiming(), conn(a, b))
+    move.add_effect(StartTiming(), at(a), False)
+    move.add_effect(EndTiming(), at(b), True)
+    cook = DurativeAction("cook")
+    if envelope:
+        cook.set_closed_duration_interval(3, 6)
+    else:
+        cook.set_fixed_duration(3)
+    cook.add_condition(StartTiming(), pan_free)
+    cook.add_effect(StartTiming(), pan_free, False)
+    cook.add_effect(EndTiming(), cooked, True)
+    cook.add_effect(EndTiming(), pan_free, True)
+    p = Problem("tiny_temporal")
+    for f in (at, conn, cooked, pan_free):
+        p.add_fluent(f, default_initial_value=False)
+    p.add_fluent(dist, default_initial_value=0)
+    locs = [Object(f"l{i}", loc) for i in range(3)]
+    p.add_objects(locs)
+    p.add_actions([move, cook])
+    for i, j, d in [(0, 1, 2), (1, 2, 3)]:
+        for x, y in ((i, j), (j, i)):
+            p.set_initial_value(conn(locs[x], locs[y]), True)
+            p.set_initial_value(dist(locs[x], locs[y]), d)
+    p.set_initial_value(at(locs[0]), True)
+    p.set_initial_value(pan_free, True)
+    p.add_goal(at(locs[2]))
+    p.add_goal(cooked)
+    p.add_quality_metric(MinimizeMakespan())
+    return p
+
+
+def unsolvable_classical() -> Problem:
+    """l3 is not connected to anything."""
+    p = tiny_classical()
+    conn, l0, l3 = p.fluent("conn"), p.object("l0"), p.object("l3")
+    for name in ("l1", "l2"):
+        p.set_initial_value(conn(p.object(name), l3), False)
+    del l0
+    return p
+
+
+def hard_unsolvable(n_bits: int = 16) -> Problem:
+    """Relaxed-reachable but impossible goal (one token, two uses) behind 2^n states."""
+    bit = UserType("bit")
+    on = Fluent("on", BoolType(), b=bit)
+    done = Fluent("done", BoolType(), b=bit)
+    token = Fluent("token", BoolType())
+    flip_on = InstantaneousAction("flip_on", b=bit)
+    flip_on.add_precondition(Not(on(flip_on.parameter("b"))))
+    flip_on.add_effect(on(flip_on.parameter("b")), True)
+    flip_off = InstantaneousAction("flip_off", b=bit)
+    flip_off.add_precondition(on(flip_off.parameter("b")))
+    flip_off.add_effect(on(flip_off.parameter("b")), False)
+    use = InstantaneousAction("use", b=bit)
+    use.add_precondition(token)
+    use.add_effect(token, False)
+    use.add_effect(done(use.parameter("b")), True)
+    p = Problem("hard_unsolvable")
+    for f in (on, done, token):
+        p.add_fluent(f, default_initial_value=False)
+    bits = [Object(f"b{i}", bit) for i in range(n_bits)]
+    p.add_objects(bits)
+    p.add_actions([flip_on, flip_off, use])
+    p.set_initial_value(token, True)
+    p.add_goal(done(bits[0]))
+    p.add_goal(done(bits[1]))
+    p.add_goal(on(bits[2]))
+    return p
+
+
+# ---------------------------------------------------------- test engines
+
+class SleepyEngine(Engine, OneshotPlannerMixin):
+    """Test-only engine that behaves like the worst planners: it ignores the
+    timeout and starts grandchildren (a shell and a sleep) that outlive it."""
+
+    @property
+    def name(self) -> str:
+        return "test-sleepy"
+
+    @staticmethod
+    def supported_kind() -> ProblemKind:
+        return tiny_classical().kind
+
+    @staticmethod
+    def supports(problem_kind: ProblemKind) -> bool:
+        return problem_kind <= SleepyEngine.supported_kind()
+
+    def _solve(self, problem, heuristic=None, timeout=None, output_stream=None):
+        import subprocess
+
+        subprocess.Popen(["sh", "-c", "sleep 300 & sleep 300"])
+        time.sleep(300)
+        raise AssertionError("unreachable: the test kills this process")
+
+
+class LiarEngine(SleepyEngine):
+    """Test-only engine that answers at once with a plan that is not valid."""
+
+    @property
+    def name(self) -> str:
+        return "test-liar"
+
+    def _solve(self, problem, heuristic=None, timeout=None, output_stream=None):
+        move = problem.action("move")
+        wrong = SequentialPlan([ActionInstance(move, (problem.object("l0"), problem.object("l3")))])
+        return PlanGenerationResult(PlanGenerationResultStatus.SOLVED_SATISFICING, wrong, self.name)
+
+
+def _test_config(engine: str, cls: type) -> PlannerConfig:
+    factory = get_environment().factory
+    if engine not in factory.engines:
+        factory.add_engine(engine, __name__, cls.__name__)
+    return PlannerConfig(name=engine, engine=engine, encoding="classical", timeout=5)
+
+
+def _live_children() -> set[int]:
+    """Live (non-zombie) direct children of this test process."""
+    me, out = os.getpid(), set()
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                fields = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if fields[0] != "Z" and int(fields[1]) == me:
+                out.add(int(entry))
+    return out
+
+
+def _require(name: str) -> None:
+    avail = availability(name)
+    if not avail.ok:
+        pytest.skip(f"{name} unavailable: {avail.reason}")
+
+
+# ------------------------------------------------------------------ registry
+
+def test_registry_holds_every_required_planner_with_its_encoding() -> None:
+    for encoding, names in REQUIRED.items():
+        assert names <= set(planner_names(encoding)), encoding
+        for name in names:
+            config = get_planner(name)
+            assert config.encoding == encoding and config.timeout > 0 and config.engine
+
+
+def test_unknown_planner_raises_and_lists_the_known_ones() -> None:
+    with pytest.raises(PlannerError) as err:
+        get_planner("fast-dowward")
+    assert "fast-dowward" in str(err.value)
+    assert "fast-downward" in str(err.value) and "kairos" in str(err.value)
+    with pytest.raises(PlannerError):
+        solve(tiny_classical(), "no-such-planner")
+
+
+def test_bad_config_files_are_rejected_with_the_file_named(tmp_path: Path) -> None:
+    (tmp_path / "x.yaml").write_text("name: x\nengine: y\nencoding: classical\ncolour: red\n")
+    with pytest.raises(PlannerError, match=r"x\.yaml.*colour"):
+        load_registry(tmp_path)
+    (tmp_path / "x.yaml").write_text("name: x\nengine: y\nencoding: pddl+\n")
+    with pytest.raises(PlannerError, match="encoding"):
+        load_registry(tmp_path)
+    with pytest.raises(PlannerError, match="not a directory"):
+        load_registry(tmp_path / "missing")
+
+
+def test_missing_planner_is_status_unavailable_with_reason_never_run() -> None:
+    ghost = PlannerConfig(name="ghost", engine="ghost", encoding="classical",
+                          modules=("ocplus_no_such_planner_module",))
+    result = solve(tiny_classical(), ghost)
+    assert result.status == "unavailable" and result.plan is None
+    assert "ocplus_no_such_planner_module" in result.reason and "planners" in result.reason
+    no_java = PlannerConfig(name="x", engine="enhsp", encoding="classical",
+                            binaries=("ocplus-no-such-binary",))
+    assert "ocplus-no-such-binary" in availability(no_java).reason
+
+
+# ------------------------------------------------------------------ solving
+
+@pytest.mark.parametrize("name", sorted(REQUIRED["classical"]))
+def test_classical_planner_solves_tiny_problem_and_plan_validates(name: str) -> None:
+    _require(name)
+    problem = tiny_classical()
+    result = solve(problem, name, timeout=30)
+    assert result.status == "solved", result.reason
+    assert result.validated is True, result.validation_detail
+    assert "up: VALID" in result.validation_detail
+    if val_binary() is not None:
+        assert "val: Plan valid" in result.validation_detail
+    assert result.steps[-1]["args"][-1] == "l3" and result.plan_length == len(result.steps)
+    assert result.cost in (3.0, 10.0) and result.makespan is None
+    if name in OPTIMAL:
+        assert result.cost == 3.0 and result.optimal
+    assert result.plan.actions[0].action is problem.action("move")  # bound to our problem
+    assert not _proc.group_alive(result.pgid)
+
+
+@pytest.mark.parametrize("name", sorted(REQUIRED["temporal"]))
+def test_temporal_planner_solves_tiny_problem_and_plan_validates(name: str) -> None:
+    _require(name)
+    result = solve(tiny_temporal(), name, timeout=30)
+    assert result.status == "solved", result.reason
+    assert result.validated is True, result.validation_detail
+    assert isinstance(result.plan, TimeTriggeredPlan)
+    assert 5.0 <= result.makespan < 8.0  # the walk takes 5; cooking runs in parallel
+    assert {s["action"] for s in result.steps} == {"move", "cook"}
+    assert not _proc.group_alive(result.pgid)
+
+
+def test_duration_envelope_is_solved_or_reported_unsupported() -> None:
+    """The burn envelope (a duration range): LPG says unsupported, others solve it."""
+    statuses = {}
+    for name in ("kairos", "lpg"):
+        if availability(name).ok:
+            statuses[name] = solve(tiny_temporal(envelope=True), name, timeout=30)
+    if not statuses:
+        pytest.skip("neither kairos nor lpg is installed")
+    if "kairos" in statuses:
+        assert statuses["kairos"].status == "solved" and statuses["kairos"].validated
+    if "lpg" in statuses:
+        assert statuses["lpg"].status == "unsupported"
+        assert "DURATION_INEQUALITIES" in statuses["lpg"].reason
+
+
+def test_classical_planner_on_temporal_problem_is_unsupported_not_an_exception() -> None:
+    _require("fast-downward")
+    result = solve(tiny_temporal(), "fast-downward", timeout=10)
+    assert result.status == "unsupported" and "CONTINUOUS_TIME" in result.reason
+
+
+def test_unsolvable_problem_is_a_status() -> None:
+    _require("fast-downward")
+    result = solve(unsolvable_classical(), "fast-downward", timeout=30)
+    assert result.status == "unsolvable" and result.plan is None
+    assert "UNSOLVABLE" in result.reason
+
+
+def test_metric_is_dropped_for_planners_that_cannot_optimise_it() -> None:
+    stripped = without_quality_metrics(tiny_classical())
+    assert not stripped.quality_metrics
+    assert "dist" not in {f.name for f in stripped.fluents}  # used only by the costs
+    assert len(stripped.actions) == 1 and len(stripped.goals) == 1
+    temporal = without_quality_metrics(tiny_temporal())
+    assert "dist" in {f.name for f in temporal.fluents}  # durations still need it
+
+
+# ------------------------------------------------------- time limits, groups
+
+def test_timeout_kills_the_whole_process_group() -> None:
+    before = _live_children()
+    config = _test_config("test-sleepy", SleepyEngine)
+    start = time.monotonic()
+    result = solve(tiny_classical(), config, timeout=0.5)
+    elapsed = time.monotonic() - start
+    assert result.status == "timeout" and "hard limit" in result.reason
+    assert elapsed < 0.5 + 2.0 + 3.0
+    assert _proc.group_members(result.pgid) == []  # the shell and both sleeps are gone
+    assert _live_children() <= before
+
+
+def test_real_planner_that_ignores_timeout_is_killed() -> None:
+    _require("tamer")
+    before = _live_children()
+    start = time.monotonic()
+    result = solve(hard_unsolvable(), "tamer", timeout=0.5)
+    assert result.status == "timeout", (result.status, result.reason)
+    assert time.monotonic() - start < 6.0
+    assert not _proc.group_alive(result.pgid) and _live_children() <= before
+
+
+def test_solver_process_killed_by_a_signal_is_status_crashed() -> None:
+    def die() -> None:
+        os.kill(os.getpid(), 9)
+
+    outcome = _proc.run_isolated(die, (), hard_limit=10)
+    assert outcome.kind == _proc.CRASHED and "SIGKILL" in outcome.value
+    assert not _proc.group_alive(outcome.pgid)
+
+
+def test_wrong_plan_from_a_planner_is_status_invalid() -> None:
+    result = solve(tiny_classical(), _test_config("test-liar", LiarEngine), timeout=5)
+    assert result.status == "invalid" and result.validated is False
+    assert "INAPPLICABLE" in result.validation_detail
+
+
+# ---------------------------------------------------------------- validation
+
+def test_validation_catches_wrong_plans() -> None:
+    problem = tiny_classical()
+    move, o = problem.action("move"), problem.object
+    good = SequentialPlan([ActionInstance(move, (o("l0"), o("l2"))),
+                           ActionInstance(move, (o("l2"), o("l3")))])
+    check = validate_plan(problem, good)
+    assert check.ok and check.up_ok and check.cost == 3.0
+    jump = SequentialPlan([ActionInstance(move, (o("l0"), o("l3")))])  # not connected
+    short = SequentialPlan([ActionInstance(move, (o("l0"), o("l2")))])  # goal not reached
+    for bad in (jump, short):
+        check = validate_plan(problem, bad)
+        assert check.ok is False and check.up_ok is False
+        if val_binary() is not None:
+            assert check.val_ok is False, check.detail
+
+
+def test_validation_catches_wrong_temporal_plans() -> None:
+    problem = tiny_temporal()
+    move, cook, o = problem.action("move"), problem.action("cook"), problem.object
+    f = Fraction
+
+    def plan(second_start: Fraction, cook_duration: Fraction) -> TimeTriggeredPlan:
+        return TimeTriggeredPlan([(f(0), ActionInstance(move, (o("l0"), o("l1"))), f(2)),
+                                  (f(0), ActionInstance(cook), cook_duration),
+                                  (second_start, ActionInstance(move, (o("l1"), o("l2"))), f(3))])
+
+    assert validate_plan(problem, plan(f(21, 10), f(3))).ok is True
+    too_early = validate_plan(problem, plan(f(1), f(3)))  # leaves l1 before arriving
+    wrong_duration = validate_plan(problem, plan(f(21, 10), f(4)))
+    for check in (too_early, wrong_duration):
+        assert check.ok is False and check.up_ok is False, check.detail
+        if val_binary() is not None:
+            assert check.val_ok is False, check.detail
+
+
+def test_lpg_plan_lines_with_stray_parenthesis_are_read() -> None:
+    assert parse_lpg_line("0.0003:   (MOVE L0 L1) [2.0000])") == (
+        Fraction("0.0003"), "move", ["l0", "l1"], Fraction(2))
+    assert parse_lpg_line("2:   (COOK) [D:3.00; C:1.00]") == (Fraction(2), "cook", [], Fraction(3))
+    assert parse_lpg_line("; Time 0.03") is None
+    with pytest.raises(ValueError, match="unreadable"):
+        parse_lpg_line("Plan computed:")
+
+
+def test_result_serialises_to_json() -> None:
+    import json
+
+    _require("fast-downward")
+    out = json.loads(json.dumps(solve(tiny_classical(), "fast-downward").to_dict()))
+    assert out["status"] in STATUSES and out["engine"] == "fast-downward"
+    assert out["steps"] and "plan" not in out
