@@ -1,0 +1,317 @@
+"""Compact episode recordings: save, load, replay (same ``state_hash``) and GIF export.
+
+A recording holds what determines an episode and nothing more: the rule parameters
+(the full map inline, so a file replays on a machine without that map), the seed,
+one joint action per step, and a short summary of each step's events. The states
+are recomputed by the simulator on replay, so a replay is proof of determinism: its
+final ``state_hash`` must equal the recorded one.
+
+File format: JSON lines (``.jsonl``), gzip-compressed when the name ends in ``.gz``.
+Line 1 is the header (``format``, ``version``, ``preset``, ``map``, ``rules``,
+``seed``, ``meta``), then one line per step ``{"a": [actions], "e": ["kind:agent",
+...]}`` (``e`` omitted when nothing notable happened), and a last line ``{"end":
+true, "steps", "state_hash", "stats"}``.
+
+The evaluation saves chosen episodes with :class:`Recorder` (``record`` each step,
+then ``save``); ``ocplus replay FILE [--gif OUT]`` plays one back.
+"""
+
+from __future__ import annotations
+
+import gzip
+import json
+from collections import Counter
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import IO, Any
+
+import numpy as np
+
+from ..errors import ConfigError, DependencyNotInstalled
+from ..sim import Event, Rules, State, make_rules, new_state, recipe_name, transition
+from ..sim.rules import Rewards
+
+FORMAT = "ocplus-replay"
+VERSION = 1
+#: event kinds too frequent or too small to be worth a line in the summary
+_QUIET_EVENTS = frozenset({"move_blocked"})
+
+
+# ----------------------------------------------------------------- rules <-> JSON
+def layout_to_dict(rules: Rules) -> dict[str, Any]:
+    """The map of ``rules`` as a map-file dict (SPEC section 2) that ``load_map`` reads."""
+    lay = rules.layout
+    d: dict[str, Any] = {
+        "name": lay.name,
+        "game_map": lay.grid.astype(int).tolist(),
+        "max_n_agent": int(lay.max_agents),
+        "is_dynamic_map": bool(lay.is_dynamic),
+        "map_switch_step": int(lay.map_switch_step),
+        "agent_spawn_points": [[int(r), int(c)] for r, c in lay.spawn_points],
+    }
+    if lay.switch_grid is not None:
+        d["switch_map"] = lay.switch_grid.astype(int).tolist()
+    return d
+
+
+def rules_to_dict(rules: Rules) -> dict[str, Any]:
+    """Every rule parameter except the preset and the map, JSON-able."""
+    out: dict[str, Any] = {}
+    for f in fields(Rules):
+        if f.name in ("preset", "layout"):
+            continue
+        value = getattr(rules, f.name)
+        if f.name == "recipes":
+            value = [recipe_name(r) for r in value]
+        elif f.name == "rewards":
+            value = {g.name: getattr(value, g.name) for g in fields(Rewards)}
+        out[f.name] = value
+    return out
+
+
+def rules_from_dict(preset: str, map_dict: dict[str, Any], params: dict[str, Any]) -> Rules:
+    """Rebuild the :class:`Rules` of a recording (raises ``ConfigError`` if they differ)."""
+    kw = dict(params)
+    rules = make_rules(preset, map=map_dict, **kw)
+    again = rules_to_dict(rules)
+    if again != params:
+        diff = sorted(k for k in set(again) | set(params) if again.get(k) != params.get(k))
+        raise ConfigError(
+            f"the recording's rule parameters {diff} cannot be rebuilt exactly by this version "
+            "of ocplus-plan; replay it with the version that recorded it"
+        )
+    return rules
+
+
+def summarise_events(events: Sequence[Event]) -> list[str]:
+    """``["delivery:0", "chop_done:1", ...]``: kind and agent of each notable event."""
+    return [f"{e.kind}:{e.agent}" for e in events if e.kind not in _QUIET_EVENTS]
+
+
+# ----------------------------------------------------------------- the recording
+@dataclass
+class Recording:
+    """One episode: enough to recompute every state (see the module docstring)."""
+
+    preset: str
+    map: dict[str, Any]
+    rules: dict[str, Any]
+    seed: int | None
+    actions: list[list[int]] = field(default_factory=list)
+    events: list[list[str]] = field(default_factory=list)
+    state_hash: str | None = None
+    stats: dict[str, int] = field(default_factory=dict)
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def map_name(self) -> str:
+        return str(self.map.get("name", "unnamed"))
+
+    @property
+    def n_steps(self) -> int:
+        return len(self.actions)
+
+    def make_rules(self) -> Rules:
+        return rules_from_dict(self.preset, self.map, self.rules)
+
+    def event_counts(self) -> dict[str, int]:
+        """How often each notable event kind happened over the episode."""
+        return dict(Counter(s.split(":", 1)[0] for step in self.events for s in step))
+
+    # -- files
+    def save(self, path: str | Path) -> Path:
+        """Write the recording as JSON lines (gzip when ``path`` ends in ``.gz``)."""
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        header = {
+            "format": FORMAT, "version": VERSION, "preset": self.preset, "map": self.map,
+            "rules": self.rules, "seed": self.seed, "meta": self.meta,
+        }
+        with _open(path, "wt") as fh:
+            fh.write(json.dumps(header, separators=(",", ":")) + "\n")
+            for acts, evs in zip(self.actions, self.events):
+                line: dict[str, Any] = {"a": acts}
+                if evs:
+                    line["e"] = evs
+                fh.write(json.dumps(line, separators=(",", ":")) + "\n")
+            end = {"end": True, "steps": self.n_steps, "state_hash": self.state_hash,
+                   "stats": self.stats}
+            fh.write(json.dumps(end, separators=(",", ":")) + "\n")
+        return path
+
+    @classmethod
+    def load(cls, path: str | Path) -> Recording:
+        """Read a file written by :meth:`save`; a malformed file raises ``ConfigError``."""
+        path = Path(path)
+        if not path.is_file():
+            raise ConfigError(f"replay file {str(path)!r} does not exist")
+        try:
+            with _open(path, "rt") as fh:
+                lines = [json.loads(x) for x in fh if x.strip()]
+        except (OSError, json.JSONDecodeError, UnicodeDecodeError, EOFError) as exc:
+            raise ConfigError(
+                f"replay file {str(path)!r} is not a JSON-lines recording ({exc}); "
+                "record one with `ocplus play --record FILE`"
+            ) from exc
+        if not lines or not isinstance(lines[0], dict) or lines[0].get("format") != FORMAT:
+            raise ConfigError(
+                f"replay file {str(path)!r}: first line is not an {FORMAT} header; "
+                "record one with `ocplus play --record FILE`"
+            )
+        head = lines[0]
+        if head.get("version") != VERSION:
+            raise ConfigError(
+                f"replay file {str(path)!r} has format version {head.get('version')!r}; "
+                f"this ocplus-plan reads version {VERSION}"
+            )
+        rec = cls(head["preset"], head["map"], head["rules"], head.get("seed"),
+                  meta=head.get("meta") or {})
+        for i, line in enumerate(lines[1:], start=2):
+            if line.get("end"):
+                rec.state_hash = line.get("state_hash")
+                rec.stats = line.get("stats") or {}
+                break
+            acts = line.get("a")
+            if not isinstance(acts, list) or not all(isinstance(a, int) for a in acts):
+                raise ConfigError(
+                    f"replay file {str(path)!r}, line {i}: 'a' must be a list of action "
+                    f"integers, got {acts!r}"
+                )
+            rec.actions.append(acts)
+            rec.events.append(list(line.get("e", [])))
+        return rec
+
+
+def _open(path: Path, mode: str) -> IO[str]:
+    if path.suffix == ".gz":
+        return gzip.open(path, mode, encoding="utf-8")  # type: ignore[return-value]
+    return open(path, mode[0], encoding="utf-8")
+
+
+class Recorder:
+    """Builds a :class:`Recording` while an episode runs.
+
+    ``rec = Recorder(rules, seed, meta={...})``; after each ``transition`` call
+    ``rec.record(joint_action, result.events)``; at the end ``rec.finish(state)`` and
+    ``rec.recording.save(path)``.
+    """
+
+    def __init__(self, rules: Rules, seed: int | None, meta: dict[str, Any] | None = None):
+        self.recording = Recording(
+            rules.preset, layout_to_dict(rules), rules_to_dict(rules), seed, meta=dict(meta or {})
+        )
+
+    def record(self, joint_action: Sequence[int], events: Sequence[Event]) -> None:
+        self.recording.actions.append([int(a) for a in joint_action])
+        self.recording.events.append(summarise_events(events))
+
+    def finish(self, state: State) -> Recording:
+        self.recording.state_hash = state.state_hash()
+        self.recording.stats = dict(state.stats)
+        return self.recording
+
+    def save(self, path: str | Path, state: State | None = None) -> Path:
+        if state is not None:
+            self.finish(state)
+        return self.recording.save(path)
+
+
+# ----------------------------------------------------------------- replaying
+def replay_states(rec: Recording) -> Iterator[tuple[State, list[Event]]]:
+    """Yield ``(state, events)`` for the initial state (no events) and after every step.
+
+    The same state object is yielded each time (updated in place); copy it to keep it.
+    """
+    rules = rec.make_rules()
+    state = new_state(rules, rec.seed)
+    yield state, []
+    for i, acts in enumerate(rec.actions):
+        if len(acts) != rules.n_agents:
+            raise ConfigError(
+                f"recording step {i}: {len(acts)} actions for {rules.n_agents} agents"
+            )
+        result = transition(state, acts)
+        yield state, list(result.events)
+
+
+@dataclass
+class ReplayCheck:
+    """Outcome of re-running a recording: does it reach the recorded state?"""
+
+    steps: int
+    state_hash: str
+    recorded_hash: str | None
+    events_match: bool
+
+    @property
+    def ok(self) -> bool:
+        return self.recorded_hash == self.state_hash and self.events_match
+
+
+def verify(rec: Recording) -> ReplayCheck:
+    """Re-run the recording and compare the final hash and the per-step event summaries."""
+    events_match = True
+    final_hash = ""
+    for i, (state, events) in enumerate(replay_states(rec)):
+        if i and summarise_events(events) != rec.events[i - 1]:
+            events_match = False
+        final_hash = state.state_hash() if i == rec.n_steps else final_hash
+    return ReplayCheck(rec.n_steps, final_hash, rec.state_hash, events_match)
+
+
+def export_gif(
+    rec: Recording,
+    out: str | Path,
+    *,
+    tile: int = 32,
+    frame_ms: int = 120,
+    every: int = 1,
+    max_frames: int | None = None,
+) -> Path:
+    """Write the episode as an animated GIF (frames from :func:`render.rgb.render_frame`).
+
+    Frames are drawn at ``tile`` pixels per cell; ``every``
+    keeps one frame in ``every`` steps and ``max_frames`` caps the count (to keep files
+    small). Needs Pillow (``pip install 'ocplus-plan[gui]'``).
+    """
+    try:
+        from PIL import Image
+    except ImportError as exc:  # pragma: no cover - depends on the installation
+        raise DependencyNotInstalled(
+            "GIF export needs Pillow: pip install 'ocplus-plan[gui]'"
+        ) from exc
+    for name, value in (("every", every), ("tile", tile), ("frame_ms", frame_ms)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+            raise ConfigError(f"GIF export: {name} must be a positive integer, got {value!r}")
+    from .rgb import render_frame
+
+    frames: list[Any] = []
+    for i, (state, _events) in enumerate(replay_states(rec)):
+        if i % every and i != rec.n_steps:
+            continue
+        frames.append(Image.fromarray(np.ascontiguousarray(render_frame(state, tile=tile))))
+        if max_frames is not None and len(frames) >= max_frames:
+            break
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    # one shared palette keeps the file small and the colours stable between frames
+    first = frames[0].convert("P", palette=Image.Palette.ADAPTIVE, colors=64)
+    rest = [f.quantize(palette=first) for f in frames[1:]]
+    first.save(out, save_all=True, append_images=rest, duration=frame_ms, loop=0,
+               optimize=True, disposal=1)
+    return out
+
+
+__all__ = [
+    "Recorder",
+    "Recording",
+    "ReplayCheck",
+    "export_gif",
+    "layout_to_dict",
+    "replay_states",
+    "rules_from_dict",
+    "rules_to_dict",
+    "summarise_events",
+    "verify",
+]
