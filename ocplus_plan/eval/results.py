@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ConfigError
+from .metrics import controller_metrics
 
 RESULTS_FILE = "results.jsonl"
 SUMMARY_FILE = "summary.csv"
@@ -120,6 +121,8 @@ def latest_rows(rows: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
     """One row per key, the last one written (a resumed run may redo an episode)."""
     by_key: dict[str, dict[str, Any]] = {}
     for row in rows:
+        if isinstance(row.get("controller"), dict):  # re-derive: the raw info is the source
+            row["planner"] = controller_metrics(row["controller"])
         by_key[row.get("key") or episode_key(row)] = row
     return list(by_key.values())
 

@@ -63,6 +63,8 @@ class EpisodeSpec:
         d = {"preset": self.preset, "map": self.map, "n_agents": self.n_agents,
              "agent": self.agent, "seed": self.seed, "horizon": self.horizon}
         d["key"] = episode_key(d)
+        if self.map_spec is not None:
+            d["map_source"] = str(self.map_spec)
         return d
 
 

@@ -1,0 +1,293 @@
+"""PNG figures of an evaluation folder (matplotlib, the ``plots`` extra, imported lazily).
+
+:func:`make_plots` reads ``results.jsonl`` and writes into ``DIR/plots/``:
+- ``leaderboard.png``: dishes served per agent and preset, mean with 95% CI bars;
+- ``reward_over_time.png``: mean cumulative team reward per step, with a 95% CI band;
+- ``actions.png``: action distribution (right/down/left/up/stay) per agent and preset;
+- ``heatmap_<preset>_<agent>.png``: visited cells per cook, drawn over the kitchen;
+- ``planning.png``: replans by reason and planning time (only when a controller reports any).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+from typing import Any
+
+from ..errors import DependencyNotInstalled
+from ..sim.codes import Cell
+from .metrics import ACTION_NAMES
+from .results import latest_rows, mean_ci, read_results, summarise
+
+_PRESET_ORDER = ["easy", "medium", "hard"]
+_TERRAIN_RGB: dict[int, tuple[float, float, float]] = {
+    int(Cell.BLOCK): (0.25, 0.25, 0.25), int(Cell.FLOOR): (0.97, 0.97, 0.95),
+    int(Cell.SPAWN): (0.97, 0.97, 0.95), int(Cell.COUNTER): (0.80, 0.68, 0.50),
+    int(Cell.TOMATO): (0.90, 0.35, 0.30), int(Cell.LETTUCE): (0.45, 0.80, 0.40),
+    int(Cell.ONION): (0.85, 0.75, 0.90), int(Cell.STEAK): (0.70, 0.35, 0.35),
+    int(Cell.PLATE): (0.85, 0.90, 0.98), int(Cell.BOARD): (0.75, 0.55, 0.30),
+    int(Cell.DELIVERY): (0.35, 0.70, 0.95), int(Cell.PAN): (0.45, 0.45, 0.50),
+    int(Cell.SINK): (0.60, 0.80, 0.85), int(Cell.TRASH): (0.35, 0.35, 0.30),
+}
+_TERRAIN_LABEL: dict[int, str] = {
+    int(Cell.TOMATO): "T", int(Cell.LETTUCE): "L", int(Cell.ONION): "O", int(Cell.STEAK): "S",
+    int(Cell.PLATE): "P", int(Cell.BOARD): "B", int(Cell.DELIVERY): "D", int(Cell.PAN): "Pn",
+    int(Cell.SINK): "Sk", int(Cell.TRASH): "X",
+}
+
+
+def _pyplot() -> Any:
+    try:
+        import matplotlib
+    except ImportError:
+        raise DependencyNotInstalled(
+            "plots need matplotlib: install the plots extra: pip install -e '.[plots]'"
+        ) from None
+    if not os.environ.get("MPLBACKEND"):
+        matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _slug(text: str) -> str:
+    return re.sub(r"[^A-Za-z0-9_.-]+", "-", text).strip("-")
+
+
+def _presets(rows: list[dict[str, Any]]) -> list[str]:
+    names = {str(r["preset"]) for r in rows}
+    return sorted(names, key=lambda p: (_PRESET_ORDER + sorted(names)).index(p))
+
+
+def _agents(rows: list[dict[str, Any]]) -> list[str]:
+    seen: list[str] = []
+    for r in rows:
+        if r["agent"] not in seen:
+            seen.append(r["agent"])
+    return seen
+
+
+def make_plots(folder: str | os.PathLike[str]) -> list[Path]:
+    """Write every figure for the results in ``folder``; returns the files written."""
+    plt = _pyplot()
+    folder = Path(folder)
+    rows = latest_rows(read_results(folder))
+    out = folder / "plots"
+    out.mkdir(exist_ok=True)
+    ok = [r for r in rows if r.get("status") == "ok" and r.get("metrics")]
+    files = [_leaderboard(plt, rows, out)]
+    if ok:
+        files.append(_reward_curves(plt, ok, out))
+        files.append(_actions(plt, ok, out))
+        files.extend(_heatmaps(plt, ok, out))
+        planning = _planning(plt, ok, out)
+        if planning is not None:
+            files.append(planning)
+    plt.close("all")
+    return files
+
+
+def _leaderboard(plt: Any, rows: list[dict[str, Any]], out: Path) -> Path:
+    summary = summarise(rows)
+    presets = _presets(rows)
+    agents = _agents(rows)
+    fig, ax = plt.subplots(figsize=(max(6.0, 1.6 * len(presets) * max(1, len(agents)) / 2), 4.2))
+    width = 0.8 / max(1, len(agents))
+    cmap = plt.get_cmap("tab10")
+    for j, agent in enumerate(agents):
+        xs, ys, es = [], [], []
+        for i, preset in enumerate(presets):
+            s = next((s for s in summary if s["preset"] == preset and s["agent"] == agent), None)
+            x = i - 0.4 + width * (j + 0.5)
+            if s is None or not s["episodes"]:
+                ax.text(x, 0.05, "skipped" if s and s["skipped"] else "n/a", rotation=90,
+                        ha="center", va="bottom", fontsize=7, color="gray")
+                continue
+            xs.append(x)
+            ys.append(s["dishes_served_mean"])
+            es.append(s["dishes_served_ci95"] or 0.0)
+        label = agent if xs else f"{agent} (skipped)"
+        ax.bar(xs, ys, width * 0.9, yerr=es, capsize=3, label=label, color=cmap(j % 10))
+        for x, y, e in zip(xs, ys, es):
+            ax.text(x, y + e, f"{y:.1f}", ha="center", va="bottom", fontsize=7)
+    ax.set_xticks(range(len(presets)))
+    ax.set_xticklabels(presets)
+    ax.set_ylabel("dishes served per episode")
+    ax.set_title("Leaderboard (mean, 95% CI)")
+    ax.legend(fontsize=8, loc="upper right")
+    ax.grid(axis="y", alpha=0.3)
+    path = out / "leaderboard.png"
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def _reward_curves(plt: Any, ok: list[dict[str, Any]], out: Path) -> Path:
+    presets = _presets(ok)
+    agents = _agents(ok)
+    fig, axes = plt.subplots(1, len(presets), figsize=(4.6 * len(presets), 3.6), squeeze=False)
+    cmap = plt.get_cmap("tab10")
+    for ax, preset in zip(axes[0], presets):
+        for j, agent in enumerate(agents):
+            curves = [r["metrics"]["reward_curve"] for r in ok
+                      if r["preset"] == preset and r["agent"] == agent]
+            if not curves:
+                continue
+            n = min(len(c) for c in curves)
+            means, lo, hi = [], [], []
+            for t in range(n):
+                m, ci = mean_ci([c[t] for c in curves])
+                means.append(m)
+                lo.append(m - ci)
+                hi.append(m + ci)
+            steps = list(range(1, n + 1))
+            ax.plot(steps, means, label=agent, color=cmap(j % 10))
+            ax.fill_between(steps, lo, hi, color=cmap(j % 10), alpha=0.2)
+        ax.set_title(preset)
+        ax.set_xlabel("step")
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel("cumulative team reward")
+    axes[0][-1].legend(fontsize=8)
+    fig.suptitle("Reward over time (mean, 95% CI)")
+    path = out / "reward_over_time.png"
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def _actions(plt: Any, ok: list[dict[str, Any]], out: Path) -> Path:
+    presets = _presets(ok)
+    agents = _agents(ok)
+    fig, axes = plt.subplots(1, len(presets), figsize=(4.6 * len(presets), 0.6 * len(agents) + 1.8),
+                             squeeze=False)
+    cmap = plt.get_cmap("Set2")
+    for ax, preset in zip(axes[0], presets):
+        labels = []
+        for j, agent in enumerate(agents):
+            rs = [r for r in ok if r["preset"] == preset and r["agent"] == agent]
+            if not rs:
+                continue
+            labels.append(agent)
+            left = 0.0
+            for k, name in enumerate(ACTION_NAMES):
+                frac = sum(r["metrics"]["action_fractions"][name] for r in rs) / len(rs)
+                ax.barh(len(labels) - 1, frac, left=left, color=cmap(k),
+                        label=name if len(labels) == 1 else None)
+                left += frac
+        ax.set_yticks(range(len(labels)))
+        ax.set_yticklabels(labels, fontsize=8)
+        ax.set_xlim(0, 1)
+        ax.set_xlabel("fraction of actions")
+        ax.set_title(preset)
+    handles, names = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, names, fontsize=8, loc="lower center", ncol=len(ACTION_NAMES))
+    fig.suptitle("Action distribution")
+    path = out / "actions.png"
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def _terrain(row: dict[str, Any]) -> Any:
+    """The kitchen's main grid for a row, or None when the map cannot be found any more."""
+    from ..sim.maps import load_map
+
+    try:
+        return load_map(row.get("map_source") or row["map"]).grid
+    except Exception:
+        return None
+
+
+def _heatmaps(plt: Any, ok: list[dict[str, Any]], out: Path) -> list[Path]:
+    import numpy as np
+
+    files = []
+    for preset in _presets(ok):
+        for agent in _agents(ok):
+            rs = [r for r in ok if r["preset"] == preset and r["agent"] == agent]
+            if not rs:
+                continue
+            heat = np.sum([np.array(r["metrics"]["heatmaps"], dtype=float) for r in rs], axis=0)
+            n_cooks, rows, cols = heat.shape
+            grid = _terrain(rs[0])
+            fig, axes = plt.subplots(1, n_cooks, figsize=(0.45 * cols * n_cooks + 1.2,
+                                                          0.45 * rows + 1.0), squeeze=False)
+            for a, ax in enumerate(axes[0]):
+                if grid is not None and grid.shape == (rows, cols):
+                    rgb = np.array([[_TERRAIN_RGB.get(int(v), (1, 0, 1)) for v in line]
+                                    for line in grid])
+                    ax.imshow(rgb, interpolation="nearest")
+                    for (r, c), v in np.ndenumerate(grid):
+                        if int(v) in _TERRAIN_LABEL:
+                            ax.text(c, r, _TERRAIN_LABEL[int(v)], ha="center", va="center",
+                                    fontsize=7, color="black")
+                share = heat[a] / max(1.0, heat[a].sum())
+                masked = np.ma.masked_where(share <= 0, share)
+                im = ax.imshow(masked, cmap="inferno_r", alpha=0.85, interpolation="nearest",
+                               vmin=0, vmax=max(1e-9, float(share.max())))
+                ax.set_title(f"cook {a}", fontsize=9)
+                ax.set_xticks([])
+                ax.set_yticks([])
+                fig.colorbar(im, ax=ax, fraction=0.046, pad=0.04, label="share of steps")
+            fig.suptitle(f"Visited cells: {agent} on {preset} ({rs[0]['map']}, {len(rs)} episodes)",
+                         fontsize=9)
+            path = out / f"heatmap_{_slug(preset)}_{_slug(agent)}.png"
+            fig.tight_layout()
+            fig.savefig(path, dpi=110)
+            plt.close(fig)
+            files.append(path)
+    return files
+
+
+def _planning(plt: Any, ok: list[dict[str, Any]], out: Path) -> Path | None:
+    groups: dict[tuple[str, str], list[dict[str, Any]]] = {}
+    for r in ok:
+        groups.setdefault((r["preset"], r["agent"]), []).append(r)
+    labels, reasons_per, times = [], [], []
+    for (preset, agent), rs in groups.items():
+        reasons: dict[str, float] = {}
+        for r in rs:
+            for k, v in (r.get("planner") or {}).get("replans_by_reason", {}).items():
+                reasons[k] = reasons.get(k, 0.0) + v / len(rs)
+        t = [(r.get("planner") or {}).get("planning_time_s", 0.0) for r in rs]
+        if reasons or any(t):
+            labels.append(f"{agent} / {preset}")
+            reasons_per.append(reasons)
+            times.append(mean_ci(t))
+    if not labels:
+        return None
+    all_reasons = sorted({k for d in reasons_per for k in d})
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(max(8.0, 1.1 * len(labels) * 2), 4.0))
+    cmap = plt.get_cmap("tab20")
+    bottom = [0.0] * len(labels)
+    for k, reason in enumerate(all_reasons):
+        vals = [d.get(reason, 0.0) for d in reasons_per]
+        ax1.bar(range(len(labels)), vals, bottom=bottom, label=reason, color=cmap(k % 20))
+        bottom = [b + v for b, v in zip(bottom, vals)]
+    ax1.set_xticks(range(len(labels)))
+    ax1.set_xticklabels(labels, fontsize=7, rotation=30, ha="right")
+    ax1.set_ylabel("replans per episode")
+    ax1.set_title("Replans by reason")
+    if all_reasons:
+        ax1.legend(fontsize=7)
+    ax2.bar(range(len(labels)), [m or 0 for m, _ in times], yerr=[c or 0 for _, c in times],
+            capsize=3, color="tab:gray")
+    ax2.set_xticks(range(len(labels)))
+    ax2.set_xticklabels(labels, fontsize=7, rotation=30, ha="right")
+    ax2.set_ylabel("seconds per episode")
+    ax2.set_ylim(bottom=0)
+    ax2.set_title("Planning time (mean, 95% CI)")
+    for ax in (ax1, ax2):
+        ax.grid(axis="y", alpha=0.3)
+    path = out / "planning.png"
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+__all__ = ["make_plots"]
