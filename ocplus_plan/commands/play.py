@@ -134,7 +134,7 @@ class PlaySession:
 
     # -- scoring
     def labels(self) -> dict[int, str]:
-        names = {h: ("you" if len(self.humans) == 1 else f"human {i + 1}")
+        names = {h: (f"you (agent {h})" if len(self.humans) == 1 else f"human {i + 1} (agent {h})")
                  for i, h in enumerate(self.humans)}
         side = self.agents_spec if self.mode == "coop" else f"AI team ({self.agents_spec})"
         return {a: names.get(a, f"agent {a}: {side}") for a in range(self.rules.n_agents)}

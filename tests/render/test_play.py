@@ -78,7 +78,7 @@ def test_adversarial_mode_scores_humans_apart_and_reports_the_ai_team():
     assert ai["agents"] == [0] and ai["dishes_served"] >= 1
     assert ai["dishes_served"] == m["dishes_served"]
     assert ai["reward"] == pytest.approx(m["scores"]["AI team score"])
-    assert session.labels()[1] == "you"
+    assert session.labels()[1] == "you (agent 1)"
 
 
 def test_coop_mode_has_one_team_score():
