@@ -295,11 +295,17 @@ def export_gif(
             break
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    # one shared palette keeps the file small and the colours stable between frames
-    first = frames[0].convert("P", palette=Image.Palette.ADAPTIVE, colors=64)
-    rest = [f.quantize(palette=first) for f in frames[1:]]
-    first.save(out, save_all=True, append_images=rest, duration=frame_ms, loop=0,
-               optimize=True, disposal=1)
+    # one palette shared by all frames keeps the file small and the colours stable; it is
+    # made from a strip of up to 16 frames spread over the episode, so items that appear
+    # late (a cooked or burnt steak) get their own colours
+    sample = frames[:: max(1, len(frames) // 16)][:16]
+    strip = Image.new("RGB", (sample[0].width, sample[0].height * len(sample)))
+    for k, frame in enumerate(sample):
+        strip.paste(frame, (0, k * frame.height))
+    palette = strip.quantize(colors=128, method=Image.Quantize.MEDIANCUT)
+    paletted = [f.quantize(palette=palette, dither=Image.Dither.NONE) for f in frames]
+    paletted[0].save(out, save_all=True, append_images=paletted[1:], duration=frame_ms, loop=0,
+                     optimize=True, disposal=1)
     return out
 
 
