@@ -184,7 +184,7 @@ def leaderboard(summary: list[dict[str, Any]]) -> str:
     """A terminal table per preset: agents ranked by dishes served (mean ± 95% CI)."""
     lines = []
     header = (f"  {'#':>2} {'agent':28s} {'n':>3} {'dishes':>13} {'completion':>11} "
-              f"{'reward':>17} {'steps/order':>13} {'burns':>6} {'wrong':>6} {'plan s':>8}")
+              f"{'reward':>17} {'steps/order':>13} {'burns':>6} {'wrong':>6} {'think s':>8}")
     presets = sorted({str(s["preset"]) for s in summary},
                      key=lambda p: (["easy", "medium", "hard"] + [p]).index(p))
     for preset in presets:

@@ -288,8 +288,22 @@ def prepare_out_dir(out: Path, resume: bool) -> set[str]:
     out.mkdir(parents=True, exist_ok=True)
     if not resume or not results.exists():
         return set()
-    return {r["key"] for r in read_results(results) if r.get("status") in ("ok", "error")
-            and "key" in r}
+    rows = read_results(results)
+    _drop_partial_last_line(results)
+    return {r["key"] for r in rows if r.get("status") in ("ok", "error") and "key" in r}
+
+
+def _drop_partial_last_line(path: Path) -> None:
+    """Cut a row that a killed run left half-written, so appended rows start on a new line."""
+    data = path.read_bytes()
+    if not data or data.endswith(b"\n"):
+        return
+    cut = data.rfind(b"\n") + 1
+    try:
+        json.loads(data[cut:])
+        path.write_bytes(data + b"\n")  # complete row, only the newline is missing
+    except ValueError:
+        path.write_bytes(data[:cut])
 
 
 def run_eval(cfg: EvalConfig, echo: Any = print) -> EvalOutcome:

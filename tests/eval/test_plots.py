@@ -1,0 +1,46 @@
+"""Plot files are produced, are PNG images, and are not blank."""
+
+from __future__ import annotations
+
+import pytest
+
+from ocplus_plan.eval.runner import EvalConfig, run_eval
+
+pytest.importorskip("matplotlib", reason="plots need the `plots` extra (matplotlib)")
+
+
+def _not_blank(path) -> bool:
+    import matplotlib.image as mpimg
+    import numpy as np
+
+    img = mpimg.imread(path)[..., :3]
+    # a blank figure is one flat colour; a real one has many distinct shades
+    return float(img.std()) > 0.02 and len(np.unique(img.reshape(-1, 3), axis=0)) > 20
+
+
+def test_eval_with_plots_writes_every_figure(tmp_path):
+    out = tmp_path / "run"
+    cfg = EvalConfig(presets=["easy", "hard"], agents=["greedy", "random"], seeds=[0, 1],
+                     out=out, horizon=60, jobs=1, plots=True, quiet=True)
+    outcome = run_eval(cfg, echo=lambda *a: None)
+    names = {p.name for p in outcome.plots}
+    assert {"leaderboard.png", "reward_over_time.png", "actions.png",
+            "heatmap_easy_greedy.png", "heatmap_hard_random.png"} <= names
+    for path in outcome.plots:
+        assert path.parent == out / "plots"
+        assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        assert _not_blank(path), path.name
+
+
+def test_report_redraws_plots_from_results(tmp_path, capsys):
+    from ocplus_plan.cli import main
+
+    out = tmp_path / "run"
+    cfg = EvalConfig(presets=["medium"], agents=["greedy"], seeds=[0], out=out, horizon=40,
+                     quiet=True)
+    run_eval(cfg, echo=lambda *a: None)
+    assert not (out / "plots").exists()
+    assert main(["report", str(out)]) == 0
+    assert "plots:" in capsys.readouterr().out
+    assert (out / "plots" / "leaderboard.png").stat().st_size > 5000
+    assert (out / "plots" / "heatmap_medium_greedy.png").stat().st_size > 5000
