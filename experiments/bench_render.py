@@ -29,7 +29,7 @@ os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 PRESET, N_AGENTS = "hard", 2
 
 
-def make_env(render_mode: str | None):  # noqa: ANN201 - the env class is imported lazily
+def make_env(render_mode: str | None):
     from ocplus_plan.env.gym_env import OvercookedPlusEnv
 
     return OvercookedPlusEnv(PRESET, n_agents=N_AGENTS, mode="vector", render_mode=render_mode)

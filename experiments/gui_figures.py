@@ -23,10 +23,10 @@ from pathlib import Path
 
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 
-from ocplus_plan.commands.play import PlaySession  # noqa: E402
-from ocplus_plan.render.replay import export_gif, verify  # noqa: E402
-from ocplus_plan.render.window import Window  # noqa: E402
-from ocplus_plan.sim import Where, make_rules  # noqa: E402
+from ocplus_plan.commands.play import PlaySession
+from ocplus_plan.render.replay import export_gif, verify
+from ocplus_plan.render.window import Window
+from ocplus_plan.sim import Where, make_rules
 
 #: preset -> (agents, earliest step, latest step) of the screenshot
 SHOTS = {"easy": (2, 10, 60), "medium": (2, 20, 120), "hard": (2, 30, 150)}

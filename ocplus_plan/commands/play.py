@@ -188,6 +188,8 @@ def run_loop(session: PlaySession, window: Any, *, turn_based: bool, fps: float 
                     status=status, key_help=session.key_help)
 
     show("press a key to start" if turn_based and session.humans else "")
+    if not turn_based:  # a held key keeps moving the cook in real time
+        window.pg.key.set_repeat(150, 100)
     while not session.finished and not window.closed:
         keys = window.poll()
         if turn_based:

@@ -228,6 +228,7 @@ class Window:
         self.tile = tile
         self.screen: Any = None
         self.closed = False
+        self._clock = self.pg.time.Clock()
         self._font = self.pg.font.Font(None, 22)
         self._bold = self.pg.font.Font(None, 24)
         self._bold.set_bold(True)
@@ -325,8 +326,6 @@ class Window:
 
     def tick(self, fps: float) -> None:
         """Wait so that calls happen ``fps`` times per second."""
-        if not hasattr(self, "_clock"):
-            self._clock = self.pg.time.Clock()
         self._clock.tick(fps)
 
     def close(self) -> None:
