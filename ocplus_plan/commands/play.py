@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ConfigError
-from ..sim import Rules, StepResult, make_rules, new_state, transition
+from ..sim import PRESETS, Rules, StepResult, make_rules, new_state, transition
 
 MODES = ("coop", "adversarial")
 #: event kinds counted per side in the metrics
@@ -221,7 +221,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--preset", default="easy", help="easy | medium | hard (default: easy)")
     p.add_argument("--map", default=None, help="map name or YAML path (default: the preset's)")
     p.add_argument("--n-agents", type=int, default=None,
-                   help="agents in the kitchen (default: the preset's, at least one per human)")
+                   help="agents in the kitchen (default: the preset's, and at least one AI "
+                   "cook beside the humans when the map has room)")
     p.add_argument("--human", default="0",
                    help="agent indices the keyboard drives: 0, 0,1 or none (default: 0)")
     p.add_argument("--agents", default="greedy",
@@ -252,10 +253,10 @@ def build_session(args: argparse.Namespace) -> PlaySession:
     if args.n_agents is not None:
         kw["n_agents"] = args.n_agents
     elif humans:
-        from ..sim import PRESETS
-
-        default = PRESETS[args.preset].n_agents if args.preset in PRESETS else 1
-        kw["n_agents"] = max(default, max(humans) + 1)
+        # by default every human gets at least one AI cook beside them, if the map has room
+        layout = make_rules(args.preset, map=args.map).layout
+        wanted = max(PRESETS[args.preset].n_agents, len(humans) + 1)
+        kw["n_agents"] = max(min(wanted, layout.max_agents), max(humans) + 1)
     rules = make_rules(args.preset, map=args.map, **kw)
     return PlaySession(rules, args.seed, humans=humans, agents=args.agents, mode=args.mode,
                        record=args.record is not None)

@@ -99,7 +99,10 @@ def test_bad_options_name_the_fix():
         PlaySession(make_rules("easy"), 0, mode="versus")
     ns = argparse.Namespace(human="0,1", preset="easy", map=None, n_agents=None, fps=4.0,
                             horizon=None, agents="greedy", mode="coop", seed=0, record=None)
-    assert build_session(ns).rules.n_agents == 2  # one agent per human by default
+    assert build_session(ns).rules.n_agents == 2  # easy_open has room for two cooks only
+    ns.human = "0"
+    session = build_session(ns)
+    assert session.rules.n_agents == 2 and session.ai == (1,)  # an AI cook beside the human
     ns.fps = 0
     with pytest.raises(ConfigError, match="--fps"):
         build_session(ns)
