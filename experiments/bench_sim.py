@@ -1,10 +1,16 @@
-"""Steps per second of the raw transition, per preset, with random actions.
+"""Steps per second of the raw transition, per preset, with random actions; and of the
+Gymnasium env (``--only env``) and the batched simulator (``--only batch``).
 
 Median of 5 runs of N steps each on one core (actions drawn up front so the
 timing is the transition alone; episodes restart with ``new_state`` at the
 horizon, which is included). Prints one JSON line per configuration.
 
-    python experiments/bench_sim.py [--steps 50000] [--runs 5]
+Env section: ``OvercookedPlusEnv.step`` (the env class itself, no Gymnasium wrappers)
+per observation mode (vector, rgb) for 1 and 2 agents on the hard preset, resets
+included, plus a profile split from an instrumented pass: the share of the step spent
+in the transition, in the observation encoder, and in the env's own bookkeeping.
+
+    python experiments/bench_sim.py [--steps 50000] [--runs 5] [--only transition|env|batch]
 """
 
 from __future__ import annotations
@@ -40,13 +46,103 @@ def bench_transition(preset: str, n_agents: int, steps: int, runs: int) -> dict:
     }
 
 
+# ---------------------------------------------------------------- env section
+#: (preset, n_agents, mode, obs_radius) of the env benchmark
+ENV_CONFIGS = [
+    ("hard", 1, "vector", 0), ("hard", 2, "vector", 0), ("hard", 2, "vector", 2),
+    ("hard", 1, "rgb", 0), ("hard", 2, "rgb", 0), ("hard", 2, "rgb", 2),
+]
+#: (preset, n_agents, n_envs) of the batched-simulator benchmark
+BATCH_CONFIGS = [("hard", 2, 1), ("hard", 2, 16), ("hard", 2, 64)]
+
+
+def _env_split(env, actions: list) -> dict:
+    """Time the pieces of ``env.step`` separately (one instrumented pass)."""
+    core = env.core
+    t_trans = t_enc = 0.0
+    perf = time.perf_counter
+    env.reset(seed=0)
+    t0 = perf()
+    for joint in actions:
+        a = perf()
+        moves, tokens = core.split_action(joint)
+        result = core.step(moves, tokens)
+        b = perf()
+        core.observe()
+        c = perf()
+        t_trans += b - a
+        t_enc += c - b
+        if result.truncated or result.terminated:
+            env.reset()
+    total = perf() - t0
+    return {"transition": round(t_trans / total, 3), "encoder": round(t_enc / total, 3),
+            "us_transition": round(t_trans / len(actions) * 1e6, 2),
+            "us_encoder": round(t_enc / len(actions) * 1e6, 2)}
+
+
+def bench_env(preset: str, n_agents: int, mode: str, radius: int, steps: int, runs: int) -> dict:
+    from ocplus_plan.env.gym_env import OvercookedPlusEnv
+
+    env = OvercookedPlusEnv(preset, n_agents=n_agents, mode=mode, obs_radius=radius)
+    actions = np.random.default_rng(0).integers(0, 5, size=(steps, n_agents)).tolist()
+    rates = []
+    for run in range(runs):
+        env.reset(seed=run)
+        t0 = time.perf_counter()
+        for joint in actions:
+            _, _, terminated, truncated, _ = env.step(joint)
+            if terminated or truncated:
+                env.reset()
+        rates.append(steps / (time.perf_counter() - t0))
+    obs_shape = env.observation_space[0].shape
+    return {
+        "bench": "env", "preset": preset, "map": env.rules.layout.name, "n_agents": n_agents,
+        "mode": mode, "obs_radius": radius, "obs_shape": list(obs_shape), "steps": steps,
+        "runs": runs, "steps_per_s_median": round(statistics.median(rates)),
+        "steps_per_s_min": round(min(rates)), "split": _env_split(env, actions),
+        "python": platform.python_version(),
+    }
+
+
+def bench_batch(preset: str, n_agents: int, n_envs: int, steps: int, runs: int) -> dict:
+    from ocplus_plan.sim.batch import BatchSim
+
+    rules = make_rules(preset, n_agents=n_agents)
+    batches = max(1, steps // n_envs)
+    actions = np.random.default_rng(0).integers(0, 5, size=(batches, n_envs, n_agents))
+    rates = []
+    for run in range(runs):
+        sim = BatchSim(rules, n_envs, seed=run)
+        sim.reset()
+        t0 = time.perf_counter()
+        for joint in actions:
+            sim.step(joint)
+        rates.append(batches * n_envs / (time.perf_counter() - t0))
+    return {
+        "bench": "batch", "preset": preset, "map": rules.layout.name, "n_agents": n_agents,
+        "n_envs": n_envs, "env_steps": batches * n_envs, "runs": runs,
+        "env_steps_per_s_median": round(statistics.median(rates)),
+        "env_steps_per_s_min": round(min(rates)), "python": platform.python_version(),
+    }
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=50_000)
     ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--only", choices=("transition", "env", "batch"), default=None,
+                    help="run one section (default: all)")
     args = ap.parse_args()
-    for preset, n in CONFIGS:
-        print(json.dumps(bench_transition(preset, n, args.steps, args.runs)), flush=True)
+    if args.only in (None, "transition"):
+        for preset, n in CONFIGS:
+            print(json.dumps(bench_transition(preset, n, args.steps, args.runs)), flush=True)
+    if args.only in (None, "env"):
+        for preset, n, mode, radius in ENV_CONFIGS:
+            steps = args.steps if mode == "vector" else max(1, args.steps // 5)
+            print(json.dumps(bench_env(preset, n, mode, radius, steps, args.runs)), flush=True)
+    if args.only in (None, "batch"):
+        for preset, n, n_envs in BATCH_CONFIGS:
+            print(json.dumps(bench_batch(preset, n, n_envs, args.steps, args.runs)), flush=True)
 
 
 if __name__ == "__main__":

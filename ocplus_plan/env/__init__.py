@@ -1,0 +1,68 @@
+"""Learner interface: Gymnasium envs (registered here) and a PettingZoo ParallelEnv.
+
+``import ocplus_plan.env`` registers ``OvercookedPlus-v0``, ``Overcooked-Plus`` (the
+paper's name) and ``OvercookedPlusSingle-v0`` with Gymnasium (string entry points, so
+nothing heavy is imported until ``gymnasium.make``)::
+
+    import gymnasium as gym
+    import ocplus_plan.env  # noqa: F401  (registers the ids)
+    env = gym.make("OvercookedPlus-v0", preset="hard", n_agent=2, obs_radius=2)
+    obs, info = env.reset(seed=0)
+
+``parallel_env(...)`` returns the PettingZoo view (needs pettingzoo). This package
+never imports unified_planning, pygame, torch or matplotlib.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import gymnasium
+
+from .core import MODES, EnvConfig, parse_env_kwargs
+
+#: id -> (entry point, default kwargs): the registered configurations
+REGISTRY: dict[str, tuple[str, dict[str, Any]]] = {
+    "OvercookedPlus-v0": ("ocplus_plan.env.gym_env:OvercookedPlusEnv", {"preset": "hard"}),
+    "Overcooked-Plus": ("ocplus_plan.env.gym_env:OvercookedPlusEnv", {"preset": "hard"}),
+    "OvercookedPlusSingle-v0": (
+        "ocplus_plan.env.gym_env:OvercookedPlusSingleEnv", {"preset": "hard"},
+    ),
+}
+
+
+def register_envs() -> None:
+    """Register every id of :data:`REGISTRY` with Gymnasium (idempotent)."""
+    for env_id, (entry_point, kwargs) in REGISTRY.items():
+        if env_id not in gymnasium.registry:
+            gymnasium.register(env_id, entry_point=entry_point, kwargs=dict(kwargs))
+
+
+def parallel_env(preset: str = "hard", **kwargs: Any) -> Any:
+    """The PettingZoo ``ParallelEnv`` (same keywords as the Gymnasium env)."""
+    from .parallel import OvercookedPlusParallelEnv  # pettingzoo is optional
+
+    return OvercookedPlusParallelEnv(preset, **kwargs)
+
+
+def __getattr__(name: str) -> Any:
+    # lazy access to the env classes without importing them at package import
+    if name in ("OvercookedPlusEnv", "OvercookedPlusSingleEnv", "StateSpace"):
+        from . import gym_env
+
+        return getattr(gym_env, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+register_envs()
+
+__all__ = [
+    "MODES",
+    "REGISTRY",
+    "EnvConfig",
+    "OvercookedPlusEnv",
+    "OvercookedPlusSingleEnv",
+    "parallel_env",
+    "parse_env_kwargs",
+    "register_envs",
+]

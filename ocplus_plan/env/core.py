@@ -1,0 +1,176 @@
+"""What the Gymnasium and PettingZoo envs share: keyword parsing and the kitchen core.
+
+:func:`parse_env_kwargs` maps the paper's keyword names (``map_name``, ``dynamic_map``,
+``rewardList``, ``n_agent``, ``agent_communication``, ``GUI``) and ours onto
+:func:`ocplus_plan.sim.make_rules` plus an :class:`EnvConfig`. :class:`KitchenCore` owns
+one episode: the simulator state, the encoder of the chosen mode and the message
+channel, and turns ``(moves, tokens)`` into observations. No gymnasium import here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import ConfigError
+from ..sim import Rules, State, StepResult, make_rules, new_state, transition
+from ..sim.observe import VectorEncoder, snapshot
+from .comm import CommChannel, CommConfig
+
+MODES = ("vector", "rgb", "symbolic")
+#: accepted spellings of a mode (gym-macro-overcooked calls the picture mode "image")
+MODE_ALIASES = {"vector": "vector", "rgb": "rgb", "image": "rgb", "symbolic": "symbolic"}
+RENDER_MODES = ("human", "rgb_array")
+
+
+@dataclass(frozen=True)
+class EnvConfig:
+    """Learner-side options (the rules themselves live in :class:`Rules`)."""
+
+    mode: str = "vector"
+    obs_radius: int = 0
+    comm: CommConfig | None = None
+    render_mode: str | None = None
+
+
+def _alias(kwargs: dict[str, Any], ours: str, paper: str, default: Any) -> Any:
+    """The value given under either name; an error when both are given and differ."""
+    a, b = kwargs.pop(ours, None), kwargs.pop(paper, None)
+    if a is not None and b is not None and a != b:
+        raise ConfigError(f"{ours}={a!r} and {paper}={b!r} disagree; pass only one of them")
+    return default if a is None and b is None else (a if a is not None else b)
+
+
+def normalise_rewards(rewards: Mapping[str, float] | None) -> dict[str, float] | None:
+    """Accept the paper's ``rewardList`` keys (``"subtask finished"``) and ours."""
+    if rewards is None:
+        return None
+    if not isinstance(rewards, Mapping):
+        raise ConfigError(
+            f"rewards / rewardList must be a mapping such as {{'correct_delivery': 200}}, "
+            f"got {type(rewards).__name__}"
+        )
+    return {str(k).strip().lower().replace(" ", "_").replace("-", "_"): float(v)
+            for k, v in rewards.items()}
+
+
+def parse_env_kwargs(preset: str = "hard", **kwargs: Any) -> tuple[Rules, EnvConfig]:
+    """Rules and env options from the env's keyword arguments (see the env docstring).
+
+    Every keyword that is not an env option is passed to ``make_rules`` (so any rule
+    parameter, e.g. ``horizon`` or ``order_time_limit``, can be overridden); unknown
+    names fail there with the list of known ones.
+    """
+    kw = dict(kwargs)
+    map_ = _alias(kw, "map", "map_name", None)
+    dynamic = _alias(kw, "dynamic", "dynamic_map", None)
+    rewards = normalise_rewards(_alias(kw, "rewards", "rewardList", None))
+    n_agents = _alias(kw, "n_agents", "n_agent", None)
+    comm_on = bool(kw.pop("agent_communication", False))
+    comm_kw = {k: kw.pop(f"comm_{k}") for k in ("vocab", "range", "failure_rate", "delay")
+               if f"comm_{k}" in kw}
+    if comm_kw and not comm_on:
+        raise ConfigError(
+            f"{', '.join('comm_' + k for k in comm_kw)} given without agent_communication=True"
+        )
+    gui = bool(kw.pop("GUI", False))
+    render_mode = kw.pop("render_mode", None)
+    if gui:
+        if render_mode not in (None, "human"):
+            raise ConfigError(f"GUI=True asks for render_mode='human' but render_mode={render_mode!r}")
+        render_mode = "human"
+    if render_mode is not None and render_mode not in RENDER_MODES:
+        raise ConfigError(f"render_mode must be None, 'human' or 'rgb_array', got {render_mode!r}")
+    mode = kw.pop("mode", "vector")
+    if mode not in MODE_ALIASES:
+        raise ConfigError(f"mode must be one of {', '.join(MODES)} ('image' = 'rgb'), got {mode!r}")
+    obs_radius = kw.pop("obs_radius", 0)
+    if isinstance(obs_radius, bool) or not isinstance(obs_radius, int) or obs_radius < 0:
+        raise ConfigError(f"obs_radius must be an integer >= 0 (0 = whole map), got {obs_radius!r}")
+
+    overrides = dict(kw)
+    if map_ is not None:
+        overrides["map"] = map_
+    if dynamic is not None:
+        overrides["dynamic"] = bool(dynamic)
+    if rewards is not None:
+        overrides["rewards"] = rewards
+    if n_agents is not None:
+        overrides["n_agents"] = n_agents
+    rules = make_rules(preset, **overrides)
+    comm = CommConfig(**comm_kw) if comm_on else None
+    if comm is not None and rules.n_agents < 2:
+        raise ConfigError("agent_communication needs at least two agents (n_agents >= 2)")
+    return rules, EnvConfig(MODE_ALIASES[mode], obs_radius, comm, render_mode)
+
+
+class KitchenCore:
+    """One kitchen episode plus its encoder and message channel."""
+
+    def __init__(self, rules: Rules, config: EnvConfig) -> None:
+        self.rules = rules
+        self.config = config
+        self.n_agents = n = rules.n_agents
+        self.comm = CommChannel(config.comm, n, rules.layout.cols) if config.comm else None
+        vocab = config.comm.vocab if config.comm else 0
+        self.vector = VectorEncoder(rules, config.obs_radius, vocab) if config.mode == "vector" \
+            else None
+        self.rgb: Any = None
+        if config.mode == "rgb":
+            from ..render.rgb import RgbEncoder  # numpy only; kept local for import speed
+
+            self.rgb = RgbEncoder(rules, config.obs_radius)
+        self.state: State = new_state(rules, 0)
+        self.received = np.full((n, max(0, n - 1)), -1, np.int64)
+        self.episode_seed = 0
+
+    def reset(self, episode_seed: int) -> None:
+        self.episode_seed = int(episode_seed)
+        self.state = new_state(self.rules, self.episode_seed)
+        if self.comm is not None:
+            self.received = self.comm.reset(self.episode_seed)
+
+    def step(self, moves: Sequence[int], tokens: Sequence[int] | None) -> StepResult:
+        result = transition(self.state, moves)
+        if self.comm is not None and tokens is not None:
+            self.received = self.comm.exchange(tokens, self.state.agent_pos)
+        return result
+
+    def observe(self) -> Any:
+        """Per-agent observations: an ``(n, size)`` float32 array (vector), ``(n, H, W, 3)``
+        uint8 (rgb), or one :class:`~ocplus_plan.sim.observe.StateSnapshot` (symbolic)."""
+        if self.vector is not None:
+            return self.vector.encode(self.state, self.received if self.comm else None)
+        if self.rgb is not None:
+            return self.rgb.encode(self.state)
+        return snapshot(self.state)
+
+    def split_action(self, action: Any) -> tuple[list[int], list[int] | None]:
+        """A joint action -> (moves, tokens). Accepts ``n`` moves, or with communication
+        ``2n`` values interleaved ``[move0, token0, move1, token1, ...]`` (or ``(n, 2)``)."""
+        from ..errors import InvalidActionError
+
+        n = self.n_agents
+        try:
+            flat = np.asarray(action, dtype=np.int64).reshape(-1)
+        except (TypeError, ValueError):
+            raise InvalidActionError(f"action {action!r} is not a sequence of integers") from None
+        if self.comm is None:
+            if flat.size != n:
+                raise InvalidActionError(
+                    f"expected {n} moves (one per agent, each 0..4), got {flat.size} values"
+                )
+            return flat.tolist(), None
+        if flat.size != 2 * n:
+            raise InvalidActionError(
+                f"with agent_communication the action is [move, token] per agent: {2 * n} "
+                f"values, got {flat.size}"
+            )
+        pairs = flat.reshape(n, 2)
+        return pairs[:, 0].tolist(), pairs[:, 1].tolist()
+
+
+__all__ = ["MODES", "EnvConfig", "KitchenCore", "normalise_rewards", "parse_env_kwargs"]

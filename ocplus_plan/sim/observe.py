@@ -1,0 +1,412 @@
+"""Observation encoders (SPEC section 8): the ``vector`` encoding and ``symbolic`` snapshots.
+
+numpy only (no gymnasium): the env, the batched simulator and learned-policy agents all
+encode through :class:`VectorEncoder`. The ``rgb`` encoding lives in :mod:`ocplus_plan.render`.
+
+Vector layout (per agent, one flat ``float32`` row of :attr:`VectorEncoder.size` values)::
+
+    [ grid (C, h, w) channels-first, flattened | features (F,) ]
+
+``h = w = 2r + 1`` centred on the agent for ``obs_radius`` r > 0, the whole map (``rows x
+cols``, not centred) for r = 0. Grid channels, in order (see :data:`GRID_CHANNELS`):
+
+* 13 terrain one-hots of the *current* layout (spawn floor reads as floor),
+* ``unknown``: 1 for window cells outside the map (nothing is remembered between steps),
+* 5 item-kind counts (tomato, lettuce, onion, steak, plate) of the items on the cell;
+  a held item is drawn on its holder's cell, plate contents on the plate's cell,
+* 6 item-state counts (fresh/raw, chopped, cooked, burnt, clean, dirty) of the same items,
+* ``progress``: chop or wash count / steps needed, or pan ticks / (burn_time + 1), in [0, 1],
+* ``agent:self`` and ``agent:other``.
+
+Features (see :meth:`VectorEncoder.feature_names`): own hand (kind and state one-hots,
+plate contents counts), own (row, col) / (rows-1, cols-1), ``t / horizon``, layout index,
+steps to the next due layout switch / ``map_switch_step``, the ``n_orders`` active orders
+oldest first (ingredient counts, present flag, time left / ``order_time_limit``), and with
+communication one slot per other agent (``(a + k) % n`` for k = 1..n-1) holding a one-hot of
+``comm_vocab`` tokens plus a final "nothing received" bit.
+
+Design note: the encoder is built for throughput. Static terrain one-hots are precomputed
+per layout; per step the dynamic cells are collected into index lists in one Python pass
+over the items and scattered with one ``bincount``, agent windows are one fancy-index
+gather, and several states (the batched simulator) are encoded in the same calls.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..errors import ConfigError
+from .codes import Cell, Item, ItemState, Where
+from .rules import Rules
+from .state import Geometry, State
+
+#: terrain codes with a one-hot channel, in channel order (``Cell.SPAWN`` reads as floor)
+TERRAIN_CODES: tuple[Cell, ...] = (
+    Cell.BLOCK, Cell.FLOOR, Cell.COUNTER, Cell.TOMATO, Cell.LETTUCE, Cell.PLATE, Cell.BOARD,
+    Cell.DELIVERY, Cell.ONION, Cell.PAN, Cell.STEAK, Cell.SINK, Cell.TRASH,
+)
+ITEM_KINDS: tuple[Item, ...] = (Item.TOMATO, Item.LETTUCE, Item.ONION, Item.STEAK, Item.PLATE)
+INGREDIENT_KINDS: tuple[Item, ...] = ITEM_KINDS[:4]
+ITEM_STATES: tuple[ItemState, ...] = (
+    ItemState.FRESH, ItemState.CHOPPED, ItemState.COOKED, ItemState.BURNT, ItemState.CLEAN,
+    ItemState.DIRTY,
+)
+GRID_CHANNELS: tuple[str, ...] = (
+    *(f"terrain:{c.name.lower()}" for c in TERRAIN_CODES),
+    "unknown",
+    *(f"item:{k.name.lower()}" for k in ITEM_KINDS),
+    *(f"state:{s.name.lower()}" for s in ITEM_STATES),
+    "progress",
+    "agent:self",
+    "agent:other",
+)
+_CH = {name: i for i, name in enumerate(GRID_CHANNELS)}
+CH_UNKNOWN, CH_PROGRESS = _CH["unknown"], _CH["progress"]
+CH_SELF, CH_OTHER = _CH["agent:self"], _CH["agent:other"]
+_CH_KIND0, _CH_STATE0 = _CH["item:tomato"], _CH["state:fresh"]
+_KIND_INDEX = {int(k): i for i, k in enumerate(ITEM_KINDS)}
+_TERRAIN_INDEX = {int(c): i for i, c in enumerate(TERRAIN_CODES)} | {int(Cell.SPAWN): 1}
+_CELL, _HAND, _PLATE = int(Where.CELL), int(Where.HAND), int(Where.PLATE)
+_PLATE_KIND = int(Item.PLATE)
+
+
+class VectorEncoder:
+    """Encodes states of one :class:`Rules` into per-agent ``float32`` vectors.
+
+    ``obs_radius`` r >= 0 (0 = whole map); ``comm_vocab`` > 0 adds the received-message
+    slots. :attr:`low` / :attr:`high` are the exact element bounds (for a ``Box``).
+    """
+
+    def __init__(self, rules: Rules, obs_radius: int = 0, comm_vocab: int = 0) -> None:
+        if isinstance(obs_radius, bool) or not isinstance(obs_radius, int) or obs_radius < 0:
+            raise ConfigError(f"obs_radius must be an integer >= 0 (0 = whole map), got {obs_radius!r}")
+        if isinstance(comm_vocab, bool) or not isinstance(comm_vocab, int) or comm_vocab < 0:
+            raise ConfigError(f"comm_vocab must be an integer >= 0, got {comm_vocab!r}")
+        self.rules = rules
+        self.radius = r = obs_radius
+        self.comm_vocab = comm_vocab
+        self.n_agents = n = rules.n_agents
+        rows, cols = rules.layout.shape
+        self.rows, self.cols = rows, cols
+        hp, wp = rows + 2 * r, cols + 2 * r
+        self.window = (2 * r + 1, 2 * r + 1) if r else (rows, cols)
+        wh, ww = self.window
+        self._cells = wh * ww
+        self.grid_shape = (len(GRID_CHANNELS), wh, ww)
+        self.grid_size = len(GRID_CHANNELS) * self._cells
+        self._has_switch = rules.dynamic and rules.layout.switch_grid is not None
+        self._rc = [divmod(f, cols) for f in range(rows * cols)]
+
+        # static planes per layout (padded by r): terrain one-hots, unknown outside the map
+        static = []
+        for grid in rules.layout.grids():
+            planes = np.zeros((len(GRID_CHANNELS), hp, wp), np.float32)
+            planes[CH_UNKNOWN] = 1.0
+            planes[CH_UNKNOWN, r : r + rows, r : r + cols] = 0.0
+            for (row, col), code in np.ndenumerate(grid):
+                planes[_TERRAIN_INDEX[int(code)], row + r, col + r] = 1.0
+            static.append(planes.reshape(-1))
+        # r = 0: per layout, a ready (n_agents, size) block of rows with zero features;
+        # r > 0: padded planes plus one trailing zero, gathered per agent window (features
+        # gather that zero)
+        self._blank = np.stack([np.tile(p, (n, 1)) for p in static])  # + features, below
+        self._padded_ext = np.stack([np.concatenate([p, np.zeros(1, np.float32)]) for p in static])
+        self._gather = None
+        if r:
+            offs = (np.arange(wh)[:, None] * wp + np.arange(ww)[None, :]).reshape(-1)
+            tops = np.array([(f // cols) * wp + f % cols for f in range(rows * cols)])
+            win = tops[:, None] + offs[None, :]
+            chan = (np.arange(len(GRID_CHANNELS)) * hp * wp)[None, :, None]
+            self._gather = (chan + win[:, None, :]).reshape(rows * cols, -1)
+
+        geo_kinds = [int(k) for k in Geometry.build(rules).item_kind]
+        # item entries are built as channel * map_cells + cell (for r = 0 the window is the
+        # map, so these are already output offsets; windows re-index them)
+        m = self._map_cells = rows * cols
+        self._kind_ch = [(_CH_KIND0 + _KIND_INDEX[k]) * m for k in geo_kinds]
+        self._state_ch = [(_CH_STATE0 + s) * m for s in range(len(ITEM_STATES))]
+        self._prog_chm = CH_PROGRESS * m
+        steak, plate = int(Item.STEAK), int(Item.PLATE)
+        self._prog_den = [
+            float(rules.burn_time + 1) if k == steak
+            else float(rules.wash_steps) if k == plate else float(rules.chop_steps)
+            for k in geo_kinds
+        ]
+        self._item_kind = geo_kinds
+
+        # features
+        names = [f"hand:{k.name.lower()}" for k in ITEM_KINDS]
+        names += [f"hand_state:{s.name.lower()}" for s in ITEM_STATES]
+        names += [f"hand_plate:{k.name.lower()}" for k in INGREDIENT_KINDS]
+        names += ["row", "col", "time", "layout", "switch_in"]
+        self._order0 = len(names)
+        for o in range(rules.n_orders):
+            names += [f"order{o}:{k.name.lower()}" for k in INGREDIENT_KINDS]
+            names += [f"order{o}:present", f"order{o}:time_left"]
+        self._msg0 = len(names)
+        if comm_vocab:
+            for k in range(1, n):
+                names += [f"msg{k}:token{v}" for v in range(comm_vocab)] + [f"msg{k}:none"]
+        self.feature_names: tuple[str, ...] = tuple(names)
+        self.n_features = len(names)
+        self.size = self.grid_size + self.n_features
+        pad = np.zeros(self._blank.shape[:2] + (self.n_features,), np.float32)
+        self._blank = np.concatenate([self._blank, pad], axis=2)
+        if self._gather is not None:
+            zero_slot = self._padded_ext.shape[1] - 1
+            feat = np.full((self._gather.shape[0], self.n_features), zero_slot)
+            self._gather = np.concatenate([self._gather, feat], axis=1)
+
+        counts = {k: geo_kinds.count(int(k)) for k in ITEM_KINDS}
+        grid_high = np.ones(self.grid_shape, np.float32)
+        for i, k in enumerate(ITEM_KINDS):
+            grid_high[_CH_KIND0 + i] = max(1, counts[k])
+        grid_high[_CH_STATE0 : _CH_STATE0 + len(ITEM_STATES)] = max(1, len(geo_kinds))
+        feat_high = np.ones(self.n_features, np.float32)
+        for j, k in enumerate(INGREDIENT_KINDS):
+            feat_high[len(ITEM_KINDS) + len(ITEM_STATES) + j] = max(1, counts[k])
+            most = max((rec.count(k) for rec in rules.recipes), default=0)
+            for o in range(rules.n_orders):
+                feat_high[self._order0 + 6 * o + j] = max(1, most)
+        self.high = np.concatenate([grid_high.reshape(-1), feat_high])
+        self.low = np.zeros(self.size, np.float32)
+        self._feat_base = self.grid_size
+        self._state_feat0 = len(ITEM_KINDS)
+        self._plate_feat0 = len(ITEM_KINDS) + len(ITEM_STATES)
+        self._ingredient_index = {int(k): j for j, k in enumerate(INGREDIENT_KINDS)}
+        self._self_ch, self._other_ch = CH_SELF * self._cells, CH_OTHER * self._cells
+        self._prog_ch = CH_PROGRESS * self._cells
+        self._inv_rows1 = 1.0 / max(1, rows - 1)
+        self._inv_cols1 = 1.0 / max(1, cols - 1)
+        self._orders_cache: dict[tuple, tuple[list[int], list[int], list[float]]] = {}
+
+    # ------------------------------------------------------------------ public
+    def encode(self, state: State, received: np.ndarray | None = None) -> np.ndarray:
+        """``(n_agents, size)`` float32 observations of every agent.
+
+        ``received``: ``(n_agents, n_agents - 1)`` int tokens per sender slot, -1 = none
+        (only with ``comm_vocab`` > 0; None reads as nothing received).
+        """
+        ones: list[int] = []
+        vidx: list[int] = []
+        vals: list[float] = []
+        repeats = self._entries(state, 0, ones, vidx, vals, received)
+        out = self._blank[state.layout_index].copy() if self.radius == 0 else \
+            self._padded_ext[state.layout_index][self._gather[state.agent_pos]]
+        self._scatter(out.reshape(-1), ones, vidx, vals, repeats)
+        return out
+
+    def encode_many(
+        self, states: Sequence[State], received: np.ndarray | None = None
+    ) -> np.ndarray:
+        """``(len(states), n_agents, size)`` observations of several kitchens at once
+        (``received``: ``(len(states), n_agents, n_agents - 1)`` or None)."""
+        n_env, n, size = len(states), self.n_agents, self.size
+        ones: list[int] = []
+        vidx: list[int] = []
+        vals: list[float] = []
+        repeats = False
+        for e, s in enumerate(states):
+            repeats |= self._entries(s, e, ones, vidx, vals,
+                                     None if received is None else received[e])
+        layouts = [s.layout_index for s in states]
+        if self.radius == 0:
+            out = self._blank[layouts].reshape(n_env * n, size)
+        else:
+            rows = np.repeat(layouts, n)[:, None]
+            out = self._padded_ext[rows, self._gather[[f for s in states for f in s.agent_pos]]]
+        self._scatter(out.reshape(-1), ones, vidx, vals, repeats)
+        return out.reshape(n_env, n, size)
+
+    def split(self, obs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``obs[..., size]`` -> (grid ``[..., C, h, w]``, features ``[..., F]``) views."""
+        lead = obs.shape[:-1]
+        return (obs[..., : self.grid_size].reshape(*lead, *self.grid_shape),
+                obs[..., self.grid_size :])
+
+    # ------------------------------------------------------------------ internals
+    @staticmethod
+    def _scatter(flat: np.ndarray, ones: list[int], vidx: list[int], vals: list[float],
+                 repeats: bool) -> None:
+        """Write the dynamic entries; every target is 0 in the static part beforehand."""
+        if repeats:
+            np.add.at(flat, np.array(ones, dtype=np.intp), 1.0)
+        else:
+            flat[ones] = 1.0
+        if vidx:
+            flat[vidx] = vals
+
+    def _entries(self, s: State, e: int, ones: list[int], vidx: list[int], vals: list[float],
+                 received: np.ndarray | None) -> bool:
+        """Append kitchen ``e``'s flat output indices: unit entries to ``ones``, others to
+        ``vidx``/``vals``. True when an index may repeat (items on a plate)."""
+        n, size, r = self.n_agents, self.size, self.radius
+        kind_ch, state_ch = self._kind_ch, self._state_ch
+        pos = s.agent_pos
+        repeats = False
+        # grid entries of the items (window-local channel offset + map cell)
+        ent: list[int] = []  # channel offset + cell, unit weight
+        prog_ent: list[int] = []
+        prog_val: list[float] = []
+        where, loc, st, prog = s.item_where, s.item_loc, s.item_state, s.item_progress
+        for i in range(len(where)):
+            w = where[i]
+            if w == _CELL:
+                cell = loc[i]
+            elif w == _HAND:
+                cell = pos[loc[i]]
+            elif w == _PLATE:
+                p = loc[i]
+                cell = loc[p] if where[p] == _CELL else pos[loc[p]]
+                repeats = True
+            else:
+                continue
+            ent += (kind_ch[i] + cell, state_ch[st[i]] + cell)
+            if prog[i] and w != _PLATE:
+                prog_ent.append(self._prog_chm + cell)
+                prog_val.append(min(1.0, prog[i] / self._prog_den[i]))
+        feats = self._features(s)
+        fb0 = self._feat_base
+        cols = self.cols
+        for a in range(n):
+            row0 = (e * n + a) * size
+            if r == 0:
+                ones += [row0 + x for x in ent]
+                vidx += [row0 + x for x in prog_ent]
+                vals += prog_val
+                for b in range(n):
+                    ones.append(row0 + (self._self_ch if b == a else self._other_ch) + pos[b])
+            else:
+                self._window_entries(row0, pos, a, ent, prog_ent, prog_val, ones, vidx, vals)
+            fb = row0 + fb0
+            ones += [fb + x for x in feats[0]]
+            vidx += [fb + x for x in feats[1]]
+            vals += feats[2]
+            f = pos[a]
+            vidx += (fb + 15, fb + 16)
+            vals += ((f // cols) * self._inv_rows1, (f % cols) * self._inv_cols1)
+            held = s.agent_hand[a]
+            if held >= 0:
+                kinds = self._item_kind
+                ones += (fb + _KIND_INDEX[kinds[held]], fb + self._state_feat0 + st[held])
+                if kinds[held] == _PLATE_KIND:
+                    for i in s.plate_contents(held):
+                        ones.append(fb + self._plate_feat0 + self._ingredient_index[kinds[i]])
+            if self.comm_vocab and n > 1:
+                v1, mb = self.comm_vocab + 1, fb + self._msg0
+                for k in range(n - 1):
+                    tok = -1 if received is None else int(received[a, k])
+                    ones.append(mb + k * v1 + (tok if tok >= 0 else self.comm_vocab))
+        return repeats
+
+    def _window_entries(self, row0: int, pos: list[int], a: int, ent: list[int],
+                        prog_ent: list[int], prog_val: list[float], ones: list[int],
+                        vidx: list[int], vals: list[float]) -> None:
+        """Grid entries of agent ``a``'s window (r > 0): keep the cells inside, re-index."""
+        r, (wh, ww), cells, rc = self.radius, self.window, self._cells, self._rc
+        ar, ac = rc[pos[a]]
+        orow, ocol = ar - r, ac - r
+        for x in ent:
+            ch, cell = divmod(x, self._map_cells)
+            dr, dc = rc[cell]
+            dr -= orow
+            dc -= ocol
+            if 0 <= dr < wh and 0 <= dc < ww:
+                ones.append(row0 + ch * cells + dr * ww + dc)
+        for x, v in zip(prog_ent, prog_val):
+            dr, dc = rc[x - self._prog_chm]
+            dr -= orow
+            dc -= ocol
+            if 0 <= dr < wh and 0 <= dc < ww:
+                vidx.append(row0 + self._prog_ch + dr * ww + dc)
+                vals.append(v)
+        for b in range(len(pos)):
+            dr, dc = rc[pos[b]]
+            dr -= orow
+            dc -= ocol
+            if 0 <= dr < wh and 0 <= dc < ww:
+                ones.append(row0 + (self._self_ch if b == a else self._other_ch) + dr * ww + dc)
+
+    def _features(self, s: State) -> tuple[list[int], list[int], list[float]]:
+        """Features shared by every agent of ``s``: (unit offsets, value offsets, values),
+        offsets relative to the start of the feature block."""
+        rules = self.rules
+        key = tuple(s.orders)
+        cached = self._orders_cache.get(key)
+        if cached is None:
+            if len(self._orders_cache) > 4096:
+                self._orders_cache.clear()
+            cached = self._orders_cache[key] = self._order_features(s)
+        unit, voff, vv = cached
+        voff = voff + [17, 18]
+        vv = vv + [s.t / rules.horizon, float(s.layout_index)]
+        if self._has_switch:
+            voff.append(19)
+            vv.append(min(1.0, max(0, s.next_switch - s.t) / rules.map_switch_step))
+        limit = rules.order_time_limit
+        if limit is not None:
+            for o, order in enumerate(s.orders[: rules.n_orders]):
+                if order.deadline >= 0:
+                    voff.append(self._order0 + 6 * o + 5)
+                    vv.append(min(1.0, max(0, order.deadline - s.t) / limit))
+        return unit, voff, vv
+
+    def _order_features(self, s: State) -> tuple[list[int], list[int], list[float]]:
+        """The orders' ingredient counts and present flags (cached per order tuple)."""
+        unit: list[int] = []
+        voff: list[int] = []
+        vv: list[float] = []
+        ing = self._ingredient_index
+        for o, order in enumerate(s.orders[: self.rules.n_orders]):
+            base = self._order0 + 6 * o
+            counts: dict[int, int] = {}
+            for k in order.recipe:
+                counts[ing[k]] = counts.get(ing[k], 0) + 1
+            for j, c in counts.items():
+                if c == 1:
+                    unit.append(base + j)
+                else:
+                    voff.append(base + j)
+                    vv.append(float(c))
+            unit.append(base + 4)
+        return unit, voff, vv
+
+
+class StateSnapshot(State):
+    """A frozen-in-time copy of a :class:`State` that compares equal by :meth:`state_hash`.
+
+    The ``symbolic`` observation: planners read it like any state; equality makes two
+    snapshots of identical worlds equal (what Gymnasium's determinism checks expect).
+    """
+
+    __slots__ = ()
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, State):
+            return NotImplemented
+        return self.state_hash() == other.state_hash()
+
+    def __hash__(self) -> int:
+        return hash(self.state_hash())
+
+
+def snapshot(state: State) -> StateSnapshot:
+    """The ``symbolic`` observation: an independent copy of ``state`` (later steps never
+    change it)."""
+    copy = state.copy()
+    copy.__class__ = StateSnapshot  # same slots, adds only value equality
+    return copy  # type: ignore[return-value]
+
+
+__all__ = [
+    "GRID_CHANNELS",
+    "INGREDIENT_KINDS",
+    "ITEM_KINDS",
+    "ITEM_STATES",
+    "TERRAIN_CODES",
+    "StateSnapshot",
+    "VectorEncoder",
+    "snapshot",
+]
