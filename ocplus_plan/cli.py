@@ -25,6 +25,7 @@ COMMANDS: dict[str, str] = {
     "check-map": "check_map",
     "rollout": "rollout",
     "demo": "demo",
+    "train": "train",
     "eval": "eval",
     "report": "report",
     "play": "play",

@@ -17,6 +17,7 @@ FACTORIES: dict[str, Callable[[str | None, int], Controller]] = {
     "stay": lambda arg, seed: StayAgent(),
     "planner": lambda arg, seed: __import__("ocplus_plan.agents.planner", fromlist=["x"]).make_planner_agent(arg, seed),
     "greedy": lambda arg, seed: __import__("ocplus_plan.agents.greedy", fromlist=["x"]).GreedyAgent(seed),
+    "ppo": lambda arg, seed: __import__("ocplus_plan.agents.ppo", fromlist=["x"]).make_ppo_agent(arg, seed),
 }
 
 

@@ -1,0 +1,134 @@
+"""``ppo:PATH``: a controller that acts with a PPO checkpoint written by ``ocplus train``.
+
+Every driven agent is encoded from the symbolic state with the checkpoint's observation
+kind (the ``features`` encoder works on any map and agent count; ``grid`` needs the
+map it was trained on) and acts with the one shared policy. Actions are sampled from
+the policy with this controller's own generator (seeded from the controller seed and
+the episode seed), or taken greedily with ``ppo:PATH@greedy``. torch and
+stable-baselines3 are imported when the first controller is built; without them the
+error names the ``rl`` extra.
+
+``ppo`` without a path picks a shipped checkpoint from ``experiments/checkpoints/``
+(in a source checkout) by the kitchen's preset and agent count:
+``{preset}_{n}agent.zip``, else ``{preset}_1agent.zip`` (the features policy is shared,
+so it drives any number of agents).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import ConfigError
+from ..sim.state import State
+from .base import Controller
+
+_MODES = ("sample", "greedy")
+#: where the shipped checkpoints live in a source checkout
+SHIPPED_DIR = Path(__file__).resolve().parents[2] / "experiments" / "checkpoints"
+
+
+def parse_spec(arg: str | None) -> tuple[str | None, str | None]:
+    """``PATH``, ``PATH@greedy`` / ``PATH@sample``, ``@greedy`` or None -> (path or None
+    for a shipped checkpoint, mode or None for the checkpoint's default)."""
+    if not arg:
+        return None, None
+    path, sep, mode = arg.rpartition("@")
+    if sep and mode in _MODES:
+        return path or None, mode
+    return arg, None
+
+
+def shipped_checkpoint(preset: str, n_agents: int, directory: Path = SHIPPED_DIR) -> Path:
+    """The shipped checkpoint for a preset and agent count (``ConfigError`` if none)."""
+    for name in (f"{preset}_{n_agents}agent.zip", f"{preset}_1agent.zip"):
+        if (directory / name).is_file():
+            return directory / name
+    have = sorted(p.name for p in directory.glob("*.zip")) if directory.is_dir() else []
+    raise ConfigError(
+        f"no shipped PPO checkpoint for preset {preset!r} in {directory} (have: "
+        f"{', '.join(have) or 'none'}); pass one explicitly as ppo:PATH"
+    )
+
+
+class PPOAgent(Controller):
+    """Drives its agents with a trained PPO policy (parameter sharing across agents)."""
+
+    name = "ppo"
+
+    def __init__(self, path: str | None, seed: int = 0, mode: str | None = None) -> None:
+        from ..rl.policy import require_rl
+
+        require_rl()  # fail early, naming the extra
+        self.path = path
+        self.seed = seed
+        self._mode = mode
+        if mode is not None and mode not in _MODES:
+            raise ConfigError(f"ppo mode {mode!r}: choose one of {', '.join(_MODES)}")
+        self.policy: Any = None
+        self._loaded: dict[str, Any] = {}
+        if path is not None:
+            self.policy = self._load(path)
+        self.rng: np.random.Generator | None = None
+        self._encoders: dict[int, Any] = {}
+        self._encoder: Any = None
+
+    def _load(self, path: str) -> Any:
+        from ..rl.policy import load_policy
+
+        if path not in self._loaded:
+            self._loaded[path] = load_policy(path)
+        return self._loaded[path]
+
+    @property
+    def mode(self) -> str:
+        if self._mode is not None:
+            return self._mode
+        return self.policy.meta.get("act", "sample") if self.policy is not None else "sample"
+
+    def _reset(self, state: State) -> None:
+        from ..rl.obs import make_encoder
+
+        if self.path is None:  # a shipped checkpoint, chosen per kitchen
+            chosen = str(shipped_checkpoint(state.rules.preset, state.n_agents))
+            if self.policy is None or self.policy.path != Path(chosen):
+                self.policy = self._load(chosen)
+                self._encoders = {}
+        meta = self.policy.meta
+        key = id(state.rules)
+        enc = self._encoders.get(key)
+        if enc is None:
+            enc = make_encoder(meta["obs"], state.rules, meta.get("obs_radius", 0))
+            if enc.size != meta["obs_size"]:
+                raise ConfigError(
+                    f"checkpoint {str(self.policy.path)!r} expects observations of size {meta['obs_size']} "
+                    f"({meta['obs']}, trained on map {meta['map']!r}) but this kitchen "
+                    f"({state.rules.layout.name!r}) gives {enc.size}; use a features checkpoint "
+                    "or the map it was trained on"
+                )
+            self._encoders = {key: enc}  # keeps the rules alive, so the id stays unique
+        self._encoder = enc
+        self.rng = np.random.default_rng([self.seed, state.seed or 0]) if self.mode == "sample" else None
+
+    def act(self, state: State) -> list[int]:
+        if self._encoder is None:
+            raise ConfigError("PPOAgent.act called before reset(state)")
+        if not self.agent_ids:
+            return []
+        obs = self._encoder.encode_all(state, self.agent_ids)
+        return self.policy.act(obs, self.rng)
+
+    def info(self) -> dict[str, object]:
+        checkpoint = str(self.policy.path) if self.policy is not None else self.path
+        return {"checkpoint": checkpoint, "mode": self.mode}
+
+
+def make_ppo_agent(arg: str | None, seed: int = 0) -> PPOAgent:
+    """The ``FACTORIES['ppo']`` entry: ``ppo[:PATH][@greedy|@sample]``."""
+    path, mode = parse_spec(arg)
+    return PPOAgent(path, seed, mode)
+
+
+__all__ = ["PPOAgent", "make_ppo_agent", "parse_spec"]

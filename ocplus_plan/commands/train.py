@@ -1,0 +1,92 @@
+"""``ocplus train``: train the parameter-shared PPO baseline (needs the ``rl`` extra).
+
+Writes OUT/policy.zip (use it as ``--agents ppo:OUT/policy.zip``), periodic checkpoints in
+OUT/checkpoints/, OUT/episodes.csv (game reward and dishes served per episode, against
+training steps) and OUT/train.json (configuration, command, wall time).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shlex
+import sys
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "train", help="train the PPO baseline (rl extra)", description=__doc__,
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+        epilog="example: ocplus train --preset easy --steps 600000 --seed 0 --out runs/easy",
+    )
+    p.add_argument("--preset", default="easy", help="easy | medium | hard")
+    p.add_argument("--map", default=None, help="map name or YAML path (default: the preset's)")
+    p.add_argument("--n-agents", type=int, default=None,
+                   help="agents per kitchen, all driven by the one shared policy")
+    p.add_argument("--steps", type=int, default=300_000,
+                   help="training agent-steps (one per agent per kitchen step)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--out", required=True, help="output directory")
+    g = p.add_argument_group("learning")
+    g.add_argument("--obs", default="features", choices=("features", "grid"),
+                   help="egocentric path features, or the SPEC vector (one-hot grid) encoding")
+    g.add_argument("--obs-radius", type=int, default=0, help="grid window radius (0 = whole map)")
+    g.add_argument("--n-kitchens", type=int, default=16, help="kitchens simulated in parallel")
+    g.add_argument("--n-steps", type=int, default=128, help="rollout length per agent slot")
+    g.add_argument("--batch-size", type=int, default=512)
+    g.add_argument("--n-epochs", type=int, default=4)
+    g.add_argument("--lr", type=float, default=5e-4, help="initial learning rate (decays to 10%%)")
+    g.add_argument("--ent-coef", type=float, default=0.01)
+    g.add_argument("--gamma", type=float, default=0.99)
+    g.add_argument("--hidden", default="128,128", help="hidden layer sizes, comma-separated")
+    g.add_argument("--anneal-fraction", type=float, default=0.7,
+                   help="fraction of training after which the shaping reward is 0")
+    g.add_argument("--individual-reward", action="store_true",
+                   help="each agent learns from its own rewards (default: the team's sum)")
+    g.add_argument("--curriculum", default="",
+                   help="comma-separated presets mixed in for the first --curriculum-fraction")
+    g.add_argument("--curriculum-fraction", type=float, default=0.3)
+    g.add_argument("--init", default=None, help="start from this checkpoint's weights")
+    g.add_argument("--checkpoint-every", type=int, default=None,
+                   help="steps between checkpoints (default: steps / 5)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=run)
+
+
+def _hidden(text: str) -> tuple[int, ...]:
+    from ..errors import ConfigError
+
+    try:
+        sizes = tuple(int(x) for x in text.split(",") if x.strip())
+    except ValueError as exc:
+        raise ConfigError(f"--hidden {text!r}: use comma-separated integers like 128,128") from exc
+    return sizes
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..rl.train import TrainConfig, train
+
+    config = TrainConfig(
+        preset=args.preset, n_agents=args.n_agents, map=args.map, steps=args.steps,
+        seed=args.seed, out=args.out, obs=args.obs, obs_radius=args.obs_radius,
+        n_kitchens=args.n_kitchens, n_steps=args.n_steps, batch_size=args.batch_size,
+        n_epochs=args.n_epochs, learning_rate=args.lr, gamma=args.gamma,
+        ent_coef=args.ent_coef, hidden=_hidden(args.hidden),
+        team_reward=not args.individual_reward, anneal_fraction=args.anneal_fraction,
+        curriculum=tuple(p.strip() for p in args.curriculum.split(",") if p.strip()),
+        curriculum_fraction=args.curriculum_fraction, init=args.init,
+        checkpoint_every=args.checkpoint_every,
+    )
+    if sys.argv[1:2] == ["train"]:
+        command = "ocplus " + shlex.join(sys.argv[1:])
+    else:  # called in-process (tests, scripts): the essential options
+        parts = ["train", "--preset", args.preset, "--steps", str(args.steps), "--seed",
+                 str(args.seed), "--out", args.out]
+        if args.n_agents is not None:
+            parts += ["--n-agents", str(args.n_agents)]
+        command = "ocplus " + shlex.join(parts)
+    summary = train(config, command=command, progress=not args.no_progress)
+    print(json.dumps({k: summary[k] for k in (
+        "policy", "timesteps", "episodes", "dishes_per_episode_last50", "wall_time_s",
+        "steps_per_s")}))
+    return 0

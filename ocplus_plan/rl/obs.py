@@ -1,0 +1,56 @@
+"""Which observation a policy sees: ``features`` (this package's egocentric encoder, the
+default) or ``grid`` (the SPEC section 8 ``vector`` encoding of :mod:`ocplus_plan.sim.observe`).
+
+Both are wrapped to one small interface, :class:`ObsEncoder`: ``size`` and
+``encode_all(state, agents)`` -> ``(len(agents), size)`` float32.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Protocol
+
+import numpy as np
+
+from ..errors import ConfigError
+from ..sim.rules import Rules
+from ..sim.state import State
+from .features import FeatureEncoder
+
+OBS_KINDS: tuple[str, ...] = ("features", "grid")
+
+
+class ObsEncoder(Protocol):
+    size: int
+
+    def encode_all(self, state: State, agents: Sequence[int] | None = None) -> np.ndarray: ...
+
+
+class GridEncoder:
+    """Adapter over :class:`ocplus_plan.sim.observe.VectorEncoder` (whole map or a window)."""
+
+    def __init__(self, rules: Rules, obs_radius: int = 0) -> None:
+        from ..sim.observe import VectorEncoder
+
+        self._enc = VectorEncoder(rules, obs_radius=obs_radius)
+        self.size = int(self._enc.size)
+        # the grid channels hold counts; scale them to about [0, 1] for the network
+        self._scale = (1.0 / np.maximum(np.asarray(self._enc.high, np.float32), 1.0)).astype(
+            np.float32
+        )
+
+    def encode_all(self, state: State, agents: Sequence[int] | None = None) -> np.ndarray:
+        obs = self._enc.encode(state) * self._scale
+        return obs if agents is None else obs[list(agents)]
+
+
+def make_encoder(kind: str, rules: Rules, obs_radius: int = 0) -> ObsEncoder:
+    """The encoder named ``kind`` for ``rules`` (``ConfigError`` for an unknown kind)."""
+    if kind == "features":
+        return FeatureEncoder(rules)
+    if kind == "grid":
+        return GridEncoder(rules, obs_radius)
+    raise ConfigError(f"unknown observation kind {kind!r}; choose one of {', '.join(OBS_KINDS)}")
+
+
+__all__ = ["OBS_KINDS", "GridEncoder", "ObsEncoder", "make_encoder"]

@@ -1,0 +1,199 @@
+"""A stable-baselines3 ``VecEnv`` whose slots are agents: parameter sharing for free.
+
+``KitchenVecEnv`` runs ``n_kitchens`` simulator instances with ``n_agents`` agents each
+and exposes ``n_kitchens * n_agents`` slots (slot ``j * n_agents + a`` is agent ``a`` of
+kitchen ``j``). One PPO policy acts for every slot, so every agent is driven by the same
+network from its own observation, and every agent's experience trains it.
+
+It steps the simulator directly (no gymnasium wrapper per kitchen): the simulator is the
+single source of truth and this keeps the per-step overhead to one transition and one
+encoding per kitchen. Episodes end at the rules' horizon; a kitchen then resets with
+the next seed of its own deterministic sequence. Finished episodes are queued in
+:attr:`KitchenVecEnv.finished` for the logging callback.
+
+Imports stable-baselines3 at module level: import it only where the ``rl`` extra is
+known to be installed (:mod:`ocplus_plan.rl.train` does so lazily).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from gymnasium import spaces
+from stable_baselines3.common.vec_env.base_vec_env import VecEnv
+
+from ..errors import ConfigError
+from ..sim.rules import Rules
+from ..sim.state import State, new_state
+from ..sim.step import transition
+from .obs import make_encoder
+from .shaping import RewardShaper, Shaping
+
+
+class KitchenVecEnv(VecEnv):
+    """``n_kitchens`` kitchens x ``n_agents`` agents as one vectorised env.
+
+    ``rules`` may be one rule set or a list (a curriculum mixture: kitchen ``j`` uses
+    ``rules[j % len(rules)]``); all must have the same number of agents.
+    ``team_reward``: each agent receives the team's summed true reward (plus its own
+    shaping), so the agent that chops shares the delivery. ``reward_scale`` multiplies
+    everything the learner sees (the logged game reward is unscaled).
+    """
+
+    def __init__(
+        self,
+        rules: Rules | Sequence[Rules],
+        n_kitchens: int = 16,
+        seed: int = 0,
+        *,
+        obs: str = "features",
+        obs_radius: int = 0,
+        shaping: Shaping | None = None,
+        team_reward: bool = True,
+        reward_scale: float = 0.02,
+    ) -> None:
+        rule_list = [rules] if isinstance(rules, Rules) else list(rules)
+        if not rule_list:
+            raise ConfigError("KitchenVecEnv needs at least one rule set")
+        if isinstance(n_kitchens, bool) or not isinstance(n_kitchens, int) or n_kitchens < 1:
+            raise ConfigError(f"n_kitchens must be a positive integer, got {n_kitchens!r}")
+        n_agents = {r.n_agents for r in rule_list}
+        if len(n_agents) != 1:
+            raise ConfigError(
+                f"all rule sets of a KitchenVecEnv need the same n_agents, got {sorted(n_agents)}"
+            )
+        for r in rule_list:
+            if r.reward_mode != "individual":
+                raise ConfigError(
+                    "training needs reward_mode='individual' (per-agent rewards are split into "
+                    "true and shaping parts); use team_reward=True for a shared team reward"
+                )
+        self.n_agents = n_agents.pop()
+        self.n_kitchens = n_kitchens
+        self.rule_list = rule_list
+        self._obs_kind, self._obs_radius = obs, obs_radius
+        self._encoders: dict[int, Any] = {}  # id(rules) -> encoder (Rules holds arrays)
+        sizes = {self._encoder(r).size for r in rule_list}
+        if len(sizes) != 1:
+            raise ConfigError(
+                f"the rule sets give observations of different sizes {sorted(sizes)}; "
+                "use obs='features' (map-independent) for a curriculum over maps"
+            )
+        self.obs_size = sizes.pop()
+        self.team_reward = team_reward
+        self.reward_scale = float(reward_scale)
+        self.shaping_coef = 1.0
+        self.base_seed = int(seed)
+        self._episode_counter = 0
+        self.finished: list[dict[str, Any]] = []
+        self.shapers = [RewardShaper(shaping or Shaping()) for _ in range(n_kitchens)]
+        self.states: list[State] = []
+        self._game_return = [0.0] * n_kitchens
+        self._train_return = np.zeros((n_kitchens, self.n_agents))
+        self._actions = np.zeros(n_kitchens * self.n_agents, dtype=np.int64)
+        obs_space = spaces.Box(-1.0, 1.0, shape=(self.obs_size,), dtype=np.float32)
+        if obs != "features":
+            obs_space = spaces.Box(-np.inf, np.inf, shape=(self.obs_size,), dtype=np.float32)
+        self.render_mode = None  # nothing to render (SB3 warns when the attribute is missing)
+        super().__init__(n_kitchens * self.n_agents, obs_space, spaces.Discrete(5))
+
+    # ------------------------------------------------------------ kitchens
+    def _encoder(self, rules: Rules) -> Any:
+        enc = self._encoders.get(id(rules))
+        if enc is None:
+            enc = self._encoders[id(rules)] = make_encoder(self._obs_kind, rules, self._obs_radius)
+        return enc
+
+    def set_rules(self, rules: Rules | Sequence[Rules]) -> None:
+        """Switch the mixture of rule sets (a curriculum stage). Running episodes finish
+        under their old rules; each kitchen picks up the new ones at its next reset."""
+        rule_list = [rules] if isinstance(rules, Rules) else list(rules)
+        for r in rule_list:
+            if r.n_agents != self.n_agents or self._encoder(r).size != self.obs_size:
+                raise ConfigError(
+                    f"curriculum rule set {r.preset!r} does not match this env "
+                    f"({self.n_agents} agents, observation size {self.obs_size})"
+                )
+        self.rule_list = rule_list
+
+    def _new_episode(self, kitchen: int) -> State:
+        seed = self.base_seed * 1_000_003 + self._episode_counter
+        self._episode_counter += 1
+        self.shapers[kitchen].reset()
+        self._game_return[kitchen] = 0.0
+        self._train_return[kitchen] = 0.0
+        return new_state(self.rule_list[kitchen % len(self.rule_list)], seed)
+
+    def _encode(self, kitchen: int) -> np.ndarray:
+        state = self.states[kitchen]
+        return self._encoder(state.rules).encode_all(state)
+
+    # ------------------------------------------------------------ VecEnv API
+    def reset(self) -> np.ndarray:
+        self.states = [self._new_episode(j) for j in range(self.n_kitchens)]
+        return np.concatenate([self._encode(j) for j in range(self.n_kitchens)])
+
+    def step_async(self, actions: np.ndarray) -> None:
+        self._actions = np.asarray(actions, dtype=np.int64).reshape(-1)
+
+    def step_wait(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
+        n = self.n_agents
+        obs = np.empty((self.num_envs, self.obs_size), dtype=np.float32)
+        rewards = np.zeros(self.num_envs, dtype=np.float32)
+        dones = np.zeros(self.num_envs, dtype=bool)
+        infos: list[dict[str, Any]] = [{} for _ in range(self.num_envs)]
+        coef = self.shaping_coef
+        for j, state in enumerate(self.states):
+            lo = j * n
+            result = transition(state, self._actions[lo : lo + n].tolist())
+            true, shaped = self.shapers[j].step(state, result.events, result.rewards)
+            if self.team_reward:
+                team = sum(true)
+                r = [team + coef * s for s in shaped]
+            else:
+                r = [t + coef * s for t, s in zip(true, shaped)]
+            rewards[lo : lo + n] = r
+            self._train_return[j] += r
+            self._game_return[j] += sum(result.rewards)
+            if result.terminated or result.truncated:
+                final = self._encode(j)
+                self.finished.append({
+                    "kitchen": j,
+                    "preset": state.rules.preset,
+                    "map": state.rules.layout.name,
+                    "seed": state.seed,
+                    "steps": state.t,
+                    "game_reward": self._game_return[j],
+                    "train_return": float(self._train_return[j].mean()),
+                    "dishes": state.stats["dishes_served"],
+                    "shaping_coef": coef,
+                })
+                for a in range(n):
+                    infos[lo + a]["terminal_observation"] = final[a]
+                    infos[lo + a]["episode"] = {
+                        "r": float(self._train_return[j, a]), "l": state.t,
+                    }
+                    dones[lo + a] = True
+                self.states[j] = self._new_episode(j)
+            obs[lo : lo + n] = self._encode(j)
+        return obs, rewards * self.reward_scale, dones, infos
+
+    def close(self) -> None:
+        self.states = []
+
+    def get_attr(self, attr_name: str, indices: Any = None) -> list[Any]:
+        return [getattr(self, attr_name) for _ in self._get_indices(indices)]
+
+    def set_attr(self, attr_name: str, value: Any, indices: Any = None) -> None:
+        setattr(self, attr_name, value)
+
+    def env_method(self, method_name: str, *args: Any, indices: Any = None, **kw: Any) -> list[Any]:
+        return [getattr(self, method_name)(*args, **kw) for _ in self._get_indices(indices)]
+
+    def env_is_wrapped(self, wrapper_class: type, indices: Any = None) -> list[bool]:
+        return [False for _ in self._get_indices(indices)]
+
+
+__all__ = ["KitchenVecEnv"]
