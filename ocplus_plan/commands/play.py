@@ -184,6 +184,10 @@ def run_loop(session: PlaySession, window: Any, *, turn_based: bool, fps: float 
     no key is waiting; ``wait_at_end`` keeps the last frame until the window is closed."""
 
     def show(status: str = "") -> None:
+        if not status and turn_based and session.pending:
+            labels = session.labels()
+            waiting = [labels[h] for h in session.humans if h not in session.pending]
+            status = "waiting for " + ", ".join(waiting)
         window.show(session.state, scores=session.scores(), agent_labels=session.labels(),
                     status=status, key_help=session.key_help)
 

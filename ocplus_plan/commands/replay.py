@@ -3,7 +3,8 @@
 The simulator recomputes every state from the recorded seed, rules and actions;
 the command reports whether the final ``state_hash`` and the per-step events
 equal the recorded ones (exit 1 if not: that would be a determinism bug).
-Without ``--gif`` or ``--check`` it plays the episode back in a window.
+Without ``--gif`` or ``--check`` it plays the episode back in a window (space pauses,
+the right arrow steps while paused, Escape quits).
 """
 
 from __future__ import annotations
@@ -14,6 +15,8 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from ..render.replay import Recording
+
+_PLAYBACK_HELP = "replay: space pauses, right arrow steps, Escape quits"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -58,14 +61,21 @@ def _play_back(rec: Recording, fps: float, *, wait_at_end: bool) -> None:
     from ..render.window import Window
 
     window = Window(f"ocplus replay: {rec.preset} / {rec.map_name}")
+    paused = False
     try:
         for state, events in replay_states(rec):
             if window.closed:
                 break
             notes = [f"{e.kind} (agent {e.agent})" for e in events
                      if e.kind in ("delivery", "wrong_delivery", "burnt", "layout_switch")]
-            window.show(state, messages=notes, status="replay")
-            window.poll()
+            window.show(state, messages=notes, status=_PLAYBACK_HELP)
+            while True:  # space pauses / resumes; right arrow steps while paused
+                keys = window.poll()
+                if "space" in keys:
+                    paused = not paused
+                if window.closed or not paused or "right" in keys:
+                    break
+                window.tick(30)
             window.tick(fps)
         while wait_at_end and not window.closed:
             window.poll()
