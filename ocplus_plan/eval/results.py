@@ -147,7 +147,8 @@ def summarise(rows: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
             s[f"{name}_mean"] = mean
             s[f"{name}_ci95"] = ci
         out.append(s)
-    out.sort(key=lambda s: (str(s["preset"]), -(s["dishes_served_mean"] or -1e9), str(s["agent"])))
+    out.sort(key=lambda s: (str(s["preset"]), s["dishes_served_mean"] is None,
+                            -(s["dishes_served_mean"] or 0.0), str(s["agent"])))
     return out
 
 
