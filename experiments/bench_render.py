@@ -5,8 +5,9 @@ For the hard preset (2 cooks, vector observations) it times ``env.step`` with
 with ``render()`` after every step (rgb frame, and the pygame window under SDL's
 dummy driver without the fps throttle), plus the raw simulator transition for
 reference. Runs are interleaved (None, rgb, None, rgb, ...) so machine noise hits
-every mode alike; the median of ``--runs`` is reported. It also checks that a
-``render_mode=None`` run never imports pygame or the window module.
+every mode alike; the median of ``--runs`` is reported. It also checks, in a fresh
+process, that a ``render_mode=None`` run draws no frame (``RgbEncoder.draw`` is
+never called) and never imports pygame or the window module.
 
     python experiments/bench_render.py [--steps 5000] [--runs 5]
 """
@@ -74,14 +75,21 @@ def time_sim(actions: list, seed: int) -> float:
     return len(actions) / (time.perf_counter() - t0)
 
 
-def modules_loaded_by_a_none_run() -> list[str]:
-    code = ("import sys; from ocplus_plan.env.gym_env import OvercookedPlusEnv;"
-            f"env = OvercookedPlusEnv({PRESET!r}, n_agents={N_AGENTS}, render_mode=None);"
-            "env.reset(seed=0); [env.step([0, 4]) for _ in range(150)]; env.render();"
-            "print(' '.join(m for m in sys.modules if m.split('.')[0] == 'pygame' "
-            "or m == 'ocplus_plan.render.window'))")
+def what_a_none_run_touches() -> dict[str, object]:
+    """In a fresh process: frames drawn and GUI modules imported by 150 steps + render()."""
+    code = ("import sys; from ocplus_plan.render import rgb;"
+            "calls = [0]; draw = rgb.RgbEncoder.draw\n"
+            "def counted(self, state):\n    calls[0] += 1; return draw(self, state)\n"
+            "rgb.RgbEncoder.draw = counted\n"
+            "from ocplus_plan.env.gym_env import OvercookedPlusEnv\n"
+            f"env = OvercookedPlusEnv({PRESET!r}, n_agents={N_AGENTS}, render_mode=None)\n"
+            "env.reset(seed=0); [env.step([0, 4]) for _ in range(150)]; env.render()\n"
+            "mods = [m for m in sys.modules if m.split('.')[0] == 'pygame' "
+            "or m == 'ocplus_plan.render.window']\n"
+            "print(calls[0], ' '.join(mods))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    return out.stdout.split()
+    calls, *mods = out.stdout.split()
+    return {"frames_drawn": int(calls), "pygame_or_window_modules": mods}
 
 
 def main() -> None:
@@ -116,8 +124,8 @@ def main() -> None:
             "relative_to_render_none": round(med / base, 3), "runs": args.runs,
             "python": platform.python_version(),
         }))
-    print(json.dumps({"bench": "render", "check": "render_mode=None imports",
-                      "pygame_or_window_modules": modules_loaded_by_a_none_run()}))
+    print(json.dumps({"bench": "render", "check": "render_mode=None, 150 steps + render()",
+                      **what_a_none_run_touches()}))
 
 
 if __name__ == "__main__":
