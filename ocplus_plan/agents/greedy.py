@@ -25,20 +25,21 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..sim.codes import COUNTERS, READY_STATE, VEGETABLES, Cell, Item, ItemState, Where
+from ..sim.codes import COUNTERS, VEGETABLES, Cell, Item, ItemState, Where
 from ..sim.state import State
 from ..sim.step import is_plateable
 from .base import Controller
+from .greedy_view import KitchenView
 
 _STAY = 4
 _COUNTER_CODES = frozenset(int(c) for c in COUNTERS)
-_PLAIN_COUNTER = int(Cell.COUNTER)
 _VEG = frozenset(int(v) for v in VEGETABLES)
 _STEAK, _PLATE = int(Item.STEAK), int(Item.PLATE)
-_FRESH, _CHOPPED, _COOKED = int(ItemState.FRESH), int(ItemState.CHOPPED), int(ItemState.COOKED)
+_FRESH, _COOKED = int(ItemState.FRESH), int(ItemState.COOKED)
 _BURNT, _CLEAN, _DIRTY = int(ItemState.BURNT), int(ItemState.CLEAN), int(ItemState.DIRTY)
 #: destinations only one cook should head for at a time (many may bump a plate or the window)
-_EXCLUSIVE = frozenset({"to_board", "to_pan", "to_sink", "put_down", "handover"})
+_EXCLUSIVE = frozenset({"to_board", "to_pan", "to_sink", "put_down", "handover", "relay"})
+_STUCK = 4  # blocked steps (net) before a cook relays what it carries through a counter
 
 
 @dataclass(frozen=True)
@@ -50,145 +51,6 @@ class Task:
     item: int
     priority: float
     budget: tuple[str, int] | None = None  # a shared, limited need this task uses up
-
-
-class _View:
-    """Per-step facts derived from the state (terrain, reachability, plates, needs)."""
-
-    def __init__(self, state: State) -> None:
-        self.s = state
-        geo = state.geo
-        self.terrain = geo.terrains[state.layout_index]
-        self.walk = geo.walkables[state.layout_index]
-        self.nbrs = geo.neighbors
-        self.kind = geo.item_kind
-        self.dist = [self._bfs(p) for p in state.agent_pos]
-        # on a dynamic map a place out of reach now may be reachable after a switch: a lone
-        # cook plans over the union of the layouts' floors, at a price for the wait (with
-        # partners, hand-overs through counters are faster than waiting for switches)
-        self.dynamic = state.rules.dynamic and len(geo.walkables) > 1 and state.n_agents == 1
-        self.walk_any = tuple(any(w) for w in zip(*geo.walkables)) if self.dynamic else self.walk
-        self.dist_any = ([self._bfs(p, walk=self.walk_any) for p in state.agent_pos]
-                         if self.dynamic else self.dist)
-        self.wait_cost = state.rules.map_switch_step / 2
-        # the same with the other cooks as walls: who can get there without anybody moving
-        self.dist_now = [self._bfs(p, frozenset(q for q in state.agent_pos if q != p))
-                         for p in state.agent_pos]
-        self.cells_of: dict[int, list[int]] = {}
-        for f, code in enumerate(self.terrain):
-            self.cells_of.setdefault(code, []).append(f)
-        self.switch_cells = set(geo.switch_cells)
-        self._plates()
-
-    # ---------------------------------------------------------------- geometry
-    def _bfs(self, start: int, blocked: frozenset[int] = frozenset(),
-             walk: tuple[bool, ...] | None = None) -> dict[int, int]:
-        walkable = self.walk if walk is None else walk
-        dist = {start: 0}
-        queue = deque([start])
-        while queue:
-            f = queue.popleft()
-            for n in self.nbrs[f]:
-                if n >= 0 and n not in dist and walkable[n] and n not in blocked:
-                    dist[n] = dist[f] + 1
-                    queue.append(n)
-        return dist
-
-    def reach(self, agent: int, cell: int) -> float:
-        """Steps for ``agent`` to stand next to ``cell`` (inf when it cannot)."""
-        best = self._reach(self.dist[agent], cell)
-        if best == float("inf") and self.dynamic:
-            best = self._reach(self.dist_any[agent], cell) + self.wait_cost
-        return best
-
-    def reach_now(self, agent: int, cell: int) -> float:
-        """Like :meth:`reach` but around the other cooks where they stand now."""
-        return self._reach(self.dist_now[agent], cell)
-
-    def _reach(self, d: dict[int, int], cell: int) -> float:
-        best = float("inf")
-        for n in self.nbrs[cell]:
-            if n >= 0 and n in d and d[n] < best:
-                best = d[n]
-        return best
-
-    def stations(self, code: Cell) -> list[int]:
-        return self.cells_of.get(int(code), [])
-
-    def free_counters(self) -> list[int]:
-        """Empty counters; plain ones first (items on spawn tiles delay respawns), and never
-        a counter that a layout switch removes (it would hold the switch back)."""
-        s = self.s
-        plain, spawn = [], []
-        for code in _COUNTER_CODES:
-            for f in self.cells_of.get(code, []):
-                if s.cell_item[f] < 0 and f not in self.switch_cells:
-                    (plain if code == _PLAIN_COUNTER else spawn).append(f)
-        return plain + spawn
-
-    # ---------------------------------------------------------------- plates and needs
-    def contents(self, plate: int) -> Counter:
-        return Counter(self.kind[i] for i in self.s.plate_contents(plate))
-
-    def _plates(self) -> None:
-        """Match clean plates to open orders and count what each still needs."""
-        s = self.s
-        recipes = [Counter(int(k) for k in o.recipe) for o in s.orders]
-        self.recipes = recipes
-        clean = [i for i in range(s.n_items) if self.kind[i] == _PLATE
-                 and s.item_state[i] == _CLEAN and s.item_where[i] in (Where.CELL, Where.HAND)]
-        self.plate_contents = {p: self.contents(p) for p in clean}
-        self.plate_order: dict[int, int] = {}
-        used: set[int] = set()
-        for oi, rec in enumerate(recipes):
-            best, best_n = -1, -1
-            for p in clean:
-                c = self.plate_contents[p]
-                if p not in used and not (c - rec) and sum(c.values()) > best_n:
-                    best, best_n = p, sum(c.values())
-            if best >= 0:
-                used.add(best)
-                self.plate_order[best] = oi
-        self.plate_missing = {p: recipes[oi] - self.plate_contents[p]
-                              for p, oi in self.plate_order.items()}
-        need: Counter = Counter()
-        for m in self.plate_missing.values():
-            need.update(m)
-        for oi, rec in enumerate(recipes):
-            if oi not in self.plate_order.values():
-                need.update(rec)
-        self.need = need
-        #: kind -> index of the oldest open order that still needs it (older orders go first)
-        self.first_need: dict[int, int] = {}
-        for oi, rec in enumerate(recipes):
-            plate = next((p for p, o in self.plate_order.items() if o == oi), None)
-            missing = rec if plate is None else self.plate_missing[plate]
-            for k in missing:
-                self.first_need.setdefault(k, oi)
-        self.bad_plates = [p for p in clean if p not in self.plate_order
-                           and self.plate_contents[p]
-                           and not any(not (self.plate_contents[p] - r) for r in recipes)]
-        supply: Counter = Counter()
-        for i in range(s.n_items):
-            k, st, w = self.kind[i], s.item_state[i], s.item_where[i]
-            if k == _PLATE or w in (Where.PLATE, Where.WAITING):
-                continue
-            if st == READY_STATE[Item(k)] or (st == _FRESH and (
-                    w == Where.HAND or self.terrain[s.item_loc[i]] in (Cell.BOARD, Cell.PAN))):
-                supply[k] += 1
-        self.supply = supply
-
-    def exact_match(self, plate: int) -> bool:
-        c = self.plate_contents.get(plate)
-        return bool(c) and any(c == r for r in self.recipes)
-
-    def plate_wants(self, plate: int, kind: int) -> bool:
-        """Would adding ``kind`` keep this clean plate on the way to some open order?"""
-        c = self.plate_contents.get(plate)
-        if c is None:
-            return False
-        c = c + Counter({kind: 1})
-        return any(not (c - r) for r in self.recipes)
 
 
 class GreedyAgent(Controller):
@@ -205,6 +67,9 @@ class GreedyAgent(Controller):
         self.rng = np.random.default_rng([self.seed, state.seed or 0])
         self.tasks: dict[int, Task | None] = {a: None for a in self.agent_ids}
         self.waited: dict[int, int] = {a: 0 for a in self.agent_ids}
+        self.stuck: dict[int, int] = {a: 0 for a in self.agent_ids}
+        #: item -> (agent, step): an agent that relayed an item leaves it alone until then
+        self.hands_off: dict[int, tuple[int, int]] = {}
         self.counts: Counter = Counter()
 
     def info(self) -> dict[str, object]:
@@ -213,7 +78,7 @@ class GreedyAgent(Controller):
 
     # ---------------------------------------------------------------- main loop
     def act(self, state: State) -> list[int]:
-        v = _View(state)
+        v = KitchenView(state)
         goals: dict[int, tuple[int, str]] = {}  # agent -> (cell to bump, label)
         claimed: set[int] = set()
         budget = self._budgets(v)
@@ -228,7 +93,7 @@ class GreedyAgent(Controller):
                      budget, goals)
         return self._moves(v, goals)
 
-    def _budgets(self, v: _View) -> Counter:
+    def _budgets(self, v: KitchenView) -> Counter:
         s = v.s
         b: Counter = Counter()
         for k in (int(Item.TOMATO), int(Item.LETTUCE), int(Item.ONION), _STEAK):
@@ -241,7 +106,7 @@ class GreedyAgent(Controller):
         return b
 
     # ---------------------------------------------------------------- holding agents
-    def _carry(self, v: _View, a: int, claimed: set[int], budget: Counter) -> tuple[int, str] | None:
+    def _carry(self, v: KitchenView, a: int, claimed: set[int], budget: Counter) -> tuple[int, str] | None:
         """Where agent ``a`` takes what it holds: a useful station, or a counter."""
         s = v.s
         item = s.agent_hand[a]
@@ -283,6 +148,11 @@ class GreedyAgent(Controller):
             code = Cell.BOARD if label == "to_board" else Cell.PAN
             wait = self._nearest(v, a, [f for f in v.stations(code) if f not in claimed])
             return None if wait is None else (wait, "wait_station")
+        if dests and self.stuck[a] >= _STUCK:
+            # blocked in a lane by another cook: leave it on a counter that cook can reach
+            spot = self._relay_spot(v, a, dests, claimed)
+            if spot is not None:
+                return spot, "relay"
         best = self._nearest(v, a, dests)
         if best is not None:
             if label == "to_board":
@@ -301,7 +171,7 @@ class GreedyAgent(Controller):
         spot = self._nearest(v, a, [f for f in v.free_counters() if f not in claimed])
         return None if spot is None else (spot, "put_down")
 
-    def _handover(self, v: _View, a: int, dests: list[int], claimed: set[int]) -> int | None:
+    def _handover(self, v: KitchenView, a: int, dests: list[int], claimed: set[int]) -> int | None:
         """A free counter that ``a`` reaches and some cook who reaches a destination reaches."""
         reach = v.reach
         helpers = [b for b in range(v.s.n_agents) if b != a
@@ -314,8 +184,27 @@ class GreedyAgent(Controller):
                 best, best_d = f, reach(a, f)
         return best
 
+    def _relay_spot(self, v: KitchenView, a: int, dests: list[int], claimed: set[int]) -> int | None:
+        """A free counter next to where ``a`` can walk now, from which a cook that ``a`` blocks
+        could take the item on to a destination once ``a`` steps back."""
+        s = v.s
+        spots = [f for f in v.free_counters() if f not in claimed and v.reach_now(a, f) < 4]
+        best, best_d = None, float("inf")
+        mine = min(v.reach(a, d) for d in dests)
+        for b in range(s.n_agents):
+            # a cook nearer to the destination (it may relay again, down a lane of cooks)
+            if b == a or not min(v.reach(b, d) for d in dests) < mine:
+                continue
+            walls = frozenset(p for c, p in enumerate(s.agent_pos) if c not in (a, b))
+            dist_b = v.bfs(s.agent_pos[b], walls)
+            for f in spots:
+                d = v.reach_now(a, f)
+                if v.reach_in(dist_b, f) < float("inf") and d < best_d:
+                    best, best_d = f, d
+        return best
+
     @staticmethod
-    def _nearest(v: _View, a: int, cells: list[int]) -> int | None:
+    def _nearest(v: KitchenView, a: int, cells: list[int]) -> int | None:
         best, best_d = None, float("inf")
         for f in cells:
             d = v.reach(a, f)
@@ -324,7 +213,7 @@ class GreedyAgent(Controller):
         return best
 
     # ---------------------------------------------------------------- free agents
-    def _candidates(self, v: _View, budget: Counter) -> list[Task]:
+    def _candidates(self, v: KitchenView, budget: Counter) -> list[Task]:
         s = v.s
         out: list[Task] = []
         for f, it in enumerate(s.cell_item):
@@ -361,10 +250,10 @@ class GreedyAgent(Controller):
                 out.append(Task("fetch", f, it, prio, station))
         return out
 
-    def _plates_short(self, v: _View) -> bool:
+    def _plates_short(self, v: KitchenView) -> bool:
         return len(v.plate_contents) < len(v.recipes)
 
-    def _assign(self, v: _View, free: list[int], claimed: set[int], budget: Counter,
+    def _assign(self, v: KitchenView, free: list[int], claimed: set[int], budget: Counter,
                 goals: dict[int, tuple[int, str]]) -> None:
         """Match free agents to subtasks: priority first, then distance (kept tasks win ties)."""
         by_cell: dict[int, list[Task]] = {}
@@ -375,6 +264,9 @@ class GreedyAgent(Controller):
             prev = self.tasks.get(a)
             for cell, ts in by_cell.items():
                 if cell in claimed:
+                    continue
+                owner, until = self.hands_off.get(ts[0].item, (-1, -1))
+                if owner == a and until > v.s.t:
                     continue
                 d = v.reach_now(a, cell)
                 if d == float("inf"):  # behind another cook: possible, but costs a detour
@@ -405,7 +297,7 @@ class GreedyAgent(Controller):
                 self.tasks[a] = None
                 self.counts["idle_steps"] += 1
 
-    def _useful_for(self, v: _View, a: int, task: Task) -> bool:
+    def _useful_for(self, v: KitchenView, a: int, task: Task) -> bool:
         """Whether ``a`` should pick this up: it can finish the job, or it is the hand-over
         side (nobody who can finish can reach the item where it lies)."""
         s = v.s
@@ -435,7 +327,7 @@ class GreedyAgent(Controller):
         return bool(finishers) and all(v.reach(b, task.cell) == float("inf") for b in finishers)
 
     # ---------------------------------------------------------------- movement
-    def _moves(self, v: _View, goals: dict[int, tuple[int, str]]) -> list[int]:
+    def _moves(self, v: KitchenView, goals: dict[int, tuple[int, str]]) -> list[int]:
         s = v.s
         actions: dict[int, int] = {}
         reserved: set[int] = set()
@@ -447,20 +339,24 @@ class GreedyAgent(Controller):
             bump = self._direction(v, pos, cell)
             if bump is not None:
                 actions[a] = bump
-                self.waited[a] = 0
-                if label == "handover":
-                    self.counts["handovers"] += 1
+                self.waited[a] = self.stuck[a] = 0
+                if label in ("handover", "relay"):
+                    self.counts[label + "s"] += 1
+                if label == "relay":
+                    self.hands_off[s.agent_hand[a]] = (a, s.t + 2 * _STUCK + 8)
                 continue
             others = frozenset(p for b, p in enumerate(s.agent_pos) if b != a) | reserved
             step, path = self._step_towards(v, pos, cell, others)
             if step is None:
                 paths.update(self._step_towards(v, pos, cell, frozenset())[1])
                 self.waited[a] += 1
+                self.stuck[a] += 1
                 step = self._sidestep(v, a, others) if self.waited[a] > self.patience else None
                 if step is not None:
                     self.counts["yields"] += 1
             else:
                 self.waited[a] = 0
+                self.stuck[a] = max(0, self.stuck[a] - 1)
                 paths.update(path)
             if step is None:
                 actions[a] = _STAY
@@ -473,22 +369,24 @@ class GreedyAgent(Controller):
             pos = s.agent_pos[a]
             actions[a] = _STAY
             reserved.add(pos)
-            if pos in paths:  # idle and in the way: step off the path
+            if pos in paths:  # idle and in the way: step off the path, or back along it
                 others = frozenset(p for b, p in enumerate(s.agent_pos) if b != a) | reserved
                 step = self._sidestep(v, a, others | paths)
+                if step is None:
+                    step = self._retreat(v, a, others, [s.agent_pos[b] for b in busy])
                 if step is not None:
                     actions[a] = self._direction(v, pos, step)
                     reserved.add(step)
                     self.counts["yields"] += 1
         return [int(actions[a]) for a in self.agent_ids]
 
-    def _direction(self, v: _View, pos: int, target: int) -> int | None:
+    def _direction(self, v: KitchenView, pos: int, target: int) -> int | None:
         for d, n in enumerate(v.nbrs[pos]):
             if n == target:
                 return d
         return None
 
-    def _step_towards(self, v: _View, pos: int, cell: int, blocked: frozenset[int],
+    def _step_towards(self, v: KitchenView, pos: int, cell: int, blocked: frozenset[int],
                       walk: tuple[bool, ...] | None = None) -> tuple[int | None, list[int]]:
         """First step of a shortest path to a floor cell next to ``cell`` avoiding ``blocked``.
 
@@ -517,7 +415,19 @@ class GreedyAgent(Controller):
                 return None, path
         return None, []
 
-    def _sidestep(self, v: _View, a: int, blocked: frozenset[int] | set[int]) -> int | None:
+    def _retreat(self, v: KitchenView, a: int, blocked: frozenset[int], busy: list[int]) -> int | None:
+        """The free neighbouring cell farthest from the busy cooks, if farther than here."""
+        def gap(f: int) -> int:
+            r, c = v.s.geo.rc(f)
+            return min((abs(r - br) + abs(c - bc) for br, bc in map(v.s.geo.rc, busy)),
+                       default=0)
+
+        pos = v.s.agent_pos[a]
+        opts = [n for n in v.nbrs[pos] if n >= 0 and v.walk[n] and n not in blocked]
+        best = max(opts, key=gap, default=None)
+        return best if best is not None and gap(best) > gap(pos) else None
+
+    def _sidestep(self, v: KitchenView, a: int, blocked: frozenset[int] | set[int]) -> int | None:
         pos = v.s.agent_pos[a]
         opts = [n for n in v.nbrs[pos] if n >= 0 and v.walk[n] and n not in blocked]
         if not opts:

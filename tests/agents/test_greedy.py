@@ -97,3 +97,12 @@ def test_drives_a_subset_of_the_cooks_in_a_team():
         transition(state, team.act(state))
     assert state.agent_pos[0] == new_state(rules, 0).agent_pos[0]
     assert state.stats["dishes_served"] >= 4
+
+
+def test_relays_items_down_a_one_lane_corridor():
+    """corridor3: nobody can pass anybody, so carried items go cook to cook via counters."""
+    rules = make_rules("easy", map="corridor3", n_agents=2)
+    g = GreedyAgent(0)
+    state, _ = _episode(rules, 0, g)
+    assert g.info().get("greedy_relays", 0) >= 1
+    assert state.stats["dishes_served"] >= 2

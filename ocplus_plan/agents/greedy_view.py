@@ -1,0 +1,162 @@
+"""What the greedy controller knows about a kitchen at one step (derived, never mutated).
+
+:class:`KitchenView` holds walking distances for every cook (now, around the other cooks,
+and, for a lone cook on a dynamic map, over both layouts), the free counters, which clean
+plate serves which open order, what each plate still misses, and how many of each
+ingredient the open orders need beyond those already on their way.
+"""
+
+from __future__ import annotations
+
+from collections import Counter, deque
+
+from ..sim.codes import COUNTERS, READY_STATE, Cell, Item, ItemState, Where
+from ..sim.state import State
+
+_COUNTER_CODES = frozenset(int(c) for c in COUNTERS)
+_PLAIN_COUNTER = int(Cell.COUNTER)
+_PLATE = int(Item.PLATE)
+_FRESH, _CLEAN = int(ItemState.FRESH), int(ItemState.CLEAN)
+
+
+class KitchenView:
+    """Per-step facts derived from the state (terrain, reachability, plates, needs)."""
+
+    def __init__(self, state: State) -> None:
+        self.s = state
+        geo = state.geo
+        self.terrain = geo.terrains[state.layout_index]
+        self.walk = geo.walkables[state.layout_index]
+        self.nbrs = geo.neighbors
+        self.kind = geo.item_kind
+        self.dist = [self.bfs(p) for p in state.agent_pos]
+        # on a dynamic map a place out of reach now may be reachable after a switch: a lone
+        # cook plans over the union of the layouts' floors, at a price for the wait (with
+        # partners, hand-overs through counters are faster than waiting for switches)
+        self.dynamic = state.rules.dynamic and len(geo.walkables) > 1 and state.n_agents == 1
+        self.walk_any = tuple(any(w) for w in zip(*geo.walkables)) if self.dynamic else self.walk
+        self.dist_any = ([self.bfs(p, walk=self.walk_any) for p in state.agent_pos]
+                         if self.dynamic else self.dist)
+        self.wait_cost = state.rules.map_switch_step / 2
+        # the same with the other cooks as walls: who can get there without anybody moving
+        self.dist_now = [self.bfs(p, frozenset(q for q in state.agent_pos if q != p))
+                         for p in state.agent_pos]
+        self.cells_of: dict[int, list[int]] = {}
+        for f, code in enumerate(self.terrain):
+            self.cells_of.setdefault(code, []).append(f)
+        self.switch_cells = set(geo.switch_cells)
+        self._plates()
+
+    # ---------------------------------------------------------------- geometry
+    def bfs(self, start: int, blocked: frozenset[int] = frozenset(),
+             walk: tuple[bool, ...] | None = None) -> dict[int, int]:
+        walkable = self.walk if walk is None else walk
+        dist = {start: 0}
+        queue = deque([start])
+        while queue:
+            f = queue.popleft()
+            for n in self.nbrs[f]:
+                if n >= 0 and n not in dist and walkable[n] and n not in blocked:
+                    dist[n] = dist[f] + 1
+                    queue.append(n)
+        return dist
+
+    def reach(self, agent: int, cell: int) -> float:
+        """Steps for ``agent`` to stand next to ``cell`` (inf when it cannot)."""
+        best = self.reach_in(self.dist[agent], cell)
+        if best == float("inf") and self.dynamic:
+            best = self.reach_in(self.dist_any[agent], cell) + self.wait_cost
+        return best
+
+    def reach_now(self, agent: int, cell: int) -> float:
+        """Like :meth:`reach` but around the other cooks where they stand now."""
+        return self.reach_in(self.dist_now[agent], cell)
+
+    def reach_in(self, d: dict[int, int], cell: int) -> float:
+        best = float("inf")
+        for n in self.nbrs[cell]:
+            if n >= 0 and n in d and d[n] < best:
+                best = d[n]
+        return best
+
+    def stations(self, code: Cell) -> list[int]:
+        return self.cells_of.get(int(code), [])
+
+    def free_counters(self) -> list[int]:
+        """Empty counters; plain ones first (items on spawn tiles delay respawns), and never
+        a counter that a layout switch removes (it would hold the switch back)."""
+        s = self.s
+        plain, spawn = [], []
+        for code in _COUNTER_CODES:
+            for f in self.cells_of.get(code, []):
+                if s.cell_item[f] < 0 and f not in self.switch_cells:
+                    (plain if code == _PLAIN_COUNTER else spawn).append(f)
+        return plain + spawn
+
+    # ---------------------------------------------------------------- plates and needs
+    def contents(self, plate: int) -> Counter:
+        return Counter(self.kind[i] for i in self.s.plate_contents(plate))
+
+    def _plates(self) -> None:
+        """Match clean plates to open orders and count what each still needs."""
+        s = self.s
+        recipes = [Counter(int(k) for k in o.recipe) for o in s.orders]
+        self.recipes = recipes
+        clean = [i for i in range(s.n_items) if self.kind[i] == _PLATE
+                 and s.item_state[i] == _CLEAN and s.item_where[i] in (Where.CELL, Where.HAND)]
+        self.plate_contents = {p: self.contents(p) for p in clean}
+        self.plate_order: dict[int, int] = {}
+        used: set[int] = set()
+        for oi, rec in enumerate(recipes):
+            best, best_n = -1, -1
+            for p in clean:
+                c = self.plate_contents[p]
+                if p not in used and not (c - rec) and sum(c.values()) > best_n:
+                    best, best_n = p, sum(c.values())
+            if best >= 0:
+                used.add(best)
+                self.plate_order[best] = oi
+        self.plate_missing = {p: recipes[oi] - self.plate_contents[p]
+                              for p, oi in self.plate_order.items()}
+        need: Counter = Counter()
+        for m in self.plate_missing.values():
+            need.update(m)
+        for oi, rec in enumerate(recipes):
+            if oi not in self.plate_order.values():
+                need.update(rec)
+        self.need = need
+        #: kind -> index of the oldest open order that still needs it (older orders go first)
+        self.first_need: dict[int, int] = {}
+        for oi, rec in enumerate(recipes):
+            plate = next((p for p, o in self.plate_order.items() if o == oi), None)
+            missing = rec if plate is None else self.plate_missing[plate]
+            for k in missing:
+                self.first_need.setdefault(k, oi)
+        self.bad_plates = [p for p in clean if p not in self.plate_order
+                           and self.plate_contents[p]
+                           and not any(not (self.plate_contents[p] - r) for r in recipes)]
+        supply: Counter = Counter()
+        for i in range(s.n_items):
+            k, st, w = self.kind[i], s.item_state[i], s.item_where[i]
+            if k == _PLATE or w in (Where.PLATE, Where.WAITING):
+                continue
+            if st == READY_STATE[Item(k)] or (st == _FRESH and (
+                    w == Where.HAND or self.terrain[s.item_loc[i]] in (Cell.BOARD, Cell.PAN))):
+                supply[k] += 1
+        self.supply = supply
+
+    def exact_match(self, plate: int) -> bool:
+        c = self.plate_contents.get(plate)
+        return bool(c) and any(c == r for r in self.recipes)
+
+    def plate_wants(self, plate: int, kind: int) -> bool:
+        """Would adding ``kind`` keep this clean plate on the way to some open order?"""
+        c = self.plate_contents.get(plate)
+        if c is None:
+            return False
+        c = c + Counter({kind: 1})
+        return any(not (c - r) for r in self.recipes)
+
+
+
+__all__ = ["KitchenView"]
