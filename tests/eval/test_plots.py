@@ -44,3 +44,40 @@ def test_report_redraws_plots_from_results(tmp_path, capsys):
     assert "plots:" in capsys.readouterr().out
     assert (out / "plots" / "leaderboard.png").stat().st_size > 5000
     assert (out / "plots" / "heatmap_medium_greedy.png").stat().st_size > 5000
+
+
+def test_planning_figure_shows_replans_reported_by_a_controller(tmp_path, monkeypatch):
+    from ocplus_plan.agents import FACTORIES
+    from ocplus_plan.agents.base import StayAgent
+
+    class _Replanner(StayAgent):
+        def info(self):
+            return {"replans_by_reason": {"initial": 1, "deviation": 4}, "planning_time": 0.7}
+
+    monkeypatch.setitem(FACTORIES, "replanner", lambda arg, seed: _Replanner())
+    out = tmp_path / "run"
+    cfg = EvalConfig(presets=["easy"], agents=["replanner", "greedy"], seeds=[0, 1], out=out,
+                     horizon=30, plots=True, quiet=True)
+    outcome = run_eval(cfg, echo=lambda *a: None)
+    planning = out / "plots" / "planning.png"
+    assert planning in outcome.plots and _not_blank(planning)
+    row = next(s for s in outcome.summary if s["agent"] == "replanner")
+    assert row["replans_mean"] == 5 and row["planning_time_s_mean"] == 0.7
+
+
+def test_missing_matplotlib_is_a_clear_dependency_error(tmp_path, monkeypatch):
+    import builtins
+
+    from ocplus_plan.errors import DependencyNotInstalled
+    from ocplus_plan.eval import plots
+
+    real_import = builtins.__import__
+
+    def no_matplotlib(name, *args, **kwargs):
+        if name.startswith("matplotlib"):
+            raise ImportError("No module named 'matplotlib'")
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_matplotlib)
+    with pytest.raises(DependencyNotInstalled, match=r"\.\[plots\]"):
+        plots.make_plots(tmp_path)

@@ -160,3 +160,14 @@ def test_cli_eval_prints_leaderboard_and_refuses_existing_folder(tmp_path, capsy
     assert main(["report", str(out), "--no-plots"]) == 0
     assert "greedy" in capsys.readouterr().out
     assert main(["report", str(tmp_path / "nothing")]) == 2
+
+
+def test_importing_the_evaluation_loads_no_heavy_package():
+    import subprocess
+    import sys
+
+    code = ("import sys, ocplus_plan.eval, ocplus_plan.commands.eval; "
+            "print(' '.join(sorted(sys.modules)))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    roots = {m.split(".")[0] for m in out.stdout.split()}
+    assert not roots & {"matplotlib", "unified_planning", "torch", "pygame", "tqdm"}
