@@ -33,6 +33,10 @@ from ..errors import DependencyNotInstalled, PlannerError
 from . import _proc
 from .validate import plan_from_steps, plan_quality, plan_to_steps, validate_plan
 
+# up-lpg imports pkg_resources, which warns on every import (UP's factory imports it too);
+# the pin setuptools<81 is deliberate, so this one message is noise.
+warnings.filterwarnings("ignore", message="pkg_resources is deprecated", category=UserWarning)
+
 #: Where the planner configurations live (override with ``OCPLUS_PLANNERS_DIR``).
 PLANNERS_DIR = Path(__file__).resolve().parents[2] / "planners"
 
@@ -69,6 +73,7 @@ class PlannerConfig:
     modules: tuple[str, ...] = ()
     binaries: tuple[str, ...] = ()
     register: str | None = None
+    env: dict[str, str] = field(default_factory=dict, hash=False)
     notes: str = ""
 
     @classmethod
@@ -77,7 +82,7 @@ class PlannerConfig:
         if not isinstance(data, dict):
             raise PlannerError(f"{source}: a planner config must be a mapping, got {data!r}")
         known = {"name", "engine", "encoding", "timeout", "params", "requires", "register",
-                 "notes"}
+                 "env", "notes"}
         bad = sorted(set(data) - known)
         if bad:
             raise PlannerError(f"{source}: unknown key(s) {bad}; known keys: {sorted(known)}")
@@ -91,14 +96,16 @@ class PlannerConfig:
             raise PlannerError(f"{source}: timeout must be a positive number of seconds")
         params = data.get("params") or {}
         requires = data.get("requires") or {}
-        if not isinstance(params, dict) or not isinstance(requires, dict):
-            raise PlannerError(f"{source}: 'params' and 'requires' must be mappings")
+        env = data.get("env") or {}
+        if not all(isinstance(x, dict) for x in (params, requires, env)):
+            raise PlannerError(f"{source}: 'params', 'requires' and 'env' must be mappings")
         return cls(
             name=data["name"], engine=data["engine"], encoding=data["encoding"],
             timeout=float(timeout), params=dict(params),
             modules=tuple(requires.get("modules") or ()),
             binaries=tuple(requires.get("binaries") or ()),
-            register=data.get("register"), notes=str(data.get("notes") or "").strip(),
+            register=data.get("register"), env={str(k): str(v) for k, v in env.items()},
+            notes=str(data.get("notes") or "").strip(),
         )
 
 
@@ -326,6 +333,7 @@ def _solve_in_child(problem: Any, config: PlannerConfig, limit: float) -> dict[s
     warnings.simplefilter("ignore")
     from unified_planning.shortcuts import OneshotPlanner
 
+    os.environ.update(config.env)  # only in this child and the planner processes it starts
     env = _up_environment()
     env.credits_stream = None
     _register(config)

@@ -161,6 +161,16 @@ def val_binary() -> Path | None:
     return None
 
 
+#: Words VAL's lexer reserves (PDDL3 constraints) that UP's writer does not rename: as a
+#: predicate or action name they make VAL fail ('Problem in domain definition!') or crash.
+_VAL_RESERVED = ("after", "always", "sometime", "within")
+
+
+def _val_names(text: str) -> str:
+    """Rename predicates/actions that VAL cannot read (they always follow a '(')."""
+    return re.sub(r"\((%s)(?=[\s)])" % "|".join(_VAL_RESERVED), r"(\1_ocplus", text)
+
+
 def _val_domain(domain: str) -> str:
     """UP writes a durative action without conditions with no ``:condition`` at all;
     VAL then stops at 'Type problem in domain description!'. Give it an empty one."""
@@ -181,9 +191,10 @@ def val_validate(problem: Any, plan: Any) -> tuple[bool | None, str]:
     with tempfile.TemporaryDirectory(prefix="ocplus-val-") as tmp:
         try:
             writer = PDDLWriter(problem)
-            Path(tmp, "domain.pddl").write_text(_val_domain(writer.get_domain()), encoding="utf-8")
-            Path(tmp, "problem.pddl").write_text(writer.get_problem(), encoding="utf-8")
-            Path(tmp, "plan.pddl").write_text(writer.get_plan(plan), encoding="utf-8")
+            texts = {"domain": _val_domain(writer.get_domain()),
+                     "problem": writer.get_problem(), "plan": writer.get_plan(plan)}
+            for stem, text in texts.items():
+                Path(tmp, f"{stem}.pddl").write_text(_val_names(text), encoding="utf-8")
         except Exception as exc:
             return None, f"could not write PDDL for VAL ({type(exc).__name__}: {exc})"
         try:
