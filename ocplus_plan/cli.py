@@ -30,6 +30,7 @@ COMMANDS: dict[str, str] = {
     "report": "report",
     "play": "play",
     "replay": "replay",
+    "solve": "solve",
 }
 
 #: Printed by --help and replayed by tests/test_cli.py (each must exit 0, quickly).
