@@ -143,11 +143,14 @@ class GreedyAgent(Controller):
             label = "to_plate"
         if label in _EXCLUSIVE:
             dests = [d for d in dests if d not in claimed]
+        dests = [d for d in dests if v.near_pan(d)]
         if label in ("to_board", "to_pan") and not dests:
             # every board / pan is busy: wait at the nearest one (a bump there is harmless)
             code = Cell.BOARD if label == "to_board" else Cell.PAN
-            wait = self._nearest(v, a, [f for f in v.stations(code) if f not in claimed])
-            return None if wait is None else (wait, "wait_station")
+            wait = self._nearest(v, a, [f for f in v.stations(code)
+                                        if f not in claimed and v.near_pan(f)])
+            if wait is not None:
+                return wait, "wait_station"
         if dests and self.stuck[a] >= _STUCK:
             # blocked in a lane by another cook: leave it on a counter that cook can reach
             spot = self._relay_spot(v, a, dests, claimed)
@@ -168,7 +171,8 @@ class GreedyAgent(Controller):
             if handover is not None:
                 return handover, "handover"
         # nothing useful in reach right now: free the hands
-        spot = self._nearest(v, a, [f for f in v.free_counters() if f not in claimed])
+        spot = self._nearest(v, a, [f for f in v.free_counters()
+                                    if f not in claimed and v.near_pan(f)])
         return None if spot is None else (spot, "put_down")
 
     def _handover(self, v: KitchenView, a: int, dests: list[int], claimed: set[int]) -> int | None:
@@ -266,7 +270,7 @@ class GreedyAgent(Controller):
                 if cell in claimed:
                     continue
                 owner, until = self.hands_off.get(ts[0].item, (-1, -1))
-                if owner == a and until > v.s.t:
+                if (owner == a and until > v.s.t) or not v.near_pan(cell):
                     continue
                 d = v.reach_now(a, cell)
                 if d == float("inf"):  # behind another cook: possible, but costs a detour

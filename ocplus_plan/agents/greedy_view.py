@@ -46,6 +46,24 @@ class KitchenView:
             self.cells_of.setdefault(code, []).append(f)
         self.switch_cells = set(geo.switch_cells)
         self._plates()
+        # a lone cook on a dynamic map must not get cut off from a steak on the pan
+        self.pan_region: set[int] | None = None
+        if self.dynamic:
+            cooking = [p for p in geo.pans if state.cell_item[p] >= 0
+                       and state.item_state[state.cell_item[p]] != ItemState.BURNT]
+            if cooking:
+                self.pan_region = set()
+                for p in cooking:
+                    for n in self.nbrs[p]:
+                        if n >= 0 and self.walk[n]:
+                            self.pan_region |= set(self.bfs(n))
+
+    def near_pan(self, cell: int) -> bool:
+        """Can ``cell`` be worked from where a cooking steak stays reachable (always True
+        unless a lone cook on a dynamic map has a steak on the pan)?"""
+        if self.pan_region is None:
+            return True
+        return any(n >= 0 and n in self.pan_region for n in self.nbrs[cell])
 
     # ---------------------------------------------------------------- geometry
     def bfs(self, start: int, blocked: frozenset[int] = frozenset(),
