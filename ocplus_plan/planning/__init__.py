@@ -1,6 +1,20 @@
-"""Planning layer: simulator states -> unified-planning problems -> planners -> plans.
+"""Planning: the simulator's states as unified-planning problems (PDDL 2.1, classical or
+temporal), and their plans mapped back to simulator objects.
 
-Never imported by ``ocplus_plan.sim`` or ``ocplus_plan.env``; unified_planning is
-imported by the submodules that need it (``model``, ``compile``, ``pddl``,
-``engines``), not here.
+This package imports unified_planning; ``ocplus_plan.sim`` and ``ocplus_plan.env``
+never import it. Typical use::
+
+    from ocplus_plan.planning import compile
+    compiled = compile(state, encoding="classical", granularity="stations")
+    compiled.problem          # a unified_planning Problem
+    compiled.map_back(ai)     # PlanStep(agent, kind, items, place, spot, duration, ...)
 """
+
+from __future__ import annotations
+
+from .compile import Compiled, compile
+from .model import ENCODINGS, GRANULARITIES, build_domain
+from .names import Names, PlanStep
+
+__all__ = ["ENCODINGS", "GRANULARITIES", "Compiled", "Names", "PlanStep", "build_domain",
+           "compile"]

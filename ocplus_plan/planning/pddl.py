@@ -1,0 +1,70 @@
+"""PDDL text out (the checked-in ``domains/`` are generated here) and back in.
+
+``write_pddl(compiled, out_dir)`` writes ``domain.pddl`` and ``problem.pddl`` with
+unified-planning's PDDLWriter; ``domain_text(encoding, granularity)`` is the
+canonical domain of ``domains/<encoding>_<granularity>.pddl`` (generated from the
+easy preset's initial state: the domain itself holds no rule numbers, and
+problem-specific objects never appear in it); ``read_pddl`` parses files back
+with UP's PDDLReader.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from .compile import Compiled, compile
+
+#: Where the checked-in generated domains live.
+DOMAINS_DIR = Path(__file__).resolve().parents[2] / "domains"
+
+
+def _writer(compiled: Compiled) -> Any:
+    from unified_planning.io import PDDLWriter
+
+    return PDDLWriter(compiled.problem, needs_requirements=True, rewrite_bool_assignments=False)
+
+
+def problem_texts(compiled: Compiled) -> tuple[str, str]:
+    """(domain text, problem text) of a compiled state."""
+    writer = _writer(compiled)
+    return writer.get_domain(), writer.get_problem()
+
+
+def write_pddl(compiled: Compiled, out_dir: str | Path) -> tuple[Path, Path]:
+    """Write ``domain.pddl`` and ``problem.pddl`` into ``out_dir`` (created if missing)."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    domain, problem = problem_texts(compiled)
+    dpath, ppath = out / "domain.pddl", out / "problem.pddl"
+    dpath.write_text(domain)
+    ppath.write_text(problem)
+    return dpath, ppath
+
+
+def canonical_state() -> Any:
+    """The state the checked-in domains are generated from (easy preset, seed 0)."""
+    from ..sim import make_rules, new_state
+
+    return new_state(make_rules("easy"), 0)
+
+
+def domain_text(encoding: str, granularity: str) -> str:
+    """The canonical domain of one encoding and granularity (what ``domains/`` holds)."""
+    compiled = compile(canonical_state(), encoding=encoding, granularity=granularity)
+    return problem_texts(compiled)[0]
+
+
+def domain_path(encoding: str, granularity: str) -> Path:
+    return DOMAINS_DIR / f"{encoding}_{granularity}.pddl"
+
+
+def read_pddl(domain: str | Path, problem: str | Path) -> Any:
+    """Parse PDDL files back into a UP problem with UP's PDDLReader."""
+    from unified_planning.io import PDDLReader
+
+    return PDDLReader().parse_problem(str(domain), str(problem))
+
+
+__all__ = ["DOMAINS_DIR", "domain_path", "domain_text", "problem_texts", "read_pddl",
+           "write_pddl"]

@@ -1,0 +1,188 @@
+"""Where agents stand and what they reach: the geometry the compiler turns into objects.
+
+A *place* is a non-walkable cell that holds or processes items (a counter, a spawn
+tile, a board, a pan, a sink, the trash, the serving window). A *spot* is a floor
+cell from which an agent bumps into a place (it is 4-adjacent to it). With the
+``stations`` granularity agents jump between spots and a jump costs the
+shortest-path distance in the current layout (other agents ignored); with
+``cells`` every reachable floor cell is a spot and a move is one grid step.
+
+Which plain counters become places (there may be dozens, and each one multiplies
+the planner's branching):
+
+* every counter that holds an item now (its item must have a location);
+* every *hand-over* counter: one that touches floor cells of two or more regions
+  that are disconnected from each other (``easy_divided`` needs one to pass a
+  tomato through its wall);
+* per region, ``extra_counters`` (default 2) free counters, chosen as those whose
+  spot is closest in total to the region's stations, so that an agent can set a
+  plate or an ingredient down near where the work happens.
+
+Spawn tiles are places too, but the model lets an item be put down only on its
+own spawn tile (a foreign item there would make the tile's owner wait to respawn).
+
+Everything that depends only on the layout (regions, all-pairs distances, the
+station and counter choice) is computed once per geometry and layout and cached.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+from functools import lru_cache
+
+from ..sim.codes import COUNTERS, Cell
+from ..sim.state import Geometry, State
+
+#: Cell codes that are places whatever they hold (counters are chosen, see the module doc).
+STATION_CODES = frozenset(int(c) for c in (
+    Cell.BOARD, Cell.PAN, Cell.SINK, Cell.TRASH, Cell.DELIVERY,
+    Cell.TOMATO, Cell.LETTUCE, Cell.ONION, Cell.STEAK, Cell.PLATE,
+))
+_HOLDERS = frozenset(int(c) for c in COUNTERS)
+
+
+@dataclass(frozen=True)
+class LayoutInfo:
+    """Static facts of one layout of one geometry (cached)."""
+
+    #: flat cell -> region id for walkable cells, -1 elsewhere
+    region: tuple[int, ...]
+    #: distance table: dist[a][b] for walkable cells, by BFS in this layout (None = unreachable)
+    dist: dict[int, dict[int, int]]
+    #: walkable neighbours of every place-like cell (flat -> tuple of floor cells)
+    floor_around: dict[int, tuple[int, ...]]
+    stations: tuple[int, ...]
+    handovers: tuple[int, ...]
+    #: region id -> chosen free counters for that region
+    extras: dict[int, tuple[int, ...]]
+
+
+def _bfs(walk: tuple[bool, ...], nbrs: tuple[tuple[int, int, int, int], ...],
+         start: int) -> dict[int, int]:
+    dist = {start: 0}
+    queue = deque([start])
+    while queue:
+        cur = queue.popleft()
+        d = dist[cur] + 1
+        for nxt in nbrs[cur]:
+            if nxt >= 0 and walk[nxt] and nxt not in dist:
+                dist[nxt] = d
+                queue.append(nxt)
+    return dist
+
+
+@lru_cache(maxsize=64)
+def layout_info(geo: Geometry, layout_index: int, extra_counters: int = 2) -> LayoutInfo:
+    """Regions, distances and chosen places of one layout (cached per geometry)."""
+    walk = geo.walkables[layout_index]
+    terrain = geo.terrains[layout_index]
+    nbrs = geo.neighbors
+    n = len(walk)
+    region = [-1] * n
+    dist: dict[int, dict[int, int]] = {}
+    rid = 0
+    for f in range(n):
+        if walk[f] and region[f] < 0:
+            reach = _bfs(walk, nbrs, f)
+            for g in reach:
+                region[g] = rid
+            rid += 1
+        if walk[f]:
+            dist[f] = _bfs(walk, nbrs, f)
+    floor_around = {
+        f: tuple(g for g in nbrs[f] if g >= 0 and walk[g])
+        for f in range(n) if not walk[f]
+    }
+    stations = tuple(f for f in range(n) if terrain[f] in STATION_CODES and floor_around[f])
+    counters = [f for f in range(n) if terrain[f] == Cell.COUNTER and floor_around[f]]
+    handovers = tuple(
+        f for f in counters if len({region[g] for g in floor_around[f]}) >= 2
+    )
+    extras: dict[int, tuple[int, ...]] = {}
+    for r in range(rid):
+        station_spots = [g for s in stations for g in floor_around[s] if region[g] == r]
+        scored = []
+        for f in counters:
+            if f in handovers:
+                continue
+            spots = [g for g in floor_around[f] if region[g] == r]
+            if not spots:
+                continue
+            score = min(
+                sum(dist[g].get(s, n) for s in station_spots) for g in spots
+            )
+            scored.append((score, f))
+        extras[r] = tuple(f for _, f in sorted(scored)[:extra_counters])
+    return LayoutInfo(tuple(region), dist, floor_around, stations, handovers, extras)
+
+
+@dataclass(frozen=True)
+class SpotGraph:
+    """The places and spots of one state, and how agents move between spots."""
+
+    places: tuple[int, ...]
+    spots: tuple[int, ...]
+    #: (spot, place) pairs: the agent on spot can bump into place
+    adjacent: tuple[tuple[int, int], ...]
+    #: (from, to, cost) moves an agent may make
+    links: tuple[tuple[int, int, int], ...]
+    #: agent -> the spot it stands on now
+    agent_spot: tuple[int, ...]
+    info: LayoutInfo
+
+    def distance(self, a: int, b: int) -> int | None:
+        """Shortest walk from floor cell ``a`` to ``b`` in this layout (None if unreachable)."""
+        return self.info.dist.get(a, {}).get(b)
+
+
+def build_spots(state: State, granularity: str = "stations", extra_counters: int = 2) -> SpotGraph:
+    """The spot graph of ``state`` in its current layout."""
+    geo = state.geo
+    li = state.layout_index
+    info = layout_info(geo, li, extra_counters)
+    terrain = geo.terrains[li]
+    region = info.region
+    agent_regions = {region[p] for p in state.agent_pos}
+    chosen = set(info.stations) | set(info.handovers)
+    for r in agent_regions:
+        chosen.update(info.extras.get(r, ()))
+    for f, item in enumerate(state.cell_item):
+        if item >= 0 and terrain[f] in _HOLDERS | STATION_CODES:
+            chosen.add(f)
+    places = tuple(sorted(chosen))
+    adjacent = []
+    spot_set: set[int] = set()
+    for p in places:
+        for g in info.floor_around.get(p, ()):
+            if region[g] in agent_regions:
+                adjacent.append((g, p))
+                spot_set.add(g)
+    if granularity == "cells":
+        spot_set.update(f for f, r in enumerate(region) if r in agent_regions)
+        spot_set.update(state.agent_pos)
+        spots = tuple(sorted(spot_set))
+        links = tuple(
+            (s, t, 1) for s in spots for t in geo.neighbors[s] if t >= 0 and t in spot_set
+        )
+    else:
+        targets = sorted(spot_set)
+        spot_set.update(state.agent_pos)
+        spots = tuple(sorted(spot_set))
+        links_list = []
+        for s in spots:
+            ds = info.dist[s]
+            for t in targets:
+                if t != s and t in ds:
+                    links_list.append((s, t, ds[t]))
+        links = tuple(links_list)
+    return SpotGraph(places, spots, tuple(sorted(adjacent)), links,
+                     tuple(state.agent_pos), info)
+
+
+def bump_action(geo: Geometry, spot: int, place: int) -> int:
+    """The action index (0 right, 1 down, 2 left, 3 up) that bumps from ``spot`` into ``place``."""
+    for action, nbr in enumerate(geo.neighbors[spot]):
+        if nbr == place:
+            return action
+    raise ValueError(f"cell {geo.rc(place)} is not adjacent to {geo.rc(spot)}")
