@@ -40,6 +40,7 @@ _BURNT, _CLEAN, _DIRTY = int(ItemState.BURNT), int(ItemState.CLEAN), int(ItemSta
 #: destinations only one cook should head for at a time (many may bump a plate or the window)
 _EXCLUSIVE = frozenset({"to_board", "to_pan", "to_sink", "put_down", "handover", "relay"})
 _STUCK = 4  # blocked steps (net) before a cook relays what it carries through a counter
+_MARGIN = 4  # spare steps a cook keeps between reaching a cooked steak and its burning
 
 
 @dataclass(frozen=True)
@@ -71,6 +72,8 @@ class GreedyAgent(Controller):
         #: item -> (agent, step): an agent that relayed an item leaves it alone until then
         self.hands_off: dict[int, tuple[int, int]] = {}
         self.counts: Counter = Counter()
+        #: cook -> pan: it put its load down to save the steak there, so it goes next
+        self.pan_duty: dict[int, int] = {}
 
     def info(self) -> dict[str, object]:
         """Task choices, hand-overs, yields and idle steps of the episode."""
@@ -113,6 +116,16 @@ class GreedyAgent(Controller):
         k, st = v.kind[item], s.item_state[item]
         dests: list[int] = []
         label = "put_down"
+        urgent = self._urgent_pan(v, a)
+        if urgent is not None and not (k == _PLATE and st == _CLEAN and v.plate_wants(item, _STEAK)):
+            # a cooked steak burns before anyone else gets there: free the hands for it
+            spot = self._nearest(v, a, [f for f in v.free_counters() if f not in claimed])
+            if spot is not None:
+                self.counts["drops_for_pan"] += 1
+                self.pan_duty[a] = urgent  # and then take the steak (see _assign)
+                return spot, "put_down"
+        if urgent is not None:  # holding a plate that takes the steak: plate it straight away
+            return urgent, "collect"
         if k == _PLATE and st == _CLEAN:
             if v.exact_match(item):
                 dests, label = v.stations(Cell.DELIVERY), "deliver"
@@ -187,6 +200,21 @@ class GreedyAgent(Controller):
             if reach(a, f) < best_d:
                 best, best_d = f, reach(a, f)
         return best
+
+    def _urgent_pan(self, v: KitchenView, a: int) -> int | None:
+        """A pan whose cooked steak burns unless ``a`` (the nearest cook) heads there now."""
+        s = v.s
+        for p in s.geo.pans:
+            it = s.cell_item[p]
+            if it < 0 or s.item_state[it] != _COOKED:
+                continue
+            left = s.rules.burn_time - s.item_progress[it]
+            d = v.reach(a, p)
+            if d == float("inf") or left > d + _MARGIN:
+                continue
+            if all(v.reach(b, p) >= d for b in range(s.n_agents) if b != a):
+                return p
+        return None
 
     def _relay_spot(self, v: KitchenView, a: int, dests: list[int], claimed: set[int]) -> int | None:
         """A free counter next to where ``a`` can walk now, from which a cook that ``a`` blocks
@@ -263,6 +291,9 @@ class GreedyAgent(Controller):
         by_cell: dict[int, list[Task]] = {}
         for t in self._candidates(v, budget):
             by_cell.setdefault(t.cell, []).append(t)
+        for a, pan in list(self.pan_duty.items()):
+            if pan not in by_cell or by_cell[pan][0].kind != "rescue":
+                del self.pan_duty[a]  # the steak is off the pan: duty done
         options = []
         for a in free:
             prev = self.tasks.get(a)
@@ -278,7 +309,8 @@ class GreedyAgent(Controller):
                 if d == float("inf") or not self._useful_for(v, a, ts[0]):
                     continue
                 keep = prev is not None and prev.cell == cell and prev.kind == ts[0].kind
-                options.append((ts[0].priority, d - (3 if keep else 0), a, cell))
+                duty = self.pan_duty.get(a) == cell and ts[0].kind == "rescue"
+                options.append((-1 if duty else ts[0].priority, d - (3 if keep else 0), a, cell))
         options.sort()
         taken: set[int] = set()
         for _, _, a, cell in options:
