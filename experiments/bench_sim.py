@@ -57,27 +57,40 @@ BATCH_CONFIGS = [("hard", 2, 1), ("hard", 2, 16), ("hard", 2, 64)]
 
 
 def _env_split(env, actions: list) -> dict:
-    """Time the pieces of ``env.step`` separately (one instrumented pass)."""
+    """Time the pieces of ``env.step`` separately (one instrumented pass, CPU time of this
+    process, so that other load on the machine does not inflate one piece)."""
     core = env.core
     t_trans = t_enc = 0.0
-    perf = time.perf_counter
+    clock = time.process_time
     env.reset(seed=0)
-    t0 = perf()
+    t0 = clock()
     for joint in actions:
-        a = perf()
+        a = clock()
         moves, tokens = core.split_action(joint)
         result = core.step(moves, tokens)
-        b = perf()
+        b = clock()
         core.observe()
-        c = perf()
+        c = clock()
         t_trans += b - a
         t_enc += c - b
         if result.truncated or result.terminated:
             env.reset()
-    total = perf() - t0
-    return {"transition": round(t_trans / total, 3), "encoder": round(t_enc / total, 3),
-            "us_transition": round(t_trans / len(actions) * 1e6, 2),
-            "us_encoder": round(t_enc / len(actions) * 1e6, 2)}
+    instrumented = clock() - t0
+    # the plain loop, for the env's own share (timer calls excluded)
+    env.reset(seed=0)
+    t0 = clock()
+    for joint in actions:
+        _, _, terminated, truncated, _ = env.step(joint)
+        if terminated or truncated:
+            env.reset()
+    total = clock() - t0
+    n = len(actions)
+    return {"us_step_cpu": round(total / n * 1e6, 2),
+            "us_transition_cpu": round(t_trans / n * 1e6, 2),
+            "us_encoder_cpu": round(t_enc / n * 1e6, 2),
+            "share_transition": round(t_trans / total, 3), "share_encoder": round(t_enc / total, 3),
+            "share_env": round(max(0.0, 1 - (t_trans + t_enc) / total), 3),
+            "timer_overhead_share": round(max(0.0, instrumented / total - 1), 3)}
 
 
 def bench_env(preset: str, n_agents: int, mode: str, radius: int, steps: int, runs: int) -> dict:

@@ -154,10 +154,17 @@ class KitchenCore:
         from ..errors import InvalidActionError
 
         n = self.n_agents
-        try:
-            flat = np.asarray(action, dtype=np.int64).reshape(-1)
-        except (TypeError, ValueError):
-            raise InvalidActionError(f"action {action!r} is not a sequence of integers") from None
+        if self.comm is None and type(action) is list and len(action) == n:
+            return action, None  # fast path; transition checks each move
+        if type(action) is np.ndarray and action.ndim == 1 and action.dtype.kind in "iu":
+            flat = action
+        else:
+            try:
+                flat = np.asarray(action, dtype=np.int64).reshape(-1)
+            except (TypeError, ValueError):
+                raise InvalidActionError(
+                    f"action {action!r} is not a sequence of integers"
+                ) from None
         if self.comm is None:
             if flat.size != n:
                 raise InvalidActionError(

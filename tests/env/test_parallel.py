@@ -7,10 +7,10 @@ import pytest
 
 pytest.importorskip("pettingzoo", reason="pettingzoo not installed (pip install 'ocplus-plan[test]')")
 
-from pettingzoo.test import parallel_api_test  # noqa: E402
+from pettingzoo.test import parallel_api_test
 
-import ocplus_plan.env as ocenv  # noqa: E402
-from ocplus_plan.errors import InvalidActionError  # noqa: E402
+import ocplus_plan.env as ocenv
+from ocplus_plan.errors import InvalidActionError
 
 
 @pytest.mark.parametrize("mode", ["vector", "rgb", "symbolic"])
