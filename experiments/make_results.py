@@ -92,7 +92,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.agents:
         agents = parse_list(args.agents, "agents")
         categories.update({a: categories.get(a, "") for a in agents})
-    out = args.out or Path(cfg.get("out", "results/paper_comparison"))
+    out = args.out or Path(cfg.get("out", "runs/paper_comparison"))
     if not args.table_only:
         seeds = args.seeds if args.seeds is not None else int(cfg.get("seeds", 10))
         run_eval(EvalConfig(

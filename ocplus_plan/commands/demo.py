@@ -24,7 +24,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                        description=__doc__,
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     p.add_argument("--out", type=Path, default=None,
-                   help="output folder (default: results/demo-<date>-<time>)")
+                   help="output folder (None: runs/demo-<date>-<time>)")
     p.add_argument("--seeds", type=int, default=3, help="seeds per preset and agent")
     p.add_argument("--horizon", type=int, default=200, help="steps per episode")
     p.add_argument("--jobs", type=int, default=min(2, os.cpu_count() or 1),
@@ -37,7 +37,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..eval.runner import EvalConfig, run_eval
 
-    out = args.out or Path("results") / time.strftime("demo-%Y%m%d-%H%M%S")
+    out = args.out or Path("runs") / time.strftime("demo-%Y%m%d-%H%M%S")
     plots = importlib.util.find_spec("matplotlib") is not None
     print(f"ocplus demo: presets {', '.join(DEMO_PRESETS)}; agents {', '.join(DEMO_AGENTS)}; "
           f"{args.seeds} seeds; {args.horizon} steps; {args.jobs} worker(s); output {out}")
