@@ -103,14 +103,16 @@ class PPOAgent(Controller):
             enc = make_encoder(meta["obs"], state.rules, meta.get("obs_radius", 0))
             if enc.size != meta["obs_size"]:
                 raise ConfigError(
-                    f"checkpoint {str(self.policy.path)!r} expects observations of size {meta['obs_size']} "
+                    f"checkpoint {str(self.policy.path)!r} expects observations of size "
+                    f"{meta['obs_size']} "
                     f"({meta['obs']}, trained on map {meta['map']!r}) but this kitchen "
                     f"({state.rules.layout.name!r}) gives {enc.size}; use a features checkpoint "
                     "or the map it was trained on"
                 )
             self._encoders = {key: enc}  # keeps the rules alive, so the id stays unique
         self._encoder = enc
-        self.rng = np.random.default_rng([self.seed, state.seed or 0]) if self.mode == "sample" else None
+        sample = self.mode == "sample"
+        self.rng = np.random.default_rng([self.seed, state.seed or 0]) if sample else None
 
     def act(self, state: State) -> list[int]:
         if self._encoder is None:

@@ -17,7 +17,11 @@ Per agent, one flat ``float32`` vector of :attr:`FeatureEncoder.size` values (na
 * per target (:data:`TARGETS`): a one-hot of the action that goes towards (or bumps) the
   nearest reachable such cell, its path cost (steps incl. the bump) / 20 clipped to 1,
   and a present flag;
-* own hand: empty flag, item kind, item state; a held plate's contents, whether they fit
+* ``wanted_fresh`` / ``wanted_ready``: the nearest unprocessed / ready ingredient of a
+  kind that an active order needs (the same cells as the per-kind targets, indexed by
+  need, so the network need not learn the order-to-ingredient lookup itself);
+* own hand: empty flag, whether an active order needs the held kind, item kind, state;
+  a held plate's contents, whether they fit
   an active order, whether they complete one, and what that order still misses;
 * the same plate summary for the nearest clean plate on a counter;
 * the active orders (ingredient counts, oldest first, up to 3) and their total demand;
@@ -49,8 +53,14 @@ TARGETS: tuple[str, ...] = (
     "clean_plate", "dirty_plate", "sink_to_wash",
     "free_board", "free_pan", "free_sink", "free_counter",
     "delivery", "trash",
+    "wanted_fresh", "wanted_ready",
 )
 _T = {name: i for i, name in enumerate(TARGETS)}
+#: targets that also count for ``wanted_fresh`` / ``wanted_ready`` when an order needs the kind
+_FRESH_TARGETS = frozenset(_T[n] for n in ("fresh_tomato", "fresh_lettuce", "fresh_onion",
+                                           "raw_steak"))
+_READY_TARGETS = frozenset(_T[n] for n in ("chopped_tomato", "chopped_lettuce",
+                                           "chopped_onion", "cooked_steak"))
 INGREDIENTS: tuple[Item, ...] = (Item.TOMATO, Item.LETTUCE, Item.ONION, Item.STEAK)
 _ING_INDEX = {int(k): i for i, k in enumerate(INGREDIENTS)}
 HAND_KINDS: tuple[Item, ...] = (*INGREDIENTS, Item.PLATE)
@@ -109,7 +119,9 @@ class FeatureEncoder:
         """The feature vector of one agent."""
         return np.asarray(self._encode(state, agent), dtype=np.float32)
 
-    def encode_all(self, state: State, agents: list[int] | tuple[int, ...] | None = None) -> np.ndarray:
+    def encode_all(
+        self, state: State, agents: list[int] | tuple[int, ...] | None = None
+    ) -> np.ndarray:
         """``(len(agents), size)`` features (all agents by default)."""
         ids = range(state.n_agents) if agents is None else agents
         return np.asarray([self._encode(state, a) for a in ids], dtype=np.float32)
@@ -120,7 +132,7 @@ class FeatureEncoder:
         for t in TARGETS:
             names += [f"{t}:go_{d}" for d in ("right", "down", "left", "up")]
             names += [f"{t}:cost", f"{t}:present"]
-        names += ["hand:empty"] + [f"hand:{k.name.lower()}" for k in HAND_KINDS]
+        names += ["hand:empty", "hand:wanted"] + [f"hand:{k.name.lower()}" for k in HAND_KINDS]
         names += [f"hand:state_{s.name.lower()}" for s in STATES]
         names += _plate_names("hand_plate") + _plate_names("near_plate")
         for o in range(MAX_ORDERS):
@@ -204,6 +216,7 @@ class FeatureEncoder:
         best_cost = [_NO_PATH] * n_t
         best_act = [-1] * n_t
         best_cell = [-1] * n_t
+        wanted = {int(k) for order in state.orders for k in order.recipe}
         for idx, c in enumerate(self._interact[layout]):
             cost, act = reach[idx]
             if act < 0:
@@ -247,6 +260,11 @@ class FeatureEncoder:
                     continue
             if cost < best_cost[t]:
                 best_cost[t], best_act[t], best_cell[t] = cost, act, c
+            if it >= 0 and kinds[it] in wanted:
+                w = (_T["wanted_fresh"] if t in _FRESH_TARGETS
+                     else _T["wanted_ready"] if t in _READY_TARGETS else -1)
+                if w >= 0 and cost < best_cost[w]:
+                    best_cost[w], best_act[w], best_cell[w] = cost, act, c
 
         f: list[float] = []
         for t in range(n_t):
@@ -259,12 +277,13 @@ class FeatureEncoder:
                 f += (min(best_cost[t] / PATH_SCALE, 1.0), 1.0)
 
         held = state.agent_hand[agent]
-        hand = [0.0] * (1 + len(HAND_KINDS) + len(STATES))
+        hand = [0.0] * (2 + len(HAND_KINDS) + len(STATES))
         if held < 0:
             hand[0] = 1.0
         else:
-            hand[1 + _HAND_INDEX[kinds[held]]] = 1.0
-            hand[1 + len(HAND_KINDS) + _STATE_INDEX[istate[held]]] = 1.0
+            hand[1] = 1.0 if kinds[held] in wanted else 0.0
+            hand[2 + _HAND_INDEX[kinds[held]]] = 1.0
+            hand[2 + len(HAND_KINDS) + _STATE_INDEX[istate[held]]] = 1.0
         f += hand
         if held >= 0 and kinds[held] == _PLATE:
             f += self._plate_summary(state, held)
@@ -318,4 +337,4 @@ class FeatureEncoder:
         return f
 
 
-__all__ = ["FeatureEncoder", "TARGETS"]
+__all__ = ["TARGETS", "FeatureEncoder"]

@@ -1,7 +1,8 @@
 """Training rewards: the game's rewards with the subtask part turned into annealed shaping.
 
 The rules' rewards (SPEC section 6) already pay ``subtask_finished`` for each chop, cook
-and wash. For learning we treat that part, plus two milestone bonuses, as *shaping*:
+and wash. For learning we treat that part, plus milestone bonuses that only pay for
+work towards an active order, as *shaping*:
 it is multiplied by a coefficient that the trainer anneals from 1 to 0, so the final
 policy is trained on the true objective (deliveries, wrong deliveries, burns, expired
 orders, the step penalty) alone.
@@ -9,8 +10,8 @@ orders, the step penalty) alone.
 Milestones (each paid at most once per item life, so they cannot be farmed by picking
 an item up and putting it down again; an item's life ends when it respawns):
 
-* ``stage``: a fresh vegetable put on a cutting board, a raw steak put on a pan, a dirty
-  plate put in the sink;
+* ``stage``: a fresh vegetable put on a cutting board, a raw steak put on a pan (both only
+  when an active order needs that kind), a dirty plate put in the sink;
 * ``ready_pickup``: a chopped vegetable or cooked steak that an active order needs is
   picked up;
 * ``useful_plate``: an ingredient added to a clean plate whose contents still fit an
@@ -75,6 +76,12 @@ def _fits_an_order(state: State, plate: int, complete: bool = False) -> bool:
     return False
 
 
+def _needed(state: State, item: int) -> bool:
+    """Some active order's recipe contains this item's kind."""
+    kind = state.geo.item_kind[item]
+    return any(kind in order.recipe for order in state.orders)
+
+
 class RewardShaper:
     """Splits one kitchen's step rewards into true and shaping parts, per agent.
 
@@ -112,9 +119,7 @@ class RewardShaper:
             elif kind == "trash":
                 self._paid.discard(("dish", ev.item))  # an emptied plate may earn it again
             elif kind == "pickup" and sh.ready_pickup and ("ready", ev.item) not in self._paid:
-                if is_plateable(state, ev.item) and any(
-                    kinds[ev.item] in order.recipe for order in state.orders
-                ):
+                if is_plateable(state, ev.item) and _needed(state, ev.item):
                     shaped[a] += sh.ready_pickup
                     self._paid.add(("ready", ev.item))
             elif kind == "putdown" and sh.stage and ("stage", ev.item) not in self._paid:
@@ -122,9 +127,9 @@ class RewardShaper:
                 code = state.geo.terrains[state.layout_index][row * state.geo.cols + col]
                 st = state.item_state[ev.item]
                 # the putdown rules already restrict what each station takes
-                if code == _BOARD or (code == _PAN and st == _FRESH) or (
-                    code == _SINK and st == _DIRTY
-                ):
+                if (code == _BOARD and _needed(state, ev.item)) or (
+                    code == _PAN and st == _FRESH and _needed(state, ev.item)
+                ) or (code == _SINK and st == _DIRTY):
                     shaped[a] += sh.stage
                     self._paid.add(("stage", ev.item))
             elif kind == "plate_add" and sh.useful_plate and _fits_an_order(state, ev.value):

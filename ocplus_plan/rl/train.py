@@ -82,7 +82,7 @@ def _rules(config: TrainConfig, preset: str, with_map: bool) -> Rules:
     return make_rules(preset, map=config.map if with_map else None, **kw)
 
 
-def _lr_schedule(initial: float):  # noqa: ANN202 - SB3 schedule type
+def _lr_schedule(initial: float):
     def schedule(progress_remaining: float) -> float:
         # linear decay to 10 % of the initial rate: late updates refine, not rewrite
         return initial * (0.1 + 0.9 * progress_remaining)

@@ -85,7 +85,7 @@ def test_orders_and_other_agents_are_encoded():
     assert order_counts == total
     assert _value(enc, x0, "other0:present") == 1.0 and _value(enc, x0, "other1:present") == 0.0
     assert _value(enc, x0, "other0:drow") == -_value(enc, x1, "other0:drow") != 0.0
-    assert len(TARGETS) == 20
+    assert len(TARGETS) == 22
 
 
 def test_shaping_pays_milestones_once_and_true_reward_drops_the_subtask_part():

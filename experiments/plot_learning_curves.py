@@ -1,0 +1,75 @@
+"""Learning curves of the PPO baseline: dishes per 200-step episode against training steps.
+
+    .venv/bin/python experiments/plot_learning_curves.py   # needs the plots extra
+
+Reads ``experiments/runs/*/episodes.csv`` (written by ``ocplus train``; the runs of
+experiments/train_baselines.py), averages the episodes that finished in each bin of
+training steps, writes ``experiments/figures/ppo_learning_curves.png`` and prints one
+JSON line per run with its final bin. Steps are agent-steps, counted from the start of
+each run (the medium and 2-agent runs continue from the easy checkpoint).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def curve(path: Path, bins: int = 25) -> tuple[list[float], list[float]]:
+    rows = list(csv.DictReader(path.open()))
+    if not rows:
+        return [], []
+    last = max(int(r["timesteps"]) for r in rows)
+    width = max(last / bins, 1.0)
+    sums: dict[int, list[float]] = {}
+    for r in rows:
+        b = min(int(int(r["timesteps"]) / width), bins - 1)
+        sums.setdefault(b, []).append(float(r["dishes"]))
+    xs = [(b + 0.5) * width for b in sorted(sums)]
+    ys = [sum(sums[b]) / len(sums[b]) for b in sorted(sums)]
+    return xs, ys
+
+
+def main() -> None:
+    from ocplus_plan.errors import DependencyNotInstalled
+
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError as exc:
+        raise DependencyNotInstalled(
+            "plotting needs the plots extra: pip install -e '.[plots]'"
+        ) from exc
+    runs = sorted((ROOT / "experiments" / "runs").glob("*/episodes.csv"))
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for path in runs:
+        name = path.parent.name
+        xs, ys = curve(path)
+        if not xs:
+            continue
+        info = json.loads((path.parent / "train.json").read_text())
+        init = info["config"].get("init")
+        label = name + (f" (from {Path(init).stem})" if init else "")
+        ax.plot([x / 1000 for x in xs], ys, marker="o", markersize=3, label=label)
+        print(json.dumps({"run": name, "final_bin_steps": round(xs[-1]),
+                          "dishes_per_episode": round(ys[-1], 3),
+                          "timesteps": info["timesteps"], "wall_time_s": info["wall_time_s"]}))
+    ax.set_xlabel("training steps (thousands of agent-steps)")
+    ax.set_ylabel("dishes per 200-step episode")
+    ax.set_title("PPO baseline (parameter-shared, path features, annealed shaping)")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    out = ROOT / "experiments" / "figures" / "ppo_learning_curves.png"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    print(json.dumps({"figure": str(out.relative_to(ROOT))}))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,84 @@
+"""Train the shipped PPO checkpoints and record how (command, wall time, CPU time).
+
+    .venv/bin/python experiments/train_baselines.py                # all, in order
+    .venv/bin/python experiments/train_baselines.py easy_1agent    # just one
+
+Each run is ``ocplus train ... --out experiments/runs/NAME``; its policy is copied to
+``experiments/checkpoints/NAME.zip`` and ``NAME.json`` beside it records the exact
+command, its wall time and CPU time on this machine, and the training summary. The
+medium and two-agent runs start from the easy checkpoint (``--init``): the features are
+map- and agent-count-independent, so what was learned in the easy kitchen transfers.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import resource
+import shlex
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+CKPT = ROOT / "experiments" / "checkpoints"
+
+#: name -> ocplus train arguments (without --out); order matters (--init dependencies)
+RUNS: dict[str, list[str]] = {
+    "easy_1agent": ["--preset", "easy", "--steps", "400000", "--seed", "0",
+                    "--anneal-fraction", "0.8", "--n-epochs", "8", "--ent-coef", "0.02"],
+    "medium_1agent": ["--preset", "medium", "--steps", "600000", "--seed", "0",
+                      "--anneal-fraction", "0.8", "--n-epochs", "8", "--ent-coef", "0.02",
+                      "--init", "experiments/checkpoints/easy_1agent.zip"],
+    "easy_2agent": ["--preset", "easy", "--n-agents", "2", "--steps", "300000", "--seed", "0",
+                    "--anneal-fraction", "0.8", "--n-epochs", "8", "--ent-coef", "0.02",
+                    "--init", "experiments/checkpoints/easy_1agent.zip"],
+}
+
+
+def train_one(name: str, python: str) -> dict:
+    out = f"experiments/runs/{name}"
+    if (ROOT / out).exists():
+        shutil.rmtree(ROOT / out)
+    cmd = [python, "-m", "ocplus_plan.cli", "train", *RUNS[name], "--out", out,
+           "--checkpoint-every", "1000000000", "--no-progress"]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    subprocess.run(cmd, cwd=ROOT, check=True)
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    summary = json.loads((ROOT / out / "train.json").read_text())
+    shutil.copyfile(ROOT / out / "policy.zip", CKPT / f"{name}.zip")
+    shutil.rmtree(ROOT / out / "checkpoints", ignore_errors=True)
+    record = {
+        "checkpoint": f"experiments/checkpoints/{name}.zip",
+        "command": "ocplus train " + shlex.join([*RUNS[name], "--out", out]),
+        "wall_time_s": round(wall, 1),
+        "cpu_time_s": round((after.ru_utime - before.ru_utime)
+                            + (after.ru_stime - before.ru_stime), 1),
+        "machine": "2 cores shared with other jobs; torch.set_num_threads(1)",
+        "timesteps": summary["timesteps"],
+        "steps_per_s": summary["steps_per_s"],
+        "dishes_per_episode_last50_in_training": summary["dishes_per_episode_last50"],
+        "size_bytes": (CKPT / f"{name}.zip").stat().st_size,
+    }
+    (CKPT / f"{name}.json").write_text(json.dumps(record, indent=2) + "\n")
+    return record
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("names", nargs="*", help=f"runs among {', '.join(RUNS)} (default: all)")
+    args = p.parse_args()
+    unknown = [n for n in args.names if n not in RUNS]
+    if unknown:
+        p.error(f"unknown run(s) {unknown}; choose among {', '.join(RUNS)}")
+    CKPT.mkdir(parents=True, exist_ok=True)
+    for name in args.names or list(RUNS):
+        print(json.dumps(train_one(name, sys.executable)), flush=True)
+
+
+if __name__ == "__main__":
+    main()
