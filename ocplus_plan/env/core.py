@@ -139,14 +139,22 @@ class KitchenCore:
             self.received = self.comm.exchange(tokens, self.state.agent_pos)
         return result
 
-    def observe(self) -> Any:
-        """Per-agent observations: an ``(n, size)`` float32 array (vector), ``(n, H, W, 3)``
-        uint8 (rgb), or one :class:`~ocplus_plan.sim.observe.StateSnapshot` (symbolic)."""
+    def observe(self) -> list[Any]:
+        """One observation per agent. ``vector``: rows of an ``(n, size)`` float32 array
+        (received tokens are among the features); ``rgb``: ``(H, W, 3)`` uint8 images;
+        ``symbolic``: one shared :class:`~ocplus_plan.sim.observe.StateSnapshot`. With
+        communication, rgb and symbolic observations become ``{"obs": ..., "messages":
+        tokens}`` with one token per other agent (``comm_vocab`` = nothing received)."""
         if self.vector is not None:
-            return self.vector.encode(self.state, self.received if self.comm else None)
+            return list(self.vector.encode(self.state, self.received if self.comm else None))
         if self.rgb is not None:
-            return self.rgb.encode(self.state)
-        return snapshot(self.state)
+            obs = list(self.rgb.encode(self.state))
+        else:
+            obs = [snapshot(self.state)] * self.n_agents
+        if self.comm is None:
+            return obs
+        msgs = np.where(self.received < 0, self.comm.config.vocab, self.received)
+        return [{"obs": o, "messages": m} for o, m in zip(obs, msgs)]
 
     def split_action(self, action: Any) -> tuple[list[int], list[int] | None]:
         """A joint action -> (moves, tokens). Accepts ``n`` moves, or with communication

@@ -44,13 +44,17 @@ class StateSpace(spaces.Space):
 
 
 def agent_observation_space(core: KitchenCore) -> spaces.Space:
-    """One agent's observation space for the core's mode."""
+    """One agent's observation space for the core's mode (see :meth:`KitchenCore.observe`)."""
     if core.vector is not None:
         v = core.vector
         return spaces.Box(v.low, v.high, shape=(v.size,), dtype=np.float32)
-    if core.rgb is not None:
-        return spaces.Box(0, 255, shape=core.rgb.shape, dtype=np.uint8)
-    return StateSpace(core.rules)
+    base: spaces.Space = (spaces.Box(0, 255, shape=core.rgb.shape, dtype=np.uint8)
+                          if core.rgb is not None else StateSpace(core.rules))
+    if core.comm is None:
+        return base
+    vocab = core.comm.config.vocab
+    return spaces.Dict({"obs": base,
+                        "messages": spaces.MultiDiscrete([vocab + 1] * (core.n_agents - 1))})
 
 
 def agent_action_space(core: KitchenCore) -> spaces.Space:
@@ -154,7 +158,9 @@ class OvercookedPlusEnv(_Base):
     ``GRID_CHANNELS``), with exact per-element bounds. ``rgb``: ``Box`` uint8 ``(H, W, 3)``
     picture of the window (``TILE_SIZE`` pixels per cell; whole map for r = 0). ``symbolic``:
     a :class:`StateSnapshot <ocplus_plan.sim.observe.StateSnapshot>` of the full state
-    (the same object for every cook).
+    (the same object for every cook). With communication, rgb and symbolic observations
+    are ``Dict(obs=..., messages=MultiDiscrete([comm_vocab + 1] * (n - 1)))``: the token
+    received from each other cook ``(a + k + 1) % n``, ``comm_vocab`` meaning none.
 
     **Rewards.** The scalar reward is the team sum of the per-cook rewards (with
     ``reward_mode="shared"`` every cook already gets the team's total, which is returned
@@ -182,10 +188,7 @@ class OvercookedPlusEnv(_Base):
             self.action_space = spaces.MultiDiscrete([5, self.core.comm.config.vocab] * n)
 
     def _obs(self) -> tuple[Any, ...]:
-        obs = self.core.observe()
-        if self.config.mode == "symbolic":
-            return (obs,) * self.core.n_agents
-        return tuple(obs)
+        return tuple(self.core.observe())
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
@@ -252,8 +255,7 @@ class OvercookedPlusSingleEnv(_Base):
         self.action_space = agent_action_space(self.core)
 
     def _obs(self) -> Any:
-        obs = self.core.observe()
-        return obs if self.config.mode == "symbolic" else obs[self.agent_id]
+        return self.core.observe()[self.agent_id]
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import DependencyNotInstalled, InvalidActionError
+from ..errors import ConfigError, DependencyNotInstalled, InvalidActionError
 
 try:
     from gymnasium import spaces
@@ -42,9 +42,9 @@ class OvercookedPlusParallelEnv(ParallelEnv):
     def __init__(self, preset: str = "hard", **kwargs: Any) -> None:
         rules, config = parse_env_kwargs(preset, **kwargs)
         if config.render_mode == "human":
-            raise DependencyNotInstalled(
-                "the PettingZoo env draws rgb_array frames only; use the Gymnasium env "
-                "(render_mode='human') for a window"
+            raise ConfigError(
+                "the PettingZoo env draws rgb_array frames only; use render_mode='rgb_array', "
+                "or the Gymnasium env with render_mode='human' for a window"
             )
         self.rules = rules
         self.config = config
@@ -72,8 +72,6 @@ class OvercookedPlusParallelEnv(ParallelEnv):
 
     def _observations(self) -> dict[str, Any]:
         obs = self.core.observe()
-        if self.config.mode == "symbolic":
-            return {a: obs for a in self.agents}
         return {a: obs[self._index[a]] for a in self.agents}
 
     def reset(

@@ -112,3 +112,15 @@ def test_bad_parameters_are_config_errors(kw):
 def test_communication_needs_two_agents():
     with pytest.raises(ConfigError, match="two agents"):
         OvercookedPlusEnv("easy", n_agents=1, agent_communication=True)
+
+
+def test_rgb_and_symbolic_observations_carry_the_received_tokens():
+    for mode in ("rgb", "symbolic"):
+        env = OvercookedPlusEnv("hard", n_agents=3, mode=mode, agent_communication=True,
+                                comm_vocab=4)
+        obs, _ = env.reset(seed=0)
+        assert obs[0]["messages"].tolist() == [4, 4]  # 4 = nothing received
+        obs, *_ = env.step([4, 1, 4, 2, 4, 3])
+        assert obs[0]["messages"].tolist() == [2, 3]  # from cooks 1 and 2
+        assert obs[2]["messages"].tolist() == [1, 2]  # from cooks 0 and 1
+        assert obs[1] in env.observation_space[1]

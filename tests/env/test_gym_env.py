@@ -50,7 +50,8 @@ def test_paper_keyword_names_map_onto_the_rules():
     assert rules.rewards.subtask_finished == 7 and rules.rewards.correct_delivery == 100
     assert rules.rewards.step_penalty == 0.0 and rules.horizon == 50
     assert env.config.mode == "rgb" and env.core.comm is not None
-    assert env.observation_space[0].shape == (3 * TILE_SIZE, 3 * TILE_SIZE, 3)
+    assert env.observation_space[0]["obs"].shape == (3 * TILE_SIZE, 3 * TILE_SIZE, 3)
+    assert env.observation_space[0]["messages"].nvec.tolist() == [9]
     assert env.action_space.nvec.tolist() == [5, 8, 5, 8]
 
 
