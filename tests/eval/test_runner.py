@@ -171,3 +171,16 @@ def test_importing_the_evaluation_loads_no_heavy_package():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     roots = {m.split(".")[0] for m in out.stdout.split()}
     assert not roots & {"matplotlib", "unified_planning", "torch", "pygame", "tqdm"}
+
+
+def test_planner_that_is_not_installed_is_skipped_with_the_reason(tmp_path, monkeypatch):
+    engines = pytest.importorskip("ocplus_plan.planning.engines")
+    monkeypatch.setattr(engines, "availability", lambda name: engines.Availability(
+        False, "Python package 'up_fast_downward' is not installed; install the planners extra"))
+    out = tmp_path / "np"
+    outcome = run_eval(_cfg(out, agents=["greedy", "planner:fast-downward"], seeds=[0]),
+                       echo=lambda *a: None)
+    rows = {r["agent"]: r for r in read_results(out)}
+    assert rows["planner:fast-downward"]["status"] == "skipped"
+    assert "up_fast_downward" in rows["planner:fast-downward"]["reason"]
+    assert rows["greedy"]["status"] == "ok" and outcome.skipped == 1
