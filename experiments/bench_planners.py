@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import platform
 import statistics
 import sys
@@ -78,7 +79,8 @@ def run(args: argparse.Namespace) -> list[dict[str, Any]]:
                   "plan_length": info["plan_length"], "cost": info["cost"],
                   "makespan": info["makespan"], "optimal": info["optimal"],
                   "validated": info["validated"], "reason": info["reason"][:300],
-                  "notes": info["notes"], "python": platform.python_version()}, rows)
+                  "notes": info["notes"], "python": platform.python_version(),
+                  "load_avg_1min": round(os.getloadavg()[0], 2)}, rows)
     return rows
 
 

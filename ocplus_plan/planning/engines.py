@@ -350,7 +350,8 @@ def _solve_in_child(problem: Any, config: PlannerConfig, limit: float) -> dict[s
                              "cost/makespan are measured on the original problem")
                 target = stripped
             else:
-                unsupported = sorted(set(problem.kind.features)
+                kind = stripped.kind if problem.quality_metrics else problem.kind
+                unsupported = sorted(set(kind.features)
                                      - set(type(engine).supported_kind().features))
                 report["up_status"] = "UNSUPPORTED_PROBLEM"
                 report["reason"] = (f"{config.engine} does not support this problem "

@@ -472,3 +472,51 @@ def test_cli_solve_rejects_unknown_planner_and_lists_planners(
     rows = {r["planner"]: r for r in json.loads(capsys.readouterr().out)}
     assert REQUIRED["classical"] | REQUIRED["temporal"] <= set(rows)
     assert all(r["available"] or r["reason"] for r in rows.values())
+
+
+def test_planner_group_dies_with_the_calling_process(tmp_path: Path) -> None:
+    """Kill -9 the Python process that called solve(): the watchdog ends the group."""
+    import signal
+    import subprocess
+    import sys
+
+    script = tmp_path / "caller.py"
+    script.write_text(
+        "import importlib.util, sys\n"
+        f"spec = importlib.util.spec_from_file_location('engines_caller', {__file__!r})\n"
+        "mod = importlib.util.module_from_spec(spec); sys.modules['engines_caller'] = mod\n"
+        "spec.loader.exec_module(mod)\n"
+        "from ocplus_plan.planning.engines import solve\n"
+        "solve(mod.tiny_classical(), mod._test_config('test-sleepy', mod.SleepyEngine),"
+        " timeout=120)\n")
+    caller = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.DEVNULL,
+                              stderr=subprocess.DEVNULL)
+    try:
+        deadline, group, pgid = time.monotonic() + 60, [], -1
+        while time.monotonic() < deadline and len(group) < 4:  # child, sh and two sleeps
+            time.sleep(0.2)
+            leaders = _all_children(caller.pid)
+            pgid = leaders[0] if leaders else -1
+            group = _proc.group_members(pgid) if leaders else []
+        assert len(group) >= 4, "the planner process group never started"
+        caller.send_signal(signal.SIGKILL)
+        caller.wait(10)
+        deadline = time.monotonic() + 5
+        while _proc.group_alive(pgid) and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert not _proc.group_alive(pgid)
+    finally:
+        caller.kill()
+
+
+def _all_children(pid: int) -> list[int]:
+    out = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                fields = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid and int(fields[2]) == int(entry):  # a group leader
+                out.append(int(entry))
+    return out
