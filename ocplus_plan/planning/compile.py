@@ -95,14 +95,14 @@ def _k_of(problem: Any) -> int:
 
 def compile(state: State, orders: Sequence[Order] | None = None, encoding: str = "classical",
             granularity: str = "stations", max_orders: int | None = None,
-            anticipate_switches: bool = False, extra_counters: int = 2) -> Compiled:
+            anticipate_switches: bool = False, extra_counters: int = 2,
+            _fast: bool = True) -> Compiled:
     """Compile ``state`` and its open orders into a unified-planning problem.
 
     ``orders`` defaults to ``state.orders`` (oldest first); ``max_orders`` keeps the
     first k of them as the goal. ``anticipate_switches`` (temporal, cells only)
     encodes the coming layout switches as timed initial literals.
     """
-    from unified_planning.model import Problem
     from unified_planning.model.metrics import MinimizeActionCosts, MinimizeMakespan
 
     if max_orders is not None and max_orders < 0:
@@ -130,13 +130,11 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
     k_max = max([3] + [len(r) for r in rules.recipes] + [len(c) for c in initial_contents.values()])
     dom = build_domain(encoding, granularity, k_max)
     spots = build_spots(state, granularity, extra_counters)
-    problem = Problem(f"ocplus_{rules.layout.name}_t{state.t}".replace("-", "_"))
-    for fl in dom.fluents.values():
-        problem.add_fluent(fl, default_initial_value=0 if fl.type.is_int_type() else False)
-    problem.add_actions(dom.actions.values())
+    problem = _new_problem(f"ocplus_{rules.layout.name}_t{state.t}".replace("-", "_"), dom,
+                           _fast)
     comp = Compiled(problem, Names(), encoding, granularity, spots,
                     tuple(o.order_id for o in goal), geometry=geo)
-    b = _Builder(problem, dom, comp)
+    b = _Builder(problem, dom, comp, _fast)
 
     T = dom.types
     agents = [b.obj("agents", f"a{a}", a, T["agent"]) for a in range(state.n_agents)]
@@ -187,7 +185,7 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
             b.true("after", order_name[older.order_id],
                    order_name[newer.order_id] if newer else sentinel)
     for o in goal:
-        problem.add_goal(dom.fluents["served"](problem.object(order_name[o.order_id])))
+        problem.add_goal(dom.fluents["served"](b.objects[order_name[o.order_id]]))
 
     # --- places
     home_place = {}
@@ -286,7 +284,9 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
     _pans(b, state, comp, cooking, spot_name, place_name, item_name, agents)
 
     if encoding == "classical":
-        problem.add_quality_metric(MinimizeActionCosts(dom.costs, default=None))
+        if not hasattr(dom, "_metric"):
+            dom._metric = MinimizeActionCosts(dom.costs, default=None)  # type: ignore[attr-defined]
+        problem.add_quality_metric(dom._metric)
     else:
         problem.add_quality_metric(MinimizeMakespan())
         if anticipate_switches:
@@ -309,7 +309,7 @@ def _pans(b: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, in
             b.true("on_heat", item_name[i], place_name[pan])
             opens = max(0, rules.cook_time - ticks)
             closes = rules.burn_time - ticks + 1
-            steak = b.problem.object(item_name[i])
+            steak = b.objects[item_name[i]]
             fl = b.dom.fluents
             if opens == 0:
                 b.true("window", item_name[i])
@@ -355,21 +355,28 @@ def _pans(b: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, in
 
 
 class _Builder:
-    """Collects objects and initial values, then sets them on the problem in one go."""
+    """Collects objects and initial values, then sets them on the problem in one go.
 
-    def __init__(self, problem: Any, dom: Any, comp: Compiled) -> None:
+    The fast path (the default) fills the problem's containers directly: the objects
+    and facts are correct by construction (names are unique, argument types follow
+    the fluent signatures), and UP's public setters re-check every one of them at
+    ~50 us each, which is most of the compile time. ``tests/planning/test_compile.py``
+    checks that both paths build equal problems.
+    """
+
+    def __init__(self, problem: Any, dom: Any, comp: Compiled, fast: bool = True) -> None:
         self.problem, self.dom, self.comp = problem, dom, comp
+        self.fast = fast and _has_internals(problem)
         self.objects: dict[str, Any] = {}
         self.facts: list[tuple[str, tuple[str, ...], Any]] = []
 
     def obj(self, table: str, name: str, value: Any, typ: Any) -> str:
-        from unified_planning.model import Object
-
         if name in self.objects:
             raise CompileError(f"two objects named {name!r}")
         self.comp.names.add(table, name, value)
-        self.objects[name] = Object(name, typ)
-        self.problem.add_object(self.objects[name])
+        self.objects[name] = _object(name, typ)
+        if not self.fast:
+            self.problem.add_object(self.objects[name])
         return name
 
     def true(self, fluent: str, *args: str) -> None:
@@ -380,15 +387,88 @@ class _Builder:
         self.comp.numbers[(fluent, args)] = int(value)
 
     def flush(self) -> None:
-        em = self.problem.environment.expression_manager
-        objs = self.objects
-        fl = self.dom.fluents
+        from unified_planning.model.operators import OperatorKind
+
         problem = self.problem
+        em = problem.environment.expression_manager
+        fl = self.dom.fluents
+        if not self.fast:
+            objs = self.objects
+            for fluent, args, value in self.facts:
+                problem.set_initial_value(fl[fluent](*(objs[a] for a in args)),
+                                          em.TRUE() if value is True else em.Int(value))
+            return
+        problem._objects.extend(self.objects.values())
+        node = em.create_node
+        cache = _FLUENT_EXPS.setdefault(id(self.dom), {})
+        objects = self.objects
+        true = em.TRUE()
+        init = problem._initial_value
+        ints: dict[int, Any] = {}
         for fluent, args, value in self.facts:
-            problem.set_initial_value(
-                fl[fluent](*(objs[a] for a in args)),
-                em.TRUE() if value is True else em.Int(value),
-            )
+            key = (fluent, args)
+            fexp = cache.get(key)
+            if fexp is None:
+                fexp = cache[key] = node(
+                    OperatorKind.FLUENT_EXP,
+                    tuple(node(OperatorKind.OBJECT_EXP, (), payload=objects[a]) for a in args),
+                    payload=fl[fluent])
+            init[fexp] = true if value is True else (ints.get(value) or ints.setdefault(value, em.Int(value)))
+
+
+#: per domain: (fluent name, object names) -> the FNode (objects are cached by name and
+#: type, so the same ground fluent is the same FNode in every compiled problem)
+_FLUENT_EXPS: dict[int, dict[tuple[str, tuple[str, ...]], Any]] = {}
+_OBJECTS: dict[tuple[str, Any], Any] = {}
+
+
+def _object(name: str, typ: Any) -> Any:
+    """UP objects are immutable values: make each (name, type) once."""
+    key = (name, typ)
+    obj = _OBJECTS.get(key)
+    if obj is None:
+        from unified_planning.model import Object
+
+        obj = _OBJECTS[key] = Object(name, typ)
+    return obj
+
+
+_BASES: dict[int, Any] = {}
+
+
+def _has_internals(problem: Any) -> bool:
+    return all(hasattr(problem, a) for a in (
+        "_objects", "_initial_value", "_fluents", "_fluents_defaults", "_actions",
+        "_user_types", "_user_types_hierarchy"))
+
+
+def _new_problem(name: str, dom: Any, fast: bool = True) -> Any:
+    """An empty problem with the domain's fluents (with defaults) and actions."""
+    from unified_planning.model import Problem
+
+    def public() -> Any:
+        problem = Problem(name)
+        for fl in dom.fluents.values():
+            problem.add_fluent(fl, default_initial_value=0 if fl.type.is_int_type() else False)
+        problem.add_actions(dom.actions.values())
+        return problem
+
+    if not fast:
+        return public()
+    base = _BASES.get(id(dom))
+    if base is None:
+        base = _BASES[id(dom)] = (dom, public())
+    problem = Problem(name)
+    if not _has_internals(problem):
+        return public()
+    template = base[1]
+    problem._fluents = list(template._fluents)
+    problem._fluents_defaults = dict(template._fluents_defaults)
+    problem._actions = list(template._actions)
+    problem._user_types = list(template._user_types)
+    problem._user_types_hierarchy = {k: list(v) for k, v in
+                                     template._user_types_hierarchy.items()}
+    return problem
 
 
 __all__ = ["Compiled", "compile"]

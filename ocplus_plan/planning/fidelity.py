@@ -1,0 +1,268 @@
+"""Fidelity: does the simulator do what the planning model predicts?
+
+For a sampled reachable state: compile it, solve it, then replay the plan in the
+simulator one action at a time (the acting agent walks a shortest path that
+avoids the other agents and bumps; everybody else stays) while UP's
+``SequentialSimulator`` applies the same actions to the model. After every action
+the two worlds are compared: where each item is (a place, a hand, a plate, waiting
+to respawn), its state (fresh / ready / burnt / clean / dirty), where each agent
+stands, and the number of steps the action took against its modelled cost. At the
+end the served orders must agree. The first disagreement ends the replay and is
+reported with the action that caused it.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..sim import make_rules, new_state, transition
+from ..sim.codes import ItemState, Where
+from ..sim.state import State
+from .compile import Compiled
+from .names import PlanStep
+from .spots import bump_action
+
+_STATE_FLAG = {ItemState.FRESH: "fresh", ItemState.CHOPPED: "ready", ItemState.COOKED: "ready",
+               ItemState.BURNT: "burnt", ItemState.CLEAN: "clean", ItemState.DIRTY: "dirty"}
+_FLAGS = ("fresh", "ready", "burnt", "clean", "dirty")
+_STAY = 4
+
+
+def sample_states(preset: str, n: int, seed: int = 0, max_steps: int = 120,
+                  **rule_overrides: Any) -> list[State]:
+    """``n`` reachable states: random rollouts of random length (seeded, reproducible)."""
+    rules = make_rules(preset, **rule_overrides)
+    out = []
+    for k in range(n):
+        rng = np.random.default_rng([seed, k])
+        state = new_state(rules, seed * 100_003 + k)
+        for _ in range(int(rng.integers(0, max_steps + 1))):
+            transition(state, rng.integers(0, 5, size=rules.n_agents).tolist())
+        out.append(state)
+    return out
+
+
+@dataclass
+class Replay:
+    """The outcome of replaying one plan."""
+
+    ok: bool
+    steps: int = 0
+    actions: int = 0
+    mismatch: str = ""
+    category: str = ""
+    served: list[int] = field(default_factory=list)
+
+
+def _path(state: State, start: int, goal: int, agent: int) -> list[int] | None:
+    """Actions of a shortest walk from ``start`` to ``goal`` avoiding the other agents."""
+    if start == goal:
+        return []
+    geo = state.geo
+    walk = geo.walkables[state.layout_index]
+    blocked = {p for a, p in enumerate(state.agent_pos) if a != agent}
+    prev: dict[int, tuple[int, int]] = {start: (-1, -1)}
+    queue = deque([start])
+    while queue:
+        cur = queue.popleft()
+        if cur == goal:
+            break
+        for action, nxt in enumerate(geo.neighbors[cur]):
+            if nxt >= 0 and walk[nxt] and nxt not in blocked and nxt not in prev:
+                prev[nxt] = (cur, action)
+                queue.append(nxt)
+    if goal not in prev:
+        return None
+    actions = []
+    cur = goal
+    while cur != start:
+        cur, action = prev[cur]
+        actions.append(action)
+    return actions[::-1]
+
+
+class _World:
+    """The simulator side of a replay: runs plan steps, collects events."""
+
+    def __init__(self, state: State) -> None:
+        self.state = state
+        self.events: list[Any] = []
+
+    def act(self, agent: int, action: int) -> None:
+        joint = [_STAY] * self.state.n_agents
+        joint[agent] = action
+        self.events.extend(transition(self.state, joint).events)
+
+    def run(self, step: PlanStep) -> tuple[int, str]:
+        """Execute one plan step; returns (simulator steps taken, problem or '')."""
+        st, geo = self.state, self.state.geo
+        if step.kind == "abandon":
+            return 0, ""
+        agent = step.agent
+        assert agent is not None
+        spot = geo.flat(*step.spot) if step.spot else None
+        taken = 0
+        if step.kind in ("move", "rescue") and spot is not None:
+            path = _path(st, st.agent_pos[agent], spot, agent)
+            if path is None:
+                return 0, f"agent {agent} has no free path to {step.spot}"
+            for action in path:
+                self.act(agent, action)
+                taken += 1
+            if step.kind == "move":
+                return taken, ""
+        if spot is not None and st.agent_pos[agent] != spot:
+            return taken, f"agent {agent} is at {st.agent_rc(agent)}, not at {step.spot}"
+        bump = bump_action(geo, spot, geo.flat(*step.place))
+        if step.kind in ("chop", "wash"):
+            bumps, waits = step.duration, 0
+        elif step.kind == "cook":
+            self.act(agent, bump)
+            taken += 1
+            bumps, waits = 1, step.duration - 2
+        elif step.kind == "rescue":
+            bumps, waits = 1, step.duration - taken - 1
+        else:
+            bumps, waits = 1, 0
+        for _ in range(waits):
+            self.act(agent, _STAY)
+            taken += 1
+        for _ in range(bumps):
+            self.act(agent, bump)
+            taken += 1
+        return taken, ""
+
+
+class _ModelView:
+    """Reads item and agent facts out of a UP state of a compiled problem."""
+
+    def __init__(self, compiled: Compiled) -> None:
+        problem = compiled.problem
+        names = compiled.names
+        fl = {f.name: f for f in problem.fluents}
+        obj = problem.object
+        self.items = {name: i for name, i in names.items.items()}
+        places = [n for n, c in names.cells.items() if not n.startswith("s_")]
+        spots = [n for n in names.cells if n.startswith("s_")]
+        plates = [n for n in names.items if n.startswith("plate")]
+        self.where: dict[str, list[tuple[Any, tuple[str, Any]]]] = {}
+        for item in self.items:
+            cands = [(fl["holding"](obj(a), obj(item)), ("hand", names.agents[a]))
+                     for a in names.agents]
+            for p in places:
+                cell = names.cells[p]
+                cands.append((fl["item_at"](obj(item), obj(p)), ("cell", cell)))
+                cands.append((fl["cooking_on"](obj(item), obj(p)), ("cell", cell)))
+                cands.append((fl["on_heat"](obj(item), obj(p)), ("cell", cell)))
+            for q in plates:
+                if q != item:
+                    cands.append((fl["on_plate"](obj(item), obj(q)), ("plate", names.items[q])))
+            cands.append((fl["waiting"](obj(item)), ("waiting", None)))
+            self.where[item] = cands
+        self.flags = {item: [(fl[f](obj(item)), f) for f in _FLAGS] for item in self.items}
+        self.cooking = {item: [fl["cooking_on"](obj(item), obj(p)) for p in places]
+                        for item in self.items}
+        self.agents = {a: [(fl["agent_at"](obj(a), obj(s)), names.cells[s]) for s in spots]
+                       for a in names.agents}
+        self.names = names
+        self.served = {o: fl["served"](obj(o)) for o in names.orders if names.orders[o] >= 0}
+
+    def diff(self, up_state: Any, state: State, doomed: frozenset[int]) -> str:
+        """The first disagreement between the model state and the simulator, or ''."""
+        for item, i in self.items.items():
+            model_where = [tag for expr, tag in self.where[item]
+                           if up_state.get_value(expr).bool_constant_value()]
+            sim_where = _sim_where(state, i)
+            if model_where != [sim_where]:
+                return f"{item}: model says {model_where}, simulator says {sim_where}"
+            if i in doomed or any(up_state.get_value(e).bool_constant_value()
+                                  for e in self.cooking[item]):
+                continue
+            model_flags = [f for expr, f in self.flags[item]
+                           if up_state.get_value(expr).bool_constant_value()]
+            sim_flag = _STATE_FLAG[ItemState(state.item_state[i])]
+            if model_flags != [sim_flag]:
+                return f"{item}: model state {model_flags}, simulator state {sim_flag}"
+        for a, cands in self.agents.items():
+            at = [cell for expr, cell in cands if up_state.get_value(expr).bool_constant_value()]
+            sim = state.agent_rc(self.names.agents[a])
+            if at != [sim]:
+                return f"{a}: model at {at}, simulator at {sim}"
+        return ""
+
+
+def _sim_where(state: State, i: int) -> tuple[str, Any]:
+    where, loc = state.item_where[i], state.item_loc[i]
+    if where == Where.HAND:
+        return ("hand", loc)
+    if where == Where.PLATE:
+        return ("plate", loc)
+    if where == Where.WAITING:
+        return ("waiting", None)
+    return ("cell", state.geo.rc(loc))
+
+
+def replay(compiled: Compiled, plan: Any, state: State, freeze_layout: bool = False) -> Replay:
+    """Replay a sequential plan in a copy of ``state`` and compare with the model.
+
+    ``freeze_layout`` replays with the layout switches turned off (the model's own
+    assumption: the current layout holds), to tell model bugs from switch effects.
+    """
+    from unified_planning.shortcuts import SequentialSimulator
+
+    from ..sim.rules import with_overrides
+
+    copy = state.copy()
+    if freeze_layout and copy.rules.dynamic:
+        copy.rules = with_overrides(copy.rules, dynamic=False)
+    world = _World(copy)
+    view = _ModelView(compiled)
+    out = Replay(ok=True)
+    with SequentialSimulator(compiled.problem, name="sequential_simulator") as sim:
+        up_state = sim.get_initial_state()
+        problem = view.diff(up_state, world.state, compiled.doomed)
+        if problem:
+            return Replay(False, 0, 0, f"before the plan: {problem}", "initial")
+        for index, ai in enumerate(plan.actions):
+            step = compiled.map_back(ai)
+            before = len(world.events)
+            taken, trouble = world.run(step)
+            out.steps += taken
+            out.actions = index + 1
+            up_state = sim.apply(up_state, ai)
+            if up_state is None:
+                return _fail(out, f"{ai}: not applicable in the model", "model")
+            events = world.events[before:]
+            kinds = {e.kind for e in events}
+            switched = "layout_switch" in {e.kind for e in world.events}
+            category = "layout_switch" if switched else "effect"
+            if trouble:
+                return _fail(out, f"{ai}: {trouble}", "blocked" if not switched else category)
+            bad = kinds & {"burnt", "wrong_delivery", "move_blocked"}
+            if bad:
+                return _fail(out, f"{ai}: simulator events {sorted(bad)}", category)
+            problem = view.diff(up_state, world.state, compiled.doomed)
+            if problem:
+                return _fail(out, f"{ai}: {problem}", category)
+            if taken != step.duration:
+                return _fail(out, f"{ai}: took {taken} steps, modelled {step.duration}",
+                             "blocked" if step.kind in ("move", "rescue") else "cost")
+        out.served = [e.value for e in world.events if e.kind == "delivery"]
+        model_served = sorted(view.names.orders[o] for o, expr in view.served.items()
+                              if up_state.get_value(expr).bool_constant_value())
+        if sorted(out.served) != model_served:
+            return _fail(out, f"served {sorted(out.served)}, model served {model_served}",
+                         "orders")
+    return out
+
+
+def _fail(out: Replay, message: str, category: str) -> Replay:
+    out.ok, out.mismatch, out.category = False, message, category
+    return out
+
+
+__all__ = ["Replay", "replay", "sample_states"]
