@@ -74,7 +74,7 @@ def _child_main(conn: Any, log_path: str, parent_pid: int,
         result = (RAISED, f"{type(exc).__name__}: {exc}")
     try:
         conn.send(result)
-    except Exception as exc:  # an unpicklable return value is a bug in the caller
+    except Exception as exc:  # noqa: BLE001 - an unpicklable value is a bug in the caller
         conn.send((RAISED, f"result could not be sent back: {type(exc).__name__}: {exc}"))
     conn.close()
 
@@ -129,8 +129,8 @@ def run_isolated(fn: Callable[..., Any], args: tuple[Any, ...], hard_limit: floa
         raise OSError("isolated planner runs need fork and process groups (Linux/macOS)")
     ctx = multiprocessing.get_context("fork")
     recv, send = ctx.Pipe(duplex=False)
-    log = tempfile.NamedTemporaryFile(prefix="ocplus-planner-", suffix=".log", delete=False)
-    log.close()
+    with tempfile.NamedTemporaryFile(prefix="ocplus-planner-", suffix=".log", delete=False) as log:
+        pass
     proc = ctx.Process(target=_child_main, args=(send, log.name, os.getpid(), fn, args),
                        daemon=False)
     start = time.perf_counter()

@@ -25,12 +25,13 @@ import os
 import shutil
 import warnings
 from dataclasses import asdict, dataclass, field
-from functools import lru_cache
+from functools import cache, lru_cache
 from pathlib import Path
 from typing import Any
 
 from ..errors import DependencyNotInstalled, PlannerError
 from . import _proc
+from .adapt import adapt_for_engine, without_quality_metrics
 from .validate import plan_from_steps, plan_quality, plan_to_steps, validate_plan
 
 # up-lpg imports pkg_resources, which warns on every import (UP's factory imports it too);
@@ -204,7 +205,7 @@ def availability(name: str | PlannerConfig) -> Availability:
     return _availability(get_planner(name))
 
 
-@lru_cache(maxsize=None)
+@cache
 def _availability(config: PlannerConfig) -> Availability:
     for module in config.modules:
         if importlib.util.find_spec(module) is None:
@@ -214,7 +215,7 @@ def _availability(config: PlannerConfig) -> Availability:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 importlib.import_module(module)
-        except Exception as exc:  # e.g. up_lpg without pkg_resources (setuptools>=81)
+        except Exception as exc:  # noqa: BLE001 - e.g. up_lpg without pkg_resources (setuptools>=81)
             return Availability(False, f"importing {module!r} failed ({type(exc).__name__}: "
                                        f"{exc}); see planners/README.md for working pins")
     for binary in config.binaries:
@@ -223,7 +224,7 @@ def _availability(config: PlannerConfig) -> Availability:
                                        f"(e.g. apt-get install default-jre-headless for java)")
     try:
         _register(config)
-    except Exception as exc:
+    except Exception as exc:  # noqa: BLE001 - reported as data
         return Availability(False, f"registering {config.engine!r} with unified-planning "
                                    f"failed: {type(exc).__name__}: {exc}")
     factory = _up_environment().factory
@@ -304,7 +305,7 @@ def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = No
         return result
     try:
         result.plan = plan_from_steps(problem, report["steps"], report["temporal"])
-    except Exception as exc:
+    except Exception as exc:  # noqa: BLE001 - reported as data
         result.status = "error"
         result.reason = f"the plan names something the problem lacks: {type(exc).__name__}: {exc}"
         return result
@@ -341,22 +342,11 @@ def _solve_in_child(problem: Any, config: PlannerConfig, limit: float) -> dict[s
     report: dict[str, Any] = {"notes": notes, "steps": None, "log": "",
                               "temporal": False, "up_status": "INTERNAL_ERROR"}
     with OneshotPlanner(name=config.engine, params=dict(config.params) or None) as engine:
-        target = problem
-        if not engine.supports(problem.kind):
-            stripped = without_quality_metrics(problem)
-            if problem.quality_metrics and engine.supports(stripped.kind):
-                metrics = ", ".join(type(m).__name__ for m in problem.quality_metrics)
-                notes.append(f"{config.engine} does not optimise {metrics}: solved without it; "
-                             "cost/makespan are measured on the original problem")
-                target = stripped
-            else:
-                kind = stripped.kind if problem.quality_metrics else problem.kind
-                unsupported = sorted(set(kind.features)
-                                     - set(type(engine).supported_kind().features))
-                report["up_status"] = "UNSUPPORTED_PROBLEM"
-                report["reason"] = (f"{config.engine} does not support this problem "
-                                    f"(features it lacks: {', '.join(unsupported) or 'unknown'})")
-                return report
+        target, why = adapt_for_engine(problem, engine.supports,
+                                       type(engine).supported_kind(), config.engine, notes)
+        if target is None:
+            report["up_status"], report["reason"] = "UNSUPPORTED_PROBLEM", why
+            return report
         res = engine.solve(target, timeout=limit)
     report["up_status"] = res.status.name
     report["log"] = "\n".join(str(m) for m in (res.log_messages or []))[-2000:]
@@ -366,72 +356,19 @@ def _solve_in_child(problem: Any, config: PlannerConfig, limit: float) -> dict[s
     return report
 
 
-def without_quality_metrics(problem: Any) -> Any:
-    """A copy of ``problem`` with no quality metric and no fluent used only by the metric.
-
-    Lets a planner that cannot optimise action costs or makespan (pyperplan,
-    TAMER) still solve the problem; numeric fluents that only fed the cost
-    expressions would otherwise make the problem numeric for it.
-    """
-    from unified_planning.model import Problem
-
-    env = problem.environment
-    used: set[Any] = set()
-
-    def note(expr: Any) -> None:
-        for fexp in env.free_vars_extractor.get(env.expression_manager.auto_promote(expr)[0]):
-            used.add(fexp.fluent())
-
-    for action in problem.actions:
-        for cond in getattr(action, "preconditions", []):
-            note(cond)
-        for conds in getattr(action, "conditions", {}).values():
-            for cond in conds:
-                note(cond)
-        duration = getattr(action, "duration", None)
-        if duration is not None:
-            note(duration.lower)
-            note(duration.upper)
-        effs = getattr(action, "effects", [])
-        effects = [e for group in effs.values() for e in group] if isinstance(effs, dict) \
-            else list(effs)
-        for eff in effects:
-            if hasattr(eff, "fluent"):
-                note(eff.fluent)
-                note(eff.value)
-                note(eff.condition)
-    for goal in problem.goals:
-        note(goal)
-    for goals in problem.timed_goals.values():
-        for goal in goals:
-            note(goal)
-    for effs in problem.timed_effects.values():
-        for eff in effs:
-            note(eff.fluent)
-            note(eff.value)
-
-    out = Problem(problem.name, env)
-    for fluent in problem.fluents:
-        if fluent in used:
-            out.add_fluent(fluent, default_initial_value=problem.fluents_defaults.get(fluent))
-    out.add_objects(problem.all_objects)
-    out.add_actions(problem.actions)
-    for fexp, value in problem.explicit_initial_values.items():
-        if fexp.fluent() in used:
-            out.set_initial_value(fexp, value)
-    for goal in problem.goals:
-        out.add_goal(goal)
-    for timing, goals in problem.timed_goals.items():
-        for goal in goals:
-            out.add_timed_goal(timing, goal)
-    for timing, effs in problem.timed_effects.items():
-        for eff in effs:
-            out.add_timed_effect(timing, eff.fluent, eff.value, eff.condition)
-    return out
-
-
 __all__ = [
-    "ENCODINGS", "GRACE_SECONDS", "PLANNERS_DIR", "STATUSES", "Availability",
-    "PlanResult", "PlannerConfig", "available_planners", "availability", "get_planner",
-    "load_registry", "planner_names", "solve", "without_quality_metrics",
+    "ENCODINGS",
+    "GRACE_SECONDS",
+    "PLANNERS_DIR",
+    "STATUSES",
+    "Availability",
+    "PlanResult",
+    "PlannerConfig",
+    "availability",
+    "available_planners",
+    "get_planner",
+    "load_registry",
+    "planner_names",
+    "solve",
+    "without_quality_metrics",
 ]

@@ -58,7 +58,7 @@ def _exact(x: float) -> Fraction:
 
 def plan_from_steps(problem: Any, steps: list[dict[str, Any]], temporal: bool) -> Any:
     """Rebuild a UP plan bound to ``problem`` from :func:`plan_to_steps` output."""
-    import unified_planning.plans as plans
+    from unified_planning import plans
 
     em = problem.environment.expression_manager
 
@@ -135,7 +135,7 @@ def _up_validate(problem: Any, plan: Any) -> tuple[bool | None, str, float | Non
             warnings.simplefilter("ignore")
             with PlanValidator(name=name) as validator:
                 res = validator.validate(problem, plan)
-    except Exception as exc:  # a validator limitation is not a verdict on the plan
+    except Exception as exc:  # noqa: BLE001 - a validator limitation is not a verdict on the plan
         return None, f"{name} could not check it ({type(exc).__name__}: {exc})", None
     cost = None
     for metric, value in (res.metric_evaluations or {}).items():
@@ -168,7 +168,7 @@ _VAL_RESERVED = ("after", "always", "sometime", "within")
 
 def _val_names(text: str) -> str:
     """Rename predicates/actions that VAL cannot read (they always follow a '(')."""
-    return re.sub(r"\((%s)(?=[\s)])" % "|".join(_VAL_RESERVED), r"(\1_ocplus", text)
+    return re.sub(rf"\(({'|'.join(_VAL_RESERVED)})(?=[\s)])", r"(\1_ocplus", text)
 
 
 def _val_domain(domain: str) -> str:
@@ -195,7 +195,7 @@ def val_validate(problem: Any, plan: Any) -> tuple[bool | None, str]:
                      "problem": writer.get_problem(), "plan": writer.get_plan(plan)}
             for stem, text in texts.items():
                 Path(tmp, f"{stem}.pddl").write_text(_val_names(text), encoding="utf-8")
-        except Exception as exc:
+        except Exception as exc:  # noqa: BLE001 - reported as data
             return None, f"could not write PDDL for VAL ({type(exc).__name__}: {exc})"
         try:
             run = subprocess.run(

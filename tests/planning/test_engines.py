@@ -17,24 +17,40 @@ import pytest
 
 up = pytest.importorskip("unified_planning")
 
-from unified_planning.engines import Engine, PlanGenerationResult, PlanGenerationResultStatus  # noqa: E402
-from unified_planning.engines.mixins import OneshotPlannerMixin  # noqa: E402
-from unified_planning.model import ProblemKind  # noqa: E402
-from unified_planning.model.metrics import MinimizeActionCosts, MinimizeMakespan  # noqa: E402
-from unified_planning.plans import ActionInstance, SequentialPlan, TimeTriggeredPlan  # noqa: E402
-from unified_planning.shortcuts import (  # noqa: E402
-    BoolType, DurativeAction, EndTiming, Fluent, InstantaneousAction, IntType, Not, Object,
-    Problem, StartTiming, UserType, get_environment,
+from unified_planning.engines import Engine, PlanGenerationResult, PlanGenerationResultStatus
+from unified_planning.engines.mixins import OneshotPlannerMixin
+from unified_planning.model import ProblemKind
+from unified_planning.model.metrics import MinimizeActionCosts, MinimizeMakespan
+from unified_planning.plans import ActionInstance, SequentialPlan, TimeTriggeredPlan
+from unified_planning.shortcuts import (
+    BoolType,
+    DurativeAction,
+    EndTiming,
+    Fluent,
+    InstantaneousAction,
+    IntType,
+    Not,
+    Object,
+    Problem,
+    StartTiming,
+    UserType,
+    get_environment,
 )
 
-from ocplus_plan.errors import PlannerError  # noqa: E402
-from ocplus_plan.planning import _proc  # noqa: E402
-from ocplus_plan.planning._lpg import parse_lpg_line  # noqa: E402
-from ocplus_plan.planning.engines import (  # noqa: E402
-    STATUSES, PlannerConfig, availability, get_planner, load_registry, planner_names, solve,
+from ocplus_plan.errors import PlannerError
+from ocplus_plan.planning import _proc
+from ocplus_plan.planning._lpg import parse_lpg_line
+from ocplus_plan.planning.engines import (
+    STATUSES,
+    PlannerConfig,
+    availability,
+    get_planner,
+    load_registry,
+    planner_names,
+    solve,
     without_quality_metrics,
 )
-from ocplus_plan.planning.validate import val_binary, validate_plan  # noqa: E402
+from ocplus_plan.planning.validate import val_binary, validate_plan
 
 warnings.filterwarnings("ignore", message=".*pkg_resources.*")
 
@@ -295,19 +311,32 @@ def test_temporal_planner_solves_tiny_problem_and_plan_validates(name: str) -> N
     assert not _proc.group_alive(result.pgid)
 
 
-def test_duration_envelope_is_solved_or_reported_unsupported() -> None:
-    """The burn envelope (a duration range): LPG says unsupported, others solve it."""
-    statuses = {}
+def test_duration_envelope_is_solved_directly_or_by_fixing_durations() -> None:
+    """The burn envelope (a duration range): Kairos takes it; LPG, which has no duration
+    ranges, gets the range fixed to its lower bound, and the plan still validates."""
+    ran = 0
     for name in ("kairos", "lpg"):
-        if availability(name).ok:
-            statuses[name] = solve(tiny_temporal(envelope=True), name, timeout=30)
-    if not statuses:
+        if not availability(name).ok:
+            continue
+        ran += 1
+        result = solve(tiny_temporal(envelope=True), name, timeout=30)
+        assert result.status == "solved" and result.validated, (result.reason, result.notes)
+        cook = [s for s in result.steps if s["action"] == "cook"]
+        assert len(cook) == 1 and 3 <= cook[0]["duration"] <= 6
+        fixed = any("duration ranges" in n for n in result.notes)
+        assert fixed == (name == "lpg")
+    if not ran:
         pytest.skip("neither kairos nor lpg is installed")
-    if "kairos" in statuses:
-        assert statuses["kairos"].status == "solved" and statuses["kairos"].validated
-    if "lpg" in statuses:
-        assert statuses["lpg"].status == "unsupported"
-        assert "DURATION_INEQUALITIES" in statuses["lpg"].reason
+
+
+def test_fixed_durations_and_metric_removal_are_copies() -> None:
+    from ocplus_plan.planning.adapt import with_fixed_durations
+
+    original = tiny_temporal(envelope=True)
+    fixed = with_fixed_durations(original)
+    assert fixed is not None and "DURATION_INEQUALITIES" not in fixed.kind.features
+    assert "DURATION_INEQUALITIES" in original.kind.features
+    assert with_fixed_durations(tiny_temporal()) is None  # nothing to fix
 
 
 def test_classical_planner_on_temporal_problem_is_unsupported_not_an_exception() -> None:
