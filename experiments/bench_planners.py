@@ -76,6 +76,7 @@ def run(args: argparse.Namespace) -> list[dict[str, Any]]:
             emit({"bench": "solve", **base, "encoding": config.encoding, "planner": config.name,
                   "engine": config.engine, "timeout_s": args.timeout,
                   "status": info["status"], "planning_time_s": info["planning_time"],
+                  "cpu_time_s": info["cpu_time"],
                   "plan_length": info["plan_length"], "cost": info["cost"],
                   "makespan": info["makespan"], "optimal": info["optimal"],
                   "validated": info["validated"], "reason": info["reason"][:300],
@@ -117,7 +118,8 @@ def _cell(r: dict[str, Any]) -> str:
         quality = (f"cost {r['cost']:g}" if r["makespan"] is None
                    else f"makespan {r['makespan']:g}")
         mark = "" if r["validated"] else " **invalid**"
-        return f"{r['planning_time_s']:.2f} s, {quality}{mark}"
+        cpu = f" (cpu {r['cpu_time_s']:.2f})" if r.get("cpu_time_s") is not None else ""
+        return f"{r['planning_time_s']:.2f} s{cpu}, {quality}{mark}"
     return f"{r['status']} ({r['planning_time_s']:.1f} s)"
 
 
