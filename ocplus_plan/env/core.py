@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ConfigError
+from ..errors import ConfigError, InvalidActionError
 from ..sim import Rules, State, StepResult, make_rules, new_state, transition
 from ..sim.observe import VectorEncoder, snapshot
 from .comm import CommChannel, CommConfig
@@ -24,6 +24,12 @@ MODES = ("vector", "rgb", "symbolic")
 #: accepted spellings of a mode (gym-macro-overcooked calls the picture mode "image")
 MODE_ALIASES = {"vector": "vector", "rgb": "rgb", "image": "rgb", "symbolic": "symbolic"}
 RENDER_MODES = ("human", "rgb_array")
+#: keywords the env itself understands (everything else goes to ``make_rules``)
+ENV_KEYWORDS = (
+    "preset", "map_name", "map", "dynamic_map", "dynamic", "rewardList", "rewards", "n_agent",
+    "n_agents", "agent_communication", "comm_vocab", "comm_range", "comm_failure_rate",
+    "comm_delay", "obs_radius", "mode", "GUI", "render_mode",
+)
 
 
 @dataclass(frozen=True)
@@ -100,7 +106,12 @@ def parse_env_kwargs(preset: str = "hard", **kwargs: Any) -> tuple[Rules, EnvCon
         overrides["rewards"] = rewards
     if n_agents is not None:
         overrides["n_agents"] = n_agents
-    rules = make_rules(preset, **overrides)
+    try:
+        rules = make_rules(preset, **overrides)
+    except ConfigError as exc:
+        if "unknown rule parameter" in str(exc):
+            raise ConfigError(f"{exc}; env keywords: {', '.join(ENV_KEYWORDS)}") from None
+        raise
     comm = CommConfig(**comm_kw) if comm_on else None
     if comm is not None and rules.n_agents < 2:
         raise ConfigError("agent_communication needs at least two agents (n_agents >= 2)")
@@ -159,8 +170,6 @@ class KitchenCore:
     def split_action(self, action: Any) -> tuple[list[int], list[int] | None]:
         """A joint action -> (moves, tokens). Accepts ``n`` moves, or with communication
         ``2n`` values interleaved ``[move0, token0, move1, token1, ...]`` (or ``(n, 2)``)."""
-        from ..errors import InvalidActionError
-
         n = self.n_agents
         if self.comm is None and type(action) is list and len(action) == n:
             return action, None  # fast path; transition checks each move

@@ -10,7 +10,7 @@ import numpy as np
 from gymnasium import spaces
 from gymnasium.error import ResetNeeded
 
-from ..errors import ConfigError, DependencyNotInstalled
+from ..errors import ConfigError, DependencyNotInstalled, InvalidActionError
 from ..sim import Action, Rules, State, new_state
 from .core import EnvConfig, KitchenCore, parse_env_kwargs
 
@@ -41,6 +41,9 @@ class StateSpace(spaces.Space):
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, StateSpace) and other.rules is self.rules
+
+    def __hash__(self) -> int:
+        return hash(id(self.rules))
 
 
 def agent_observation_space(core: KitchenCore) -> spaces.Space:
@@ -291,8 +294,6 @@ class OvercookedPlusSingleEnv(_Base):
         else:
             pair = np.asarray(action, dtype=np.int64).reshape(-1)
             if pair.size != 2:
-                from ..errors import InvalidActionError
-
                 raise InvalidActionError(
                     f"with agent_communication the action is [move, token], got {action!r}"
                 )
