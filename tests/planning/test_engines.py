@@ -296,6 +296,7 @@ def test_classical_planner_solves_tiny_problem_and_plan_validates(name: str) -> 
     if name in OPTIMAL:
         assert result.cost == 3.0 and result.optimal
     assert result.plan.actions[0].action is problem.action("move")  # bound to our problem
+    assert result.cpu_time is not None and 0 < result.cpu_time
     assert not _proc.group_alive(result.pgid)
 
 
