@@ -2,8 +2,8 @@
 
     .venv/bin/python experiments/plot_learning_curves.py   # needs the plots extra
 
-Reads ``experiments/runs/*/episodes.csv`` (written by ``ocplus train``; the runs of
-experiments/train_baselines.py), averages the episodes that finished in each bin of
+Reads ``experiments/checkpoints/*.episodes.csv`` (the training logs of the shipped
+checkpoints, copied there by experiments/train_baselines.py), averages the episodes that finished in each bin of
 training steps, writes ``experiments/figures/ppo_learning_curves.png`` and prints one
 JSON line per run with its final bin. Steps are agent-steps, counted from the start of
 each run (the medium and 2-agent runs continue from the easy checkpoint).
@@ -45,15 +45,15 @@ def main() -> None:
         raise DependencyNotInstalled(
             "plotting needs the plots extra: pip install -e '.[plots]'"
         ) from exc
-    runs = sorted((ROOT / "experiments" / "runs").glob("*/episodes.csv"))
+    runs = sorted((ROOT / "experiments" / "checkpoints").glob("*.episodes.csv"))
     fig, ax = plt.subplots(figsize=(7, 4))
     for path in runs:
-        name = path.parent.name
+        name = path.name.removesuffix(".episodes.csv")
         xs, ys = curve(path)
         if not xs:
             continue
-        info = json.loads((path.parent / "train.json").read_text())
-        init = info["config"].get("init")
+        info = json.loads((path.parent / f"{name}.json").read_text())
+        init = info.get("init")
         label = name + (f" (from {Path(init).stem})" if init else "")
         ax.plot([x / 1000 for x in xs], ys, marker="o", markersize=3, label=label)
         print(json.dumps({"run": name, "final_bin_steps": round(xs[-1]),

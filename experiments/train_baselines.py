@@ -5,7 +5,9 @@
 
 Each run is ``ocplus train ... --out experiments/runs/NAME``; its policy is copied to
 ``experiments/checkpoints/NAME.zip`` and ``NAME.json`` beside it records the exact
-command, its wall time and CPU time on this machine, and the training summary. The
+command, its wall time and CPU time on this machine, and the training summary;
+``NAME.episodes.csv`` keeps the training log (game reward and dishes per episode) for
+experiments/plot_learning_curves.py (``experiments/runs/`` itself is git-ignored). The
 medium and two-agent runs start from the easy checkpoint (``--init``): the features are
 map- and agent-count-independent, so what was learned in the easy kitchen transfers.
 """
@@ -51,7 +53,7 @@ def train_one(name: str, python: str) -> dict:
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     summary = json.loads((ROOT / out / "train.json").read_text())
     shutil.copyfile(ROOT / out / "policy.zip", CKPT / f"{name}.zip")
-    shutil.rmtree(ROOT / out / "checkpoints", ignore_errors=True)
+    shutil.copyfile(ROOT / out / "episodes.csv", CKPT / f"{name}.episodes.csv")
     record = {
         "checkpoint": f"experiments/checkpoints/{name}.zip",
         "command": "ocplus train " + shlex.join([*RUNS[name], "--out", out]),
@@ -62,6 +64,7 @@ def train_one(name: str, python: str) -> dict:
         "timesteps": summary["timesteps"],
         "steps_per_s": summary["steps_per_s"],
         "dishes_per_episode_last50_in_training": summary["dishes_per_episode_last50"],
+        "init": summary["config"]["init"],
         "size_bytes": (CKPT / f"{name}.zip").stat().st_size,
     }
     (CKPT / f"{name}.json").write_text(json.dumps(record, indent=2) + "\n")

@@ -1,23 +1,25 @@
 """Training rewards: the game's rewards with the subtask part turned into annealed shaping.
 
 The rules' rewards (SPEC section 6) already pay ``subtask_finished`` for each chop, cook
-and wash. For learning we treat that part, plus milestone bonuses that only pay for
-work towards an active order, as *shaping*:
-it is multiplied by a coefficient that the trainer anneals from 1 to 0, so the final
-policy is trained on the true objective (deliveries, wrong deliveries, burns, expired
-orders, the step penalty) alone.
+and wash. For learning we treat that part, plus the terms below, as *shaping*: it is
+multiplied by a coefficient that the trainer anneals from 1 to 0, so the final policy
+is trained on the true objective (deliveries, wrong deliveries, burns, expired orders,
+the step penalty) alone.
 
-Milestones (each paid at most once per item life, so they cannot be farmed by picking
-an item up and putting it down again; an item's life ends when it respawns):
+Milestones (paid at most once per item life, so picking an item up and putting it down
+again cannot farm them; an item's life ends when it respawns):
 
 * ``stage``: a fresh vegetable put on a cutting board, a raw steak put on a pan (both only
   when an active order needs that kind), a dirty plate put in the sink;
-* ``ready_pickup``: a chopped vegetable or cooked steak that an active order needs is
-  picked up;
 * ``useful_plate``: an ingredient added to a clean plate whose contents still fit an
-  active order;
-* ``dish_in_hand``: an agent holds a plate whose contents complete an active order (the
-  last step before serving).
+  active order (a plate only fills up, so this cannot be farmed either).
+
+Potential-based terms (Ng et al. 1999: a reward ``phi(s') - phi(s)`` leaves the optimal
+policy unchanged, and putting a carried thing down *costs* what picking it up paid):
+
+* ``carry_ready``: an agent carries a chopped vegetable or cooked steak an order needs;
+* ``carry_dish``: an agent carries a plate that completes an active order; the potential
+  grows from 1x to 2x the weight as the agent nears the serving window.
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ _SUBTASK_EVENTS = frozenset({"chop_done", "cook_done", "wash_done"})
 _BOARD, _PAN, _SINK = int(Cell.BOARD), int(Cell.PAN), int(Cell.SINK)
 _FRESH, _DIRTY = int(ItemState.FRESH), int(ItemState.DIRTY)
 _PLATE_KIND = int(Item.PLATE)
+_DELIVERY = int(Cell.DELIVERY)
 
 
 @dataclass(frozen=True)
@@ -43,12 +46,12 @@ class Shaping:
 
     subtask_scale: float = 1.0  # times the rules' subtask_finished reward
     stage: float = 3.0
-    ready_pickup: float = 3.0
     useful_plate: float = 10.0
-    dish_in_hand: float = 10.0
+    carry_ready: float = 3.0
+    carry_dish: float = 10.0
 
     def __post_init__(self) -> None:
-        for name in ("subtask_scale", "stage", "ready_pickup", "useful_plate", "dish_in_hand"):
+        for name in ("subtask_scale", "stage", "useful_plate", "carry_ready", "carry_dish"):
             value = getattr(self, name)
             if not isinstance(value, (int, float)) or value < 0:
                 raise ConfigError(f"shaping weight {name} must be a number >= 0, got {value!r}")
@@ -92,9 +95,54 @@ class RewardShaper:
         self.shaping = shaping
         # (milestone, item) pairs already paid in the item's current life
         self._paid: set[tuple[str, int]] = set()
+        self._potential: list[float] = []
+        # (id(rules), layout) -> (rules, distances); holding the rules keeps the id unique
+        self._to_delivery: dict[tuple[int, int], tuple[object, list[int]]] = {}
 
-    def reset(self) -> None:
+    def reset(self, state: State | None = None) -> None:
+        """Start an episode (pass its initial state so the potential starts right)."""
         self._paid.clear()
+        n = state.n_agents if state is not None else 0
+        self._potential = [self.potential(state, a) for a in range(n)] if state else []
+
+    def _delivery_distance(self, state: State) -> list[int]:
+        """Per cell: steps to the nearest cell next to a serving window (-1 unreachable)."""
+        key = (id(state.rules), state.layout_index)
+        hit = self._to_delivery.get(key)
+        if hit is None:
+            geo = state.geo
+            terrain, walk = geo.terrains[state.layout_index], geo.walkables[state.layout_index]
+            dist = [-1] * len(walk)
+            frontier = [v for c, code in enumerate(terrain) if code == _DELIVERY
+                        for v in geo.neighbors[c] if v >= 0 and walk[v]]
+            for v in frontier:
+                dist[v] = 0
+            while frontier:
+                nxt = []
+                for u in frontier:
+                    for v in geo.neighbors[u]:
+                        if v >= 0 and walk[v] and dist[v] < 0:
+                            dist[v] = dist[u] + 1
+                            nxt.append(v)
+                frontier = nxt
+            hit = self._to_delivery[key] = (state.rules, dist)
+        return hit[1]
+
+    def potential(self, state: State, agent: int) -> float:
+        """The potential of what ``agent`` carries (see the module docstring)."""
+        held = state.agent_hand[agent]
+        if held < 0:
+            return 0.0
+        sh = self.shaping
+        if state.geo.item_kind[held] == _PLATE_KIND:
+            if sh.carry_dish and _fits_an_order(state, held, complete=True):
+                d = self._delivery_distance(state)[state.agent_pos[agent]]
+                near = 1.0 - min(d, 20) / 20 if d >= 0 else 0.0
+                return sh.carry_dish * (1.0 + near)
+            return 0.0
+        if sh.carry_ready and is_plateable(state, held) and _needed(state, held):
+            return sh.carry_ready
+        return 0.0
 
     def step(
         self, state: State, events: Sequence[Event], rewards: Sequence[float]
@@ -114,14 +162,7 @@ class RewardShaper:
                     true[a] -= sub
                     shaped[a] += sh.subtask_scale * sub
             elif kind in ("respawn", "respawn_waiting"):
-                for m in ("stage", "ready", "dish"):
-                    self._paid.discard((m, ev.item))
-            elif kind == "trash":
-                self._paid.discard(("dish", ev.item))  # an emptied plate may earn it again
-            elif kind == "pickup" and sh.ready_pickup and ("ready", ev.item) not in self._paid:
-                if is_plateable(state, ev.item) and _needed(state, ev.item):
-                    shaped[a] += sh.ready_pickup
-                    self._paid.add(("ready", ev.item))
+                self._paid.discard(("stage", ev.item))
             elif kind == "putdown" and sh.stage and ("stage", ev.item) not in self._paid:
                 row, col = ev.cell
                 code = state.geo.terrains[state.layout_index][row * state.geo.cols + col]
@@ -134,12 +175,11 @@ class RewardShaper:
                     self._paid.add(("stage", ev.item))
             elif kind == "plate_add" and sh.useful_plate and _fits_an_order(state, ev.value):
                 shaped[a] += sh.useful_plate
-        if sh.dish_in_hand:
-            for a, held in enumerate(state.agent_hand):
-                if (held >= 0 and kinds[held] == _PLATE_KIND and ("dish", held) not in self._paid
-                        and _fits_an_order(state, held, complete=True)):
-                    shaped[a] += sh.dish_in_hand
-                    self._paid.add(("dish", held))
+        potential = [self.potential(state, a) for a in range(n)]
+        before = self._potential if len(self._potential) == n else [0.0] * n  # hands start empty
+        for a in range(n):
+            shaped[a] += potential[a] - before[a]
+        self._potential = potential
         return true, shaped
 
 

@@ -121,10 +121,11 @@ class KitchenVecEnv(VecEnv):
     def _new_episode(self, kitchen: int) -> State:
         seed = self.base_seed * 1_000_003 + self._episode_counter
         self._episode_counter += 1
-        self.shapers[kitchen].reset()
+        state = new_state(self.rule_list[kitchen % len(self.rule_list)], seed)
+        self.shapers[kitchen].reset(state)
         self._game_return[kitchen] = 0.0
         self._train_return[kitchen] = 0.0
-        return new_state(self.rule_list[kitchen % len(self.rule_list)], seed)
+        return state
 
     def _encode(self, kitchen: int) -> np.ndarray:
         state = self.states[kitchen]

@@ -112,8 +112,9 @@ def test_shaping_pays_milestones_once_and_true_reward_drops_the_subtask_part():
                 kinds_seen += done
                 break
     assert state.stats["dishes_served"] == 1, kinds_seen
-    # stage 3 + chop 10 + ready pickup 3 + useful plate 10 + dish in hand 10
-    assert totals["shaped"] == 36.0
+    # stage 3 + chop 10 + useful plate 10; the carry potentials return to 0 once the
+    # ingredient is on the plate and the dish is served
+    assert abs(totals["shaped"] - 23.0) < 1e-9
     assert totals["true"] > 190.0  # the delivery, minus step penalties
 
 
@@ -134,3 +135,26 @@ def test_taking_a_steak_off_the_pan_and_back_cannot_farm_the_stage_bonus():
                 break
     assert events == ["pickup", "putdown", "pickup", "putdown"]
     assert paid == 3.0
+
+
+def test_putting_a_finished_dish_down_costs_what_carrying_it_earned():
+    rules = make_rules("easy", recipes=["tomato"])
+    state = new_state(rules, 0)
+    enc = FeatureEncoder(rules)
+    shaper = RewardShaper(Shaping())
+    shaper.reset(state)
+    plan = [("fresh_tomato", "pickup"), ("free_board", "putdown"), ("board_to_chop", "chop_done"),
+            ("chopped_tomato", "pickup"), ("clean_plate", "plate_add"), ("clean_plate", "pickup"),
+            ("free_counter", "putdown"), ("clean_plate", "pickup")]
+    gains = []
+    for target, want in plan:
+        for _ in range(30):
+            result = transition(state, [_go(enc, enc.encode(state, 0), target)])
+            shaped = shaper.step(state, result.events, result.rewards)[1][0]
+            if any(e.kind == want for e in result.events):
+                gains.append(shaped)
+                break
+    assert len(gains) == len(plan)
+    carry = shaper.potential(state, 0)
+    assert carry >= Shaping().carry_dish  # a finished dish in hand
+    assert gains[5] > 0 and gains[6] < 0 and abs(gains[6] + gains[7]) < 1e-9
