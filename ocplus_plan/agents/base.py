@@ -100,3 +100,7 @@ class Team:
     def observe(self, state: State, events: Sequence[object]) -> None:
         for c in self.controllers:
             c.observe(state, events)
+
+    def info(self) -> dict[str, object]:
+        """Each controller's statistics, keyed ``"<index>:<name>"``."""
+        return {f"{i}:{c.name}": c.info() for i, c in enumerate(self.controllers)}
