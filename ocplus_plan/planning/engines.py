@@ -120,7 +120,7 @@ class PlanResult:
     the value of the problem's action-cost metric (or the plan length),
     ``makespan`` the end of the last action of a temporal plan. ``planning_time``
     is wall time (process start included); ``cpu_time`` the CPU seconds of the
-    planner process and the processes it waited for (None when it was killed),
+    planner process and every process of its group (None when it was killed),
     a steadier number on a loaded machine. ``validated`` is
     None when validation was skipped, else whether every validator accepted.
     """
@@ -354,9 +354,11 @@ def _solve_in_child(problem: Any, config: PlannerConfig, limit: float) -> dict[s
             report["up_status"], report["reason"] = "UNSUPPORTED_PROBLEM", why
             return report
         res = engine.solve(target, timeout=limit)
+        # planner servers still running (Aries) are not in RUSAGE_CHILDREN: add them
+        servers_cpu = _proc.group_cpu_seconds(os.getpgid(0), exclude=(os.getpid(),))
     report["up_status"] = res.status.name
     usage = [resource.getrusage(who) for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)]
-    report["cpu_time"] = round(sum(u.ru_utime + u.ru_stime for u in usage), 4)
+    report["cpu_time"] = round(sum(u.ru_utime + u.ru_stime for u in usage) + servers_cpu, 4)
     report["log"] = "\n".join(str(m) for m in (res.log_messages or []))[-2000:]
     if res.plan is not None:
         report["temporal"] = res.plan.kind.name == "TIME_TRIGGERED_PLAN"
