@@ -193,7 +193,8 @@ def get_planner(name: str | PlannerConfig) -> PlannerConfig:
         return name
     registry = _default_registry()
     if name not in registry:
-        raise PlannerError(f"unknown planner {name!r}; known planners: {', '.join(sorted(registry))}")
+        known = ", ".join(sorted(registry))
+        raise PlannerError(f"unknown planner {name!r}; known planners: {known}")
     return registry[name]
 
 
