@@ -58,58 +58,53 @@ class RgbEncoder:
             _STEAK: float(r_.burn_time + 1), _PLATE_KIND: float(r_.wash_steps),
         }
         self._chop_den = float(r_.chop_steps)
+        self._tiles: dict[tuple, np.ndarray] = {}
 
     def draw(self, state: State) -> np.ndarray:
-        """The padded frame of ``state`` (whole map plus an r-cell unknown margin)."""
+        """The padded frame of ``state`` (whole map plus an r-cell unknown margin).
+
+        Every cell that shows something dynamic is one cached composite tile (terrain +
+        item + plated contents + progress bar, or floor + cook + held item), pasted as a
+        plain slice: masks are applied once per distinct tile, not once per step."""
         t, r, cols = TILE_SIZE, self.radius, self.cols
         img = self._bg[state.layout_index].copy()
+        terrain = state.geo.terrains[state.layout_index]
         kinds = state.geo.item_kind
         where, loc, st, prog = state.item_where, state.item_loc, state.item_state, state.item_progress
-        pos = state.agent_pos
-
-        def corner(cell: int) -> tuple[int, int]:
-            row, col = divmod(cell, cols)
-            return (row + r) * t, (col + r) * t
-
-        def paste(y: int, x: int, sprite: tuple[np.ndarray, np.ndarray], dy: int = 0,
-                  dx: int = 0) -> None:
-            rgb, mask = sprite
-            h = t - dy if dy >= 0 else t + dy
-            w = t - dx if dx >= 0 else t + dx
-            ys, xs = y + max(dy, 0), x + max(dx, 0)
-            sy, sx = max(-dy, 0), max(-dx, 0)
-            np.copyto(img[ys : ys + h, xs : xs + w], rgb[sy : sy + h, sx : sx + w],
-                      where=mask[sy : sy + h, sx : sx + w, None])
-
         plated: dict[int, list[int]] = {}
-        for i in range(len(where)):
-            if where[i] == _PLATE:
+        for i, w in enumerate(where):
+            if w == _PLATE:
                 plated.setdefault(loc[i], []).append(i)
 
-        def draw_item(i: int, y: int, x: int, scale: float, dy: int = 0, dx: int = 0) -> None:
-            paste(y, x, item_sprite(kinds[i], st[i], scale), dy, dx)
-            for k, j in enumerate(plated.get(i, ())):
-                off = (-3 + 3 * k) if scale == 1.0 else (-2 + 2 * k)
-                paste(y, x, item_sprite(kinds[j], st[j], _PLATED_SCALE * scale), dy + off // 2,
-                      dx + off)
+        def describe(i: int) -> tuple:
+            return (kinds[i], st[i], tuple((kinds[j], st[j]) for j in plated.get(i, ())))
 
-        for i in range(len(where)):
-            if where[i] != _CELL:
+        for i, w in enumerate(where):
+            if w != _CELL:
                 continue
-            y, x = corner(loc[i])
-            draw_item(i, y, x, 1.0)
+            cell = loc[i]
+            bar = -1
             if prog[i]:
                 den = self._progress_den.get(kinds[i], self._chop_den)
-                frac = min(1.0, prog[i] / den)
-                img[y + t - 3 : y + t - 1, x + 1 : x + t - 1] = (40, 40, 40)
-                img[y + t - 3 : y + t - 1, x + 1 : x + 1 + round((t - 2) * frac)] = (250, 220, 0)
-        for a, cell in enumerate(pos):
-            y, x = corner(cell)
-            paste(y, x, agent_sprite(a))
+                bar = round((t - 2) * min(1.0, prog[i] / den))
+            row, col = divmod(cell, cols)
+            y, x = (row + r) * t, (col + r) * t
+            img[y : y + t, x : x + t] = self._tile((terrain[cell], describe(i), bar, -1, None))
+        for a, cell in enumerate(state.agent_pos):
             held = state.agent_hand[a]
-            if held >= 0:
-                draw_item(held, y, x, _HELD_SCALE, t // 4, t // 4)
+            key = (terrain[cell], None, -1, a, describe(held) if held >= 0 else None)
+            row, col = divmod(cell, cols)
+            y, x = (row + r) * t, (col + r) * t
+            img[y : y + t, x : x + t] = self._tile(key)
         return img
+
+    def _tile(self, key: tuple) -> np.ndarray:
+        tile = self._tiles.get(key)
+        if tile is None:
+            if len(self._tiles) > 4096:
+                self._tiles.clear()
+            tile = self._tiles[key] = _compose(*key)
+        return tile
 
     def frame(self, state: State, window: int | None = None, agent: int | None = None) -> np.ndarray:
         """The whole map, or the ``window``-cell radius around ``agent`` (a new array)."""
@@ -140,6 +135,44 @@ class RgbEncoder:
         y0, x0 = (row + r - window) * t, (col + r - window) * t
         size = (2 * window + 1) * t
         return img[y0 : y0 + size, x0 : x0 + size].copy()
+
+
+def _paste(img: np.ndarray, sprite: tuple[np.ndarray, np.ndarray], dy: int = 0,
+           dx: int = 0) -> None:
+    """Paste a sprite onto a tile, shifted by (dy, dx) pixels and clipped to the tile."""
+    t = TILE_SIZE
+    rgb, mask = sprite
+    h, w = t - abs(dy), t - abs(dx)
+    ys, xs, sy, sx = max(dy, 0), max(dx, 0), max(-dy, 0), max(-dx, 0)
+    np.copyto(img[ys : ys + h, xs : xs + w], rgb[sy : sy + h, sx : sx + w],
+              where=mask[sy : sy + h, sx : sx + w, None])
+
+
+def _draw_item(img: np.ndarray, desc: tuple, scale: float, dy: int = 0, dx: int = 0) -> None:
+    """An item (kind, state, plated contents) at ``scale``; contents smaller, side by side."""
+    kind, state, contents = desc
+    _paste(img, item_sprite(kind, state, scale), dy, dx)
+    for k, (ck, cs) in enumerate(contents):
+        off = (-3 + 3 * k) if scale == 1.0 else (-2 + 2 * k)
+        _paste(img, item_sprite(ck, cs, _PLATED_SCALE * scale), dy + off // 2, dx + off)
+
+
+def _compose(code: int, item: tuple | None, bar: int, agent: int, held: tuple | None) -> np.ndarray:
+    """One cell's picture: terrain, then an item with its progress bar (``bar`` pixels,
+    -1 = none), or a cook (``agent`` >= 0) with what it holds."""
+    t = TILE_SIZE
+    img = terrain_tile(code).copy()
+    if item is not None:
+        _draw_item(img, item, 1.0)
+    if bar >= 0:
+        img[t - 3 : t - 1, 1 : t - 1] = (40, 40, 40)
+        img[t - 3 : t - 1, 1 : 1 + bar] = (250, 220, 0)
+    if agent >= 0:
+        _paste(img, agent_sprite(agent))
+        if held is not None:
+            _draw_item(img, held, _HELD_SCALE, t // 4, t // 4)
+    img.setflags(write=False)
+    return img
 
 
 _ENCODERS: weakref.WeakKeyDictionary[Geometry, RgbEncoder] = weakref.WeakKeyDictionary()
