@@ -31,15 +31,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--obs", default="features", choices=("features", "grid"),
                    help="egocentric path features, or the SPEC vector (one-hot grid) encoding")
     g.add_argument("--obs-radius", type=int, default=0, help="grid window radius (0 = whole map)")
-    g.add_argument("--n-kitchens", type=int, default=16, help="kitchens simulated in parallel")
+    g.add_argument("--n-kitchens", type=int, default=8, help="kitchens simulated in parallel")
     g.add_argument("--n-steps", type=int, default=128, help="rollout length per agent slot")
     g.add_argument("--batch-size", type=int, default=512)
-    g.add_argument("--n-epochs", type=int, default=4)
+    g.add_argument("--n-epochs", type=int, default=8)
     g.add_argument("--lr", type=float, default=5e-4, help="initial learning rate (decays to 10%%)")
-    g.add_argument("--ent-coef", type=float, default=0.01)
+    g.add_argument("--ent-coef", type=float, default=0.02)
     g.add_argument("--gamma", type=float, default=0.99)
     g.add_argument("--hidden", default="128,128", help="hidden layer sizes, comma-separated")
-    g.add_argument("--anneal-fraction", type=float, default=0.7,
+    g.add_argument("--anneal-fraction", type=float, default=0.8,
                    help="fraction of training after which the shaping reward is 0")
     g.add_argument("--individual-reward", action="store_true",
                    help="each agent learns from its own rewards (default: the team's sum)")

@@ -40,18 +40,18 @@ class TrainConfig:
     out: str = "runs/ppo"
     obs: str = "features"
     obs_radius: int = 0
-    n_kitchens: int = 16
+    n_kitchens: int = 8
     n_steps: int = 128
     batch_size: int = 512
-    n_epochs: int = 4
+    n_epochs: int = 8
     learning_rate: float = 5e-4
     gamma: float = 0.99
     gae_lambda: float = 0.95
-    ent_coef: float = 0.01
+    ent_coef: float = 0.02
     hidden: tuple[int, ...] = (128, 128)
     reward_scale: float = 0.02
     team_reward: bool = True
-    anneal_fraction: float = 0.7
+    anneal_fraction: float = 0.8
     shaping: Shaping = field(default_factory=Shaping)
     curriculum: tuple[str, ...] = ()
     curriculum_fraction: float = 0.3

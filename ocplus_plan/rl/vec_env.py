@@ -45,7 +45,7 @@ class KitchenVecEnv(VecEnv):
     def __init__(
         self,
         rules: Rules | Sequence[Rules],
-        n_kitchens: int = 16,
+        n_kitchens: int = 8,
         seed: int = 0,
         *,
         obs: str = "features",
