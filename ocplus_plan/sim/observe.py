@@ -235,46 +235,60 @@ class VectorEncoder:
         n, size, r = self.n_agents, self.size, self.radius
         kind_ch, state_ch = self._kind_ch, self._state_ch
         pos = s.agent_pos
-        repeats = False
-        # grid entries shared by every agent: channel * map_cells + cell
-        ent: list[int] = []
-        ent_v: list[float] = []
+        base = first_row * size
         where, loc, st, prog = s.item_where, s.item_loc, s.item_state, s.item_progress
-        for i, w in enumerate(where):
-            if w == _CELL:
-                cell = loc[i]
-            elif w == _HAND:
-                cell = pos[loc[i]]
-            elif w == _PLATE:
-                p = loc[i]
-                cell = loc[p] if where[p] == _CELL else pos[loc[p]]
-                repeats = True
-            else:
-                continue
-            if prog[i] and w != _PLATE:
-                ent += (kind_ch[i] + cell, state_ch[st[i]] + cell, self._prog_chm + cell)
-                ent_v += (1.0, 1.0, min(1.0, prog[i] / self._prog_den[i]))
-            else:
-                ent += (kind_ch[i] + cell, state_ch[st[i]] + cell)
-                ent_v += (1.0, 1.0)
-        # features shared by every agent, as offsets from the row start
         f_idx, f_val = self._features(s)
         fb0, other_ch, self_ch = self._feat_base, self._other_ch, self._self_ch
         pos_feat, hands = self._pos_feat, s.agent_hand
-        base = first_row * size
         if r == 0:
-            if repeats:
-                for x, v in zip(ent, ent_v):
-                    mv[base + x] += v
-            else:
-                for x, v in zip(ent, ent_v):
-                    mv[base + x] = v
+            # whole map: write the part every agent shares into the first row directly,
+            # then copy that row. Only items on a plate can share a channel and a cell
+            # (two chopped vegetables, ...), so they add; everything else is assigned.
+            for i, w in enumerate(where):
+                if w == _CELL:
+                    cell = base + loc[i]
+                elif w == _HAND:
+                    cell = base + pos[loc[i]]
+                elif w == _PLATE:
+                    p = loc[i]
+                    cell = base + (loc[p] if where[p] == _CELL else pos[loc[p]])
+                    mv[kind_ch[i] + cell] += 1.0
+                    mv[state_ch[st[i]] + cell] += 1.0
+                    continue
+                else:
+                    continue
+                mv[kind_ch[i] + cell] = 1.0
+                mv[state_ch[st[i]] + cell] = 1.0
+                if prog[i]:
+                    mv[self._prog_chm + cell] = min(1.0, prog[i] / self._prog_den[i])
             for f in pos:
                 mv[base + other_ch + f] = 1.0
             for x, v in zip(f_idx, f_val):
                 mv[base + x] = v
             if n > 1:
                 out[first_row + 1 : first_row + n] = out[first_row]
+        else:
+            # window: collect (channel * map_cells + cell, value) once, re-index per agent
+            repeats = False
+            ent: list[int] = []
+            ent_v: list[float] = []
+            for i, w in enumerate(where):
+                if w == _CELL:
+                    cell = loc[i]
+                elif w == _HAND:
+                    cell = pos[loc[i]]
+                elif w == _PLATE:
+                    p = loc[i]
+                    cell = loc[p] if where[p] == _CELL else pos[loc[p]]
+                    repeats = True
+                else:
+                    continue
+                if prog[i] and w != _PLATE:
+                    ent += (kind_ch[i] + cell, state_ch[st[i]] + cell, self._prog_chm + cell)
+                    ent_v += (1.0, 1.0, min(1.0, prog[i] / self._prog_den[i]))
+                else:
+                    ent += (kind_ch[i] + cell, state_ch[st[i]] + cell)
+                    ent_v += (1.0, 1.0)
         for a in range(n):
             row0 = base + a * size
             f = pos[a]
