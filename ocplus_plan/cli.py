@@ -31,6 +31,7 @@ COMMANDS: dict[str, str] = {
     "play": "play",
     "replay": "replay",
     "solve": "solve",
+    "pddl": "pddl",
 }
 
 #: Printed by --help and replayed by tests/test_cli.py (each must exit 0, quickly).

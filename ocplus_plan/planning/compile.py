@@ -130,8 +130,7 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
     k_max = max([3] + [len(r) for r in rules.recipes] + [len(c) for c in initial_contents.values()])
     dom = build_domain(encoding, granularity, k_max)
     spots = build_spots(state, granularity, extra_counters)
-    problem = _new_problem(f"ocplus_{rules.layout.name}_t{state.t}".replace("-", "_"), dom,
-                           _fast)
+    problem = _new_problem(f"ocplus_{encoding}_{granularity}", dom, _fast)
     comp = Compiled(problem, Names(), encoding, granularity, spots,
                     tuple(o.order_id for o in goal), geometry=geo)
     b = _Builder(problem, dom, comp, _fast)
@@ -182,7 +181,7 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
     for chain in by_recipe.values():
         b.true("up_next", order_name[chain[0].order_id])
         for older, newer in zip(chain, chain[1:] + [None]):
-            b.true("after", order_name[older.order_id],
+            b.true("next_order", order_name[older.order_id],
                    order_name[newer.order_id] if newer else sentinel)
     for o in goal:
         problem.add_goal(dom.fluents["served"](b.objects[order_name[o.order_id]]))
@@ -302,7 +301,7 @@ def _pans(b: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, in
     rules = state.rules
     doomed = set()
     if comp.encoding == "temporal":
-        from unified_planning.shortcuts import GlobalStartTiming
+        from unified_planning.model import GlobalStartTiming
 
         for i, pan in cooking:
             ticks = state.item_progress[i]

@@ -26,7 +26,7 @@ Modelling choices (see the README section "Planning model"):
 * delivering or trashing a plate holding K ingredients binds them as K ordered
   parameters (``lt``) so each goes back to its own spawn tile (``home``);
 * orders with the same recipe are served oldest first, as the simulator does
-  (``up_next`` and the static chain ``after``);
+  (``up_next`` and the static chain ``next_order``);
 * chopping, washing and cooking are one action each whose cost is the number of
   steps left (``partly`` marks an item whose progress is not zero);
 * cooking, classical: ``cook`` puts a raw steak on the pan, waits until it is
@@ -78,7 +78,7 @@ FLUENTS: dict[str, tuple[str, ...]] = {
     "board": ("place",), "pan": ("place",), "sink": ("place",), "trash": ("place",),
     "serving": ("place",),
     "next_content": ("content", "kind", "content"), "serves": ("content", "order"),
-    "empty": ("content",), "after": ("order", "order"),
+    "empty": ("content",), "next_order": ("order", "order"),
     "plates_stay_clean": (), "plates_get_dirty": (),
     "can_rescue": ("agent", "item", "spot"),
     # static numeric functions (costs and durations, in simulator steps)
@@ -190,7 +190,7 @@ def schemas(encoding: str, granularity: str, k_max: int = 3) -> list[Schema]:
                 f"a:agent q:item c:content c0:content o:order o2:order p:place s:spot hq:place "
                 f"{items}",
                 f"{AGENT_AT}; holding a q; clean q; serving p; plate_has q c; size{k} c; empty c0; "
-                f"serves c o; up_next o; after o o2; home q hq; free hq; "
+                f"serves c o; up_next o; next_order o o2; home q hq; free hq; "
                 f"{'plates_get_dirty' if dirty else 'plates_stay_clean'}; {bind}{order}",
                 f"served o; up_next o2; free_hand a; item_at q hq; plate_has q c0; {plate_add}; {back_add}",
                 f"up_next o; holding a q; free hq; plate_has q c{'; clean q' if dirty else ''}; "
@@ -261,14 +261,16 @@ def build_domain(encoding: str = "classical", granularity: str = "stations",
     _check_options(encoding, granularity)
     if not 1 <= k_max <= 9:
         raise CompileError(f"k_max={k_max}: plates are modelled with 1 to 9 ingredients")
-    from unified_planning.shortcuts import BoolType, Fluent, IntType, UserType
+    from unified_planning.environment import get_environment
+    from unified_planning.model import Fluent
 
-    types = {t: UserType(t) for t in TYPE_NAMES}
+    tm = get_environment().type_manager
+    types = {t: tm.UserType(t) for t in TYPE_NAMES}
     fluents = {}
     for name, sig in FLUENTS.items():
         if name.startswith("size") and int(name[4:]) > k_max:
             continue
-        typ = IntType() if name in NUMERIC else BoolType()
+        typ = tm.IntType() if name in NUMERIC else tm.BoolType()
         fluents[name] = Fluent(name, typ, **{f"x{j}": types[t] for j, t in enumerate(sig)})
     dom = Domain(encoding, granularity, k_max, types, fluents, {}, {})
     for sch in schemas(encoding, granularity, k_max):
@@ -290,13 +292,13 @@ def _lit(dom: Domain, params: dict[str, Any], lit: Lit) -> Any:
 
 
 def _cost_expr(dom: Domain, params: dict[str, Any], cost: int | Lit) -> Any:
-    from unified_planning.shortcuts import Int
+    from unified_planning.environment import get_environment
 
-    return Int(cost) if isinstance(cost, int) else _lit(dom, params, cost)
+    return get_environment().expression_manager.Int(cost) if isinstance(cost, int) else _lit(dom, params, cost)
 
 
 def _instantaneous(sch: Schema, dom: Domain) -> tuple[Any, Any]:
-    from unified_planning.shortcuts import InstantaneousAction
+    from unified_planning.model import InstantaneousAction
 
     act = InstantaneousAction(sch.name, **{n: dom.types[t] for n, t in sch.params})
     params = {p.name: p for p in act.parameters}
@@ -312,7 +314,7 @@ def _instantaneous(sch: Schema, dom: Domain) -> tuple[Any, Any]:
 
 
 def _durative(sch: Schema, dom: Domain) -> Any:
-    from unified_planning.shortcuts import DurativeAction, EndTiming, StartTiming
+    from unified_planning.model import DurativeAction, EndTiming, StartTiming
 
     act = DurativeAction(sch.name, **{n: dom.types[t] for n, t in sch.params})
     params = {p.name: p for p in act.parameters}
@@ -332,7 +334,7 @@ def _durative(sch: Schema, dom: Domain) -> Any:
 
 def _temporal_cook(dom: Domain, rest: bool) -> Any:
     """The cooking envelope: ``?a1`` puts the steak on at start, ``?a2`` takes it off at end."""
-    from unified_planning.shortcuts import DurativeAction, EndTiming, StartTiming
+    from unified_planning.model import DurativeAction, EndTiming, StartTiming
 
     t = dom.types
     act = DurativeAction("cook_rest" if rest else "cook", a1=t["agent"], a2=t["agent"],

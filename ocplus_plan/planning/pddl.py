@@ -31,6 +31,24 @@ def problem_texts(compiled: Compiled) -> tuple[str, str]:
     return writer.get_domain(), writer.get_problem()
 
 
+def declare_numeric_fluents(domain: str) -> str:
+    """The domain text with ``:numeric-fluents`` added when it declares functions.
+
+    The written files declare only ``:action-costs`` when static functions feed the
+    costs (distances, steps left), as the IPC action-cost domains do and as Fast
+    Downward requires (it rejects ``:numeric-fluents``). Stricter parsers (the
+    ``pddl`` package, VAL's ``Parser``) want the functions declared as numeric
+    fluents: the tests parse this variant with them.
+    """
+    head, sep, rest = domain.partition("(:requirements")
+    if not sep or "(:functions" not in rest:
+        return domain
+    reqs, close, tail = rest.partition(")")
+    if ":numeric-fluents" in reqs:
+        return domain
+    return f"{head}{sep}{reqs} :numeric-fluents{close}{tail}"
+
+
 def write_pddl(compiled: Compiled, out_dir: str | Path) -> tuple[Path, Path]:
     """Write ``domain.pddl`` and ``problem.pddl`` into ``out_dir`` (created if missing)."""
     out = Path(out_dir)
@@ -66,5 +84,5 @@ def read_pddl(domain: str | Path, problem: str | Path) -> Any:
     return PDDLReader().parse_problem(str(domain), str(problem))
 
 
-__all__ = ["DOMAINS_DIR", "domain_path", "domain_text", "problem_texts", "read_pddl",
+__all__ = ["DOMAINS_DIR", "declare_numeric_fluents", "domain_path", "domain_text", "problem_texts", "read_pddl",
            "write_pddl"]
