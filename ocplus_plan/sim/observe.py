@@ -129,6 +129,19 @@ class VectorEncoder:
         self._kind_ch = [(_CH_KIND0 + _KIND_INDEX[k]) * m for k in geo_kinds]
         self._state_ch = [(_CH_STATE0 + s) * m for s in range(len(ITEM_STATES))]
         self._prog_chm = CH_PROGRESS * m
+        cells = self._cells
+        self._kind_chw = [(_CH_KIND0 + _KIND_INDEX[k]) * cells for k in geo_kinds]
+        self._state_chw = [(_CH_STATE0 + s) * cells for s in range(len(ITEM_STATES))]
+        self._prog_chw = CH_PROGRESS * cells
+        #: r > 0: per agent cell, per map cell: its index in the agent's window, or -1
+        self._local: list[list[int]] = []
+        if r:
+            for ar, ac in self._rc:
+                self._local.append([
+                    (rr - ar + r) * ww + (cc - ac + r)
+                    if abs(rr - ar) <= r and abs(cc - ac) <= r else -1
+                    for rr, cc in self._rc
+                ])
         steak, plate = int(Item.STEAK), int(Item.PLATE)
         self._prog_den = [
             float(rules.burn_time + 1) if k == steak
@@ -268,9 +281,11 @@ class VectorEncoder:
             if n > 1:
                 out[first_row + 1 : first_row + n] = out[first_row]
         else:
-            # window: collect (channel * map_cells + cell, value) once, re-index per agent
+            # window: collect (window channel offset, map cell, value), re-index per agent
             repeats = False
+            kind_w, state_w, prog_w = self._kind_chw, self._state_chw, self._prog_chw
             ent: list[int] = []
+            ent_cell: list[int] = []
             ent_v: list[float] = []
             for i, w in enumerate(where):
                 if w == _CELL:
@@ -284,10 +299,12 @@ class VectorEncoder:
                 else:
                     continue
                 if prog[i] and w != _PLATE:
-                    ent += (kind_ch[i] + cell, state_ch[st[i]] + cell, self._prog_chm + cell)
+                    ent += (kind_w[i], state_w[st[i]], prog_w)
+                    ent_cell += (cell, cell, cell)
                     ent_v += (1.0, 1.0, min(1.0, prog[i] / self._prog_den[i]))
                 else:
-                    ent += (kind_ch[i] + cell, state_ch[st[i]] + cell)
+                    ent += (kind_w[i], state_w[st[i]])
+                    ent_cell += (cell, cell)
                     ent_v += (1.0, 1.0)
         for a in range(n):
             row0 = base + a * size
@@ -296,7 +313,7 @@ class VectorEncoder:
                 mv[row0 + self_ch + f] = 1.0
                 mv[row0 + other_ch + f] = 0.0
             else:
-                self._window_entries(row0, pos, a, ent, ent_v, mv, repeats)
+                self._window_entries(row0, pos, a, ent, ent_cell, ent_v, mv, repeats)
                 for x, v in zip(f_idx, f_val):
                     mv[row0 + x] = v
             fb = row0 + fb0
@@ -316,28 +333,25 @@ class VectorEncoder:
                     mv[mb + k * v1 + (tok if tok >= 0 else self.comm_vocab)] = 1.0
 
     def _window_entries(self, row0: int, pos: list[int], a: int, ent: list[int],
-                        ent_v: list[float], mv: memoryview, repeats: bool) -> None:
-        """Grid entries of agent ``a``'s window (r > 0): keep the cells inside, re-index."""
-        r, (wh, ww), cells, rc = self.radius, self.window, self._cells, self._rc
-        ar, ac = rc[pos[a]]
-        orow, ocol = ar - r, ac - r
-        m = self._map_cells
-        for x, v in zip(ent, ent_v):
-            ch, cell = divmod(x, m)
-            dr, dc = rc[cell]
-            dr -= orow
-            dc -= ocol
-            if 0 <= dr < wh and 0 <= dc < ww:
-                if repeats:
-                    mv[row0 + ch * cells + dr * ww + dc] += v
-                else:
-                    mv[row0 + ch * cells + dr * ww + dc] = v
-        for b in range(len(pos)):
-            dr, dc = rc[pos[b]]
-            dr -= orow
-            dc -= ocol
-            if 0 <= dr < wh and 0 <= dc < ww:
-                mv[row0 + (self._self_ch if b == a else self._other_ch) + dr * ww + dc] = 1.0
+                        ent_cell: list[int], ent_v: list[float], mv: memoryview,
+                        repeats: bool) -> None:
+        """Grid entries of agent ``a``'s window (r > 0): keep the cells inside, re-index
+        through the precomputed map-cell -> window-cell table of the agent's cell."""
+        local = self._local[pos[a]]
+        if repeats:
+            for ch, cell, v in zip(ent, ent_cell, ent_v):
+                at = local[cell]
+                if at >= 0:
+                    mv[row0 + ch + at] += v
+        else:
+            for ch, cell, v in zip(ent, ent_cell, ent_v):
+                at = local[cell]
+                if at >= 0:
+                    mv[row0 + ch + at] = v
+        for b, f in enumerate(pos):
+            at = local[f]
+            if at >= 0:
+                mv[row0 + (self._self_ch if b == a else self._other_ch) + at] = 1.0
 
     def _features(self, s: State) -> tuple[list[int], list[float]]:
         """Features shared by every agent of ``s``: (offsets from the row start, values)."""
