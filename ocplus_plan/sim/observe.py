@@ -133,15 +133,9 @@ class VectorEncoder:
         self._kind_chw = [(_CH_KIND0 + _KIND_INDEX[k]) * cells for k in geo_kinds]
         self._state_chw = [(_CH_STATE0 + s) * cells for s in range(len(ITEM_STATES))]
         self._prog_chw = CH_PROGRESS * cells
-        #: r > 0: per agent cell, per map cell: its index in the agent's window, or -1
-        self._local: list[list[int]] = []
-        if r:
-            for ar, ac in self._rc:
-                self._local.append([
-                    (rr - ar + r) * ww + (cc - ac + r)
-                    if abs(rr - ar) <= r and abs(cc - ac) <= r else -1
-                    for rr, cc in self._rc
-                ])
+        #: r > 0: per agent cell (built when first needed), per map cell: its index in
+        #: that agent's window, or -1 outside it
+        self._local: dict[int, list[int]] = {}
         steak, plate = int(Item.STEAK), int(Item.PLATE)
         self._prog_den = [
             float(rules.burn_time + 1) if k == steak
@@ -337,7 +331,15 @@ class VectorEncoder:
                         repeats: bool) -> None:
         """Grid entries of agent ``a``'s window (r > 0): keep the cells inside, re-index
         through the precomputed map-cell -> window-cell table of the agent's cell."""
-        local = self._local[pos[a]]
+        local = self._local.get(pos[a])
+        if local is None:
+            r, ww = self.radius, self.window[1]
+            ar, ac = self._rc[pos[a]]
+            local = self._local[pos[a]] = [
+                (rr - ar + r) * ww + (cc - ac + r) if abs(rr - ar) <= r and abs(cc - ac) <= r
+                else -1
+                for rr, cc in self._rc
+            ]
         if repeats:
             for ch, cell, v in zip(ent, ent_cell, ent_v):
                 at = local[cell]
