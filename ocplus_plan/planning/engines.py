@@ -318,14 +318,16 @@ def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = No
         return result
     result.steps = plan_to_steps(result.plan)
     result.plan_length = len(result.steps)
-    quality = plan_quality(problem, result.plan)
-    result.cost, result.makespan = quality.cost, quality.makespan
-    if validate:
-        check = validate_plan(problem, result.plan, use_val=use_val)
+    check = validate_plan(problem, result.plan, use_val=use_val) if validate else None
+    if check is not None and check.cost is not None:  # the validator already evaluated it
+        result.cost = check.cost
+        result.makespan = plan_quality(problem, result.plan, with_cost=False).makespan
+    else:
+        quality = plan_quality(problem, result.plan)
+        result.cost, result.makespan = quality.cost, quality.makespan
+    if check is not None:
         result.validated, result.validation_detail = check.ok, check.detail
-        if check.cost is not None:
-            result.cost = check.cost
-        if not check.ok:
+        if check.ok is False:
             result.status = "invalid"
             result.reason = "the planner's plan was rejected by validation: " + check.detail
     return result

@@ -82,11 +82,16 @@ class Quality:
     makespan: float | None
 
 
-def plan_quality(problem: Any, plan: Any) -> Quality:
-    """Makespan of a temporal plan; cost of a sequential one (metric value or length)."""
+def plan_quality(problem: Any, plan: Any, with_cost: bool = True) -> Quality:
+    """Makespan of a temporal plan; cost of a sequential one (metric value or length).
+
+    Evaluating an action-cost metric runs UP's validator; ``with_cost=False`` skips it.
+    """
     if plan.kind.name == "TIME_TRIGGERED_PLAN":
         ends = [float(s + (d or 0)) for s, _, d in plan.timed_actions]
         return Quality(cost=None, makespan=max(ends, default=0.0))
+    if not with_cost:
+        return Quality(cost=None, makespan=None)
     if _cost_metric(problem) is None:
         return Quality(cost=float(len(plan.actions)), makespan=None)
     _, _, cost = _up_validate(problem, plan)
