@@ -23,76 +23,106 @@ from ..execution.executive import Executive, PlanFunction, PlanOutcome, PlanStep
 from ..sim.state import State
 from .base import Controller
 
-#: map-back kinds -> the executive's step kinds (anything not listed is a move or a no-op)
-_KIND_ALIASES = {
-    "pickup": "pickup", "pick": "pickup", "pick_up": "pickup", "take": "pickup",
-    "take_from_pan": "pickup", "uncook": "pickup", "cook_end": "pickup", "collect": "pickup",
-    "putdown": "putdown", "put": "putdown", "put_down": "putdown", "drop": "putdown",
-    "place": "putdown", "cook": "putdown", "cook_start": "putdown", "start_cook": "putdown",
-    "chop": "chop", "wash": "wash",
-    "plate": "plate", "plate_add": "plate", "add_to_plate": "plate", "assemble": "plate",
-    "deliver": "deliver", "serve": "deliver", "trash": "trash", "bin": "trash",
-    "bump": "bump", "interact": "bump",
+#: map-back kinds (``planning.names.PlanStep.kind``) -> the executive's step kinds
+_KINDS = {
+    "pick": "pickup", "rescue": "pickup", "take_off": "pickup",
+    "put": "putdown", "chop": "chop", "wash": "wash",
+    "plate_put": "plate", "plate_take": "plate", "deliver": "deliver", "trash": "trash",
 }
-_SKIP = ("move", "walk", "go", "wait", "noop", "idle")
+#: kinds with nothing to do in the simulator (moves are routed by the executive itself)
+_SKIP = frozenset({"move", "abandon", "wait"})
 
 
-def _field(record: Any, *names: str, default: Any = None) -> Any:
-    for n in names:
-        if isinstance(record, dict) and n in record:
-            return record[n]
-        if hasattr(record, n):
-            return getattr(record, n)
-    return default
-
-
-def step_from_record(record: Any, state: State, index: int, start: float | None = None) -> PlanStep | None:
-    """One map-back record of the planning layer -> a :class:`PlanStep` (None for moves)."""
-    raw = _field(record, "kind", "action", "action_kind", default="")
-    raw = getattr(raw, "value", raw)  # an Enum member
-    base = str(raw).lower().split(".")[-1]
-    if any(base.startswith(s) for s in _SKIP):
+def _flat(state: State, rc: Any) -> int | None:
+    if rc is None:
         return None
-    norm = _KIND_ALIASES.get(base)
-    if norm is None:
-        norm = next((v for k, v in _KIND_ALIASES.items() if base.startswith(k)), "bump")
-    agent = _field(record, "agent", "agent_index")
-    if agent is None:
+    if isinstance(rc, int):
+        return rc
+    return state.geo.flat(int(rc[0]), int(rc[1]))
+
+
+def steps_from_record(record: Any, state: State, index: int) -> list[PlanStep]:
+    """One map-back record (``planning.names.PlanStep``) -> executive steps (none for a move).
+
+    A classical ``cook`` (put the steak on the pan, wait, take it off) becomes two steps
+    of its agent; a temporal cook envelope becomes a put by ``agent`` at its start and a
+    take-off by ``other_agent`` at its end. Unknown kinds become a generic bump.
+    """
+    kind = str(getattr(record, "kind", "")).lower()
+    agent = getattr(record, "agent", None)
+    target = _flat(state, getattr(record, "place", None))
+    if kind in _SKIP or agent is None or target is None:
+        return []
+    items = tuple(int(i) for i in (getattr(record, "items", ()) or ()))
+    start = getattr(record, "start", None)
+    duration = getattr(record, "duration", None)
+    start = None if start is None else float(start)
+    if kind == "cook":
+        other = getattr(record, "other_agent", None)
+        end = None if start is None else start + float(duration or 0)
+        taker = agent if other is None else int(other)
+        return [PlanStep(index, int(agent), "putdown", target, items, start, None),
+                PlanStep(index + 1, taker, "pickup", target, items,
+                         end if other is not None else start, None)]
+    return [PlanStep(index, int(agent), _KINDS.get(kind, "bump"), target, items, start,
+                     None if duration is None else float(duration))]
+
+
+def orders_to_plan(state: State, orders_per_plan: int | str | None) -> int | None:
+    """How many open orders (oldest first) one planner call should cover.
+
+    ``"auto"``: all of them while they hold at most 4 ingredients in total (small
+    problems that classical planners solve in about a second), else only the oldest;
+    the executive asks again when that part of the work is done. An int is a fixed cap,
+    None means all."""
+    if orders_per_plan == "auto":
+        total = sum(len(o.recipe) for o in state.orders)
+        return None if total <= 4 else 1
+    if orders_per_plan is None:
         return None
-    target = _field(record, "target", "cell", "target_cell", "station_cell", "station")
-    if isinstance(target, (tuple, list)) and len(target) == 2:
-        target = state.geo.flat(int(target[0]), int(target[1]))
-    if target is None or isinstance(target, str):
-        return None
-    items = _field(record, "items", default=()) or ()
-    if isinstance(items, int):
-        items = (items,)
-    items = tuple(int(i) for i in items if isinstance(i, int))
-    start = _field(record, "start", default=start)
-    duration = _field(record, "duration", default=None)
-    return PlanStep(index, int(agent), norm, int(target), items,
-                    None if start is None else float(start),
-                    None if duration is None else float(duration))
+    if isinstance(orders_per_plan, int) and orders_per_plan >= 1:
+        return orders_per_plan
+    raise ConfigError(f"orders_per_plan must be 'auto', None or a positive int, got {orders_per_plan!r}")
 
 
 def compile_and_solve(
     planner: str, encoding: str = "classical", granularity: str = "stations",
-    anticipate_switches: bool = False, timeout: float = 20.0,
+    anticipate_switches: bool = False, timeout: float = 10.0, validate: bool = False,
+    orders_per_plan: int | str | None = "auto",
 ) -> PlanFunction:
-    """A :data:`PlanFunction` that compiles the state and solves it with a named planner."""
+    """A :data:`PlanFunction` that compiles the state and solves it with a named planner.
 
-    def plan(state: State, agents: tuple[int, ...]) -> PlanOutcome:
-        from ..planning import compile as compile_mod  # optional layer: imported lazily
+    When a plan for several orders is not found in time, the oldest order alone is tried
+    (decomposition by order). A compile error (a state the model cannot express) is
+    reported as status ``error``; nothing raises."""
+    if not (orders_per_plan in ("auto", None) or
+            (isinstance(orders_per_plan, int) and orders_per_plan >= 1)):
+        raise ConfigError(f"orders_per_plan must be 'auto', None or a positive int, "
+                          f"got {orders_per_plan!r}")
+
+    def plan(state: State, agents: tuple[int, ...], reason: str = "") -> PlanOutcome:
+        from ..errors import CompileError
+        from ..planning.compile import compile as compile_state  # optional layer: lazy
         from ..planning.engines import solve
 
         t0 = time.perf_counter()
-        compiled = compile_mod.compile(state, None, encoding=encoding, granularity=granularity,
-                                       anticipate_switches=anticipate_switches)
-        result = solve(compiled.problem, planner, timeout=timeout)
-        elapsed = time.perf_counter() - t0
-        if result.status != "solved" or result.plan is None:
-            return PlanOutcome(result.status, [], elapsed, result.reason)
-        return PlanOutcome("solved", plan_steps(compiled, result.plan, state), elapsed)
+        cap = orders_to_plan(state, orders_per_plan)
+        attempts = [cap] if cap == 1 or len(state.orders) <= 1 else [cap, 1]
+        outcome = PlanOutcome("error", [], 0.0, "no open order")
+        for max_orders in attempts:
+            try:
+                compiled = compile_state(state, None, encoding=encoding, granularity=granularity,
+                                         max_orders=max_orders,
+                                         anticipate_switches=anticipate_switches)
+            except CompileError as exc:
+                outcome = PlanOutcome("error", [], time.perf_counter() - t0, f"compile: {exc}")
+                continue
+            result = solve(compiled.problem, planner, timeout=timeout, validate=validate)
+            if result.status == "solved" and result.plan is not None:
+                return PlanOutcome("solved", plan_steps(compiled, result.plan, state),
+                                   time.perf_counter() - t0)
+            outcome = PlanOutcome(result.status, [], time.perf_counter() - t0, result.reason)
+        return outcome
 
     return plan
 
@@ -100,14 +130,14 @@ def compile_and_solve(
 def plan_steps(compiled: Any, plan: Any, state: State) -> list[PlanStep]:
     """Map a UP sequential or time-triggered plan back to executive steps."""
     if hasattr(plan, "timed_actions"):
-        entries = [(float(start), ai) for start, ai, _dur in plan.timed_actions]
+        entries = [(ai, float(start), None if dur is None else float(dur))
+                   for start, ai, dur in plan.timed_actions]
     else:
-        entries = [(None, ai) for ai in plan.actions]
-    steps = []
-    for k, (start, ai) in enumerate(entries):
-        step = step_from_record(compiled.map_back(ai), state, k, start)
-        if step is not None:
-            steps.append(step)
+        entries = [(ai, None, None) for ai in plan.actions]
+    steps: list[PlanStep] = []
+    for ai, start, dur in entries:
+        record = compiled.map_back(ai, start, dur)
+        steps.extend(steps_from_record(record, state, len(steps)))
     return steps
 
 
@@ -119,7 +149,8 @@ class PlannerAgent(Controller):
     def __init__(
         self, planner: str | PlanFunction = "fast-downward", encoding: str = "classical",
         granularity: str = "stations", policy: str | Policy = "on_event", *,
-        anticipate_switches: bool = False, timeout: float = 20.0, **executive_options: Any,
+        anticipate_switches: bool = False, timeout: float = 10.0,
+        orders_per_plan: int | str | None = "auto", **executive_options: Any,
     ) -> None:
         if encoding not in ("classical", "temporal"):
             raise ConfigError(f"encoding must be 'classical' or 'temporal', got {encoding!r}")
@@ -127,7 +158,8 @@ class PlannerAgent(Controller):
             raise ConfigError(f"granularity must be 'stations' or 'cells', got {granularity!r}")
         self.planner_name = planner if isinstance(planner, str) else getattr(planner, "__name__", "custom")
         fn = planner if callable(planner) else compile_and_solve(
-            planner, encoding, granularity, anticipate_switches, timeout)
+            planner, encoding, granularity, anticipate_switches, timeout,
+            orders_per_plan=orders_per_plan)
         self.encoding, self.granularity = encoding, granularity
         self.executive = Executive(fn, Policy.parse(policy),
                                    anticipate_switches=anticipate_switches, **executive_options)
@@ -163,4 +195,4 @@ def make_planner_agent(arg: str | None, seed: int = 0) -> PlannerAgent:
 
 
 __all__ = ["PlannerAgent", "compile_and_solve", "make_planner_agent", "plan_steps",
-           "step_from_record"]
+           "steps_from_record"]

@@ -31,6 +31,7 @@ from .paths import (
     STAY,
     DistanceOracle,
     PathRequest,
+    hub_cells,
     interaction_spots,
     layout_schedule,
     plan_paths,
@@ -74,8 +75,8 @@ class PlanOutcome:
         return self.status == "solved"
 
 
-#: planner(state, driven agent ids) -> PlanOutcome
-PlanFunction = Callable[[State, tuple[int, ...]], PlanOutcome]
+#: planner(state, driven agent ids, reason for planning) -> PlanOutcome
+PlanFunction = Callable[[State, tuple[int, ...], str], PlanOutcome]
 
 
 @dataclass(frozen=True)
@@ -165,6 +166,10 @@ class Executive:
         if bad:
             raise ConfigError(f"agents {bad} do not exist: the kitchen has {state.n_agents}")
         self.oracle = DistanceOracle(state.geo)
+        dynamic = state.rules.dynamic and len(state.geo.walkables) > 1
+        #: where idle agents wait on a switching map (empty: they just keep out of the way)
+        self.hubs = hub_cells(state.geo) if dynamic else frozenset()
+        self.failures_in_row = 0
         self.queues: dict[int, deque[Task]] = {a: deque() for a in self.agent_ids}
         self.done_steps: set[int] = set()
         self.planned_orders: set[int] = set()
@@ -222,20 +227,25 @@ class Executive:
         self.pending.clear()
         if state.layout_index != self.prev_layout:
             self.prev_layout = state.layout_index
-            if self._switch_matters(state):
+            if self._switch_matters(state) or self.failures_in_row:
                 self._trigger(state, "layout_switch", out)
         if state.stats["burns"] > self.prev_burns:
             self.prev_burns = state.stats["burns"]
             self._trigger(state, "burnt", out)
         open_ids = {o.order_id for o in state.orders}
-        if self.last_plan_t is not None and open_ids - self.planned_orders:
+        idle = any(not q for q in self.queues.values())
+        if self.last_plan_t is not None and open_ids - self.planned_orders and idle:
+            # a new order is planned for as soon as a driven agent has nothing to do (replanning
+            # at once would cost a planner call per dish while everybody is busy anyway)
             self.planned_orders |= open_ids
             self._trigger(state, "new_order", out)
         self._check_burn_risk(state, out)
         for a in self.agent_ids:
             pos = state.agent_pos[a]
             task = self._current(a)
-            moving = task is not None and pos not in self._spots(state, task.step.target)
+            reachable = task is not None and \
+                self.oracle.to_station(state.layout_index, task.step.target)[pos] >= 0
+            moving = reachable and pos not in self._spots(state, task.step.target)
             self.stuck[a] = self.stuck[a] + 1 if moving and pos == self.last_pos[a] else 0
             self.last_pos[a] = pos
             if self.stuck[a] >= 3 and a not in self.boosted:
@@ -257,7 +267,7 @@ class Executive:
     def _decide(self, state: State, reasons: list[str]) -> str | None:
         if self.last_plan_t is None:
             return "initial" if state.t >= self.next_retry else None
-        if state.t < self.next_retry:
+        if state.t < self.next_retry and "layout_switch" not in self.unhandled:
             return None
         empty = not any(self.queues.values()) and bool(state.orders)
         kind = self.policy.kind
@@ -273,7 +283,7 @@ class Executive:
         self.planner_calls += 1
         t0 = time.perf_counter()
         try:
-            outcome = self.planner(state.copy(), self.agent_ids)
+            outcome = self.planner(state.copy(), self.agent_ids, reason)
         except Exception as exc:  # a planner must never crash the episode
             outcome = PlanOutcome("error", [], time.perf_counter() - t0, repr(exc))
         spent = outcome.planning_time or (time.perf_counter() - t0)
@@ -282,12 +292,13 @@ class Executive:
         self.replans.append((state.t, reason))
         self.unhandled.clear()
         if not outcome.ok:
-            # keep the last valid plan; try again a little later
+            # keep the last valid plan; try again later, backing off while it keeps failing
+            # (a layout switch retries at once: it may be what made the problem unsolvable)
             self.triggers.append((state.t, "planner_failed"))
-            self.next_retry = state.t + self.retry_after
-            if self.last_plan_t is None:
-                self.next_retry = state.t + self.retry_after
+            self.failures_in_row += 1
+            self.next_retry = state.t + min(4 * self.retry_after, self.retry_after * self.failures_in_row)
             return
+        self.failures_in_row = 0
         self.last_plan_t = state.t
         self.plan_id += 1
         self.planned_orders = {o.order_id for o in state.orders}
@@ -455,9 +466,15 @@ class Executive:
                 self._finish(a)
             task = self._current(a)
             if task is None:
-                requests.append(((3, 0, a), PathRequest(a, pos, frozenset())))
+                park = self.hubs if pos not in self.hubs else frozenset()
+                requests.append(((3, 0, a), PathRequest(a, pos, park)))
                 continue
             spots = frozenset(self._spots(state, task.step.target))
+            if self.hubs and self.oracle.to_station(state.layout_index, task.step.target)[pos] < 0:
+                # cut off by the layout: wait where the next layout will connect us
+                park = self.hubs if pos not in self.hubs else frozenset()
+                requests.append(((3, 0, a), PathRequest(a, pos, park)))
+                continue
             if pos in spots and self._ready(state, a, task):
                 actions[a] = step_action(geo, pos, task.step.target)
                 self.pending[a] = self._snapshot(state, task, a)

@@ -107,6 +107,28 @@ class DistanceOracle:
         return self.to_goals(layout_index, spots) if spots else [-1] * len(self.geo.neighbors)
 
 
+def hub_cells(geo: Geometry) -> frozenset[int]:
+    """Floor cells (walkable in every layout) from which the most stations can be reached,
+    summed over the layouts: where an agent with nothing to do waits on a map whose
+    layout switches, so that it is not cut off from the work after the next switch."""
+    from ..sim.codes import STATIONS
+
+    stations = [c for c, v in enumerate(geo.terrains[0]) if v in STATIONS]
+    n = geo.rows * geo.cols
+    score = [0] * n
+    for walk in geo.walkables:
+        for st in stations:
+            spots = interaction_spots(geo, walk, st)
+            if not spots:
+                continue
+            for c, d in enumerate(bfs_distances(geo, walk, spots)):
+                if d >= 0:
+                    score[c] += 1
+    floor = [c for c in range(n) if all(w[c] for w in geo.walkables)]
+    best = max((score[c] for c in floor), default=0)
+    return frozenset(c for c in floor if score[c] == best)
+
+
 def layout_schedule(state: State, anticipate: bool) -> WalkAt:
     """Walkability over relative time: the current layout, or (``anticipate``) the layout
     after the next due switch from the step it is due on (``state.next_switch``)."""
@@ -420,6 +442,7 @@ __all__ = [
     "bfs_distances",
     "check_paths",
     "evasion_path",
+    "hub_cells",
     "interaction_spots",
     "layout_schedule",
     "plan_paths",

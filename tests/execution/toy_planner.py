@@ -12,7 +12,7 @@ def _cells(state: State, code: Cell) -> list[int]:
     return [c for c, v in enumerate(state.geo.terrains[0]) if v == code]
 
 
-def toy_planner(state: State, agents: tuple[int, ...]) -> PlanOutcome:
+def toy_planner(state: State, agents: tuple[int, ...], reason: str = "") -> PlanOutcome:
     """Serve the first open order (one vegetable or one steak) with the first driven agent;
     first throw away a burnt steak if there is one."""
     geo = state.geo
@@ -56,9 +56,9 @@ def toy_planner(state: State, agents: tuple[int, ...]) -> PlanOutcome:
     return PlanOutcome("solved", steps, 0.001)
 
 
-def failing_planner(state: State, agents: tuple[int, ...]) -> PlanOutcome:
+def failing_planner(state: State, agents: tuple[int, ...], reason: str = "") -> PlanOutcome:
     return PlanOutcome("timeout", [], 0.01, "gave up")
 
 
-def crashing_planner(state: State, agents: tuple[int, ...]) -> PlanOutcome:
+def crashing_planner(state: State, agents: tuple[int, ...], reason: str = "") -> PlanOutcome:
     raise RuntimeError("planner process died")
