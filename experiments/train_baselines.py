@@ -17,7 +17,6 @@ from __future__ import annotations
 import argparse
 import json
 import resource
-import shlex
 import shutil
 import subprocess
 import sys
@@ -43,27 +42,19 @@ RUNS: dict[str, list[str]] = {
 }
 
 
-def train_one(name: str, python: str) -> dict:
-    out = f"experiments/runs/{name}"
-    if (ROOT / out).exists():
-        shutil.rmtree(ROOT / out)
-    cmd = [python, "-m", "ocplus_plan.cli", "train", *RUNS[name], "--out", out,
-           "--no-progress"]
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    t0 = time.perf_counter()
-    subprocess.run(cmd, cwd=ROOT, check=True)
-    wall = time.perf_counter() - t0
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    summary = json.loads((ROOT / out / "train.json").read_text())
-    shutil.copyfile(ROOT / out / "policy.zip", CKPT / f"{name}.zip")
-    shutil.copyfile(ROOT / out / "episodes.csv", CKPT / f"{name}.episodes.csv")
+def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None = None) -> dict:
+    """Copy a finished run's policy and training log next to the shipped checkpoints and
+    write ``NAME.json`` (the exact command from the run's train.json, times, summary)."""
+    summary = json.loads((run_dir / "train.json").read_text())
+    shutil.copyfile(run_dir / "policy.zip", CKPT / f"{name}.zip")
+    shutil.copyfile(run_dir / "episodes.csv", CKPT / f"{name}.episodes.csv")
     record = {
         "checkpoint": f"experiments/checkpoints/{name}.zip",
-        "command": "ocplus train " + shlex.join([*RUNS[name], "--out", out]),
-        "wall_time_s": round(wall, 1),
-        "cpu_time_s": round((after.ru_utime - before.ru_utime)
-                            + (after.ru_stime - before.ru_stime), 1),
-        "machine": "2 cores shared with other jobs; torch.set_num_threads(1)",
+        "command": summary["command"],
+        "wall_time_s": wall if wall is not None else summary["wall_time_s"],
+        "cpu_time_s": cpu,
+        "machine": "2 cores shared with other jobs (load 5-10 while training); "
+                   "torch.set_num_threads(1)",
         "timesteps": summary["timesteps"],
         "steps_per_s": summary["steps_per_s"],
         "dishes_per_episode_last50_in_training": summary["dishes_per_episode_last50"],
@@ -74,14 +65,36 @@ def train_one(name: str, python: str) -> dict:
     return record
 
 
+def train_one(name: str, python: str) -> dict:
+    out = ROOT / "experiments" / "runs" / name
+    if out.exists():
+        shutil.rmtree(out)
+    cmd = [python, "-m", "ocplus_plan.cli", "train", *RUNS[name],
+           "--out", str(out.relative_to(ROOT)), "--no-progress"]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    subprocess.run(cmd, cwd=ROOT, check=True)
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return ship(name, out, round(wall, 1), round(cpu, 1))
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("names", nargs="*", help=f"runs among {', '.join(RUNS)} (default: all)")
+    p.add_argument("--ship", metavar="NAME=DIR", action="append", default=[],
+                   help="only copy an already finished run DIR as checkpoint NAME")
     args = p.parse_args()
+    CKPT.mkdir(parents=True, exist_ok=True)
+    if args.ship:
+        for item in args.ship:
+            name, _, run_dir = item.partition("=")
+            print(json.dumps(ship(name, Path(run_dir))), flush=True)
+        return
     unknown = [n for n in args.names if n not in RUNS]
     if unknown:
         p.error(f"unknown run(s) {unknown}; choose among {', '.join(RUNS)}")
-    CKPT.mkdir(parents=True, exist_ok=True)
     for name in args.names or list(RUNS):
         print(json.dumps(train_one(name, sys.executable)), flush=True)
 

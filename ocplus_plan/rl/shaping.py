@@ -17,6 +17,8 @@ again cannot farm them; an item's life ends when it respawns):
 Potential-based terms (Ng et al. 1999: a reward ``phi(s') - phi(s)`` leaves the optimal
 policy unchanged, and putting a carried thing down *costs* what picking it up paid):
 
+* ``carry_fresh``: an agent carries an unprocessed ingredient an order needs (so leaving a
+  raw steak on a counter costs, putting it on the pan pays the ``stage`` bonus);
 * ``carry_ready``: an agent carries a chopped vegetable or cooked steak an order needs;
 * ``carry_dish``: an agent carries a plate that completes an active order; the potential
   grows from 1x to 2x the weight as the agent nears the serving window.
@@ -47,11 +49,13 @@ class Shaping:
     subtask_scale: float = 1.0  # times the rules' subtask_finished reward
     stage: float = 3.0
     useful_plate: float = 10.0
+    carry_fresh: float = 1.0
     carry_ready: float = 3.0
     carry_dish: float = 10.0
 
     def __post_init__(self) -> None:
-        for name in ("subtask_scale", "stage", "useful_plate", "carry_ready", "carry_dish"):
+        for name in ("subtask_scale", "stage", "useful_plate", "carry_fresh", "carry_ready",
+                     "carry_dish"):
             value = getattr(self, name)
             if not isinstance(value, (int, float)) or value < 0:
                 raise ConfigError(f"shaping weight {name} must be a number >= 0, got {value!r}")
@@ -140,9 +144,11 @@ class RewardShaper:
                 near = 1.0 - min(d, 20) / 20 if d >= 0 else 0.0
                 return sh.carry_dish * (1.0 + near)
             return 0.0
-        if sh.carry_ready and is_plateable(state, held) and _needed(state, held):
+        if not _needed(state, held):
+            return 0.0
+        if is_plateable(state, held):
             return sh.carry_ready
-        return 0.0
+        return sh.carry_fresh if state.item_state[held] == _FRESH else 0.0
 
     def step(
         self, state: State, events: Sequence[Event], rewards: Sequence[float]
