@@ -106,7 +106,7 @@ class State:
     __slots__ = (
         "rules", "geo", "t", "layout_index", "next_switch", "agent_pos", "agent_hand",
         "cell_item", "item_state", "item_progress", "item_where", "item_loc", "item_agent",
-        "orders", "next_order_id", "rng", "stats", "seed",
+        "orders", "next_order_id", "_rng", "_rng_state", "stats", "seed",
     )
 
     rules: Rules
@@ -124,9 +124,27 @@ class State:
     item_agent: list[int]
     orders: list[Order]
     next_order_id: int
-    rng: np.random.Generator
+    _rng: np.random.Generator | None
+    _rng_state: dict[str, Any] | None
     stats: dict[str, int]
     seed: int | None
+
+    # ----- the episode's order RNG (copied lazily: building a PCG64 costs more than a step)
+    @property
+    def rng(self) -> np.random.Generator:
+        if self._rng is None:
+            bit = np.random.PCG64(0)
+            bit.state = self._rng_state
+            self._rng, self._rng_state = np.random.Generator(bit), None
+        return self._rng
+
+    @rng.setter
+    def rng(self, generator: np.random.Generator) -> None:
+        self._rng, self._rng_state = generator, None
+
+    def rng_state(self) -> dict[str, Any]:
+        """The RNG's bit-generator state, without materialising a lazy copy."""
+        return self._rng.bit_generator.state if self._rng is not None else self._rng_state
 
     # ----- views -----
     @property
@@ -187,8 +205,7 @@ class State:
             setattr(s, name, list(getattr(self, name)))
         s.next_order_id, s.seed = self.next_order_id, self.seed
         s.stats = dict(self.stats)
-        s.rng = np.random.Generator(type(self.rng.bit_generator)())
-        s.rng.bit_generator.state = self.rng.bit_generator.state
+        s._rng, s._rng_state = None, self.rng_state()
         return s
 
     def state_hash(self) -> str:
@@ -204,7 +221,7 @@ class State:
             ints.extend((o.order_id, o.created, o.deadline, len(o.recipe), *o.recipe))
         h.update(struct.pack(f"<{len(ints)}q", *ints))
         h.update(repr(sorted(self.stats.items())).encode())
-        h.update(repr(self.rng.bit_generator.state).encode())
+        h.update(repr(self.rng_state()).encode())
         return h.hexdigest()
 
     def to_dict(self) -> dict[str, Any]:
@@ -222,7 +239,7 @@ class State:
             seed=self.seed,
             orders=[[o.order_id, recipe_name(o.recipe), o.created, o.deadline] for o in self.orders],
             stats=dict(self.stats),
-            rng=self.rng.bit_generator.state,
+            rng=self.rng_state(),
         )
         return d
 
