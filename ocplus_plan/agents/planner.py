@@ -41,7 +41,8 @@ def _flat(state: State, rc: Any) -> int | None:
     return state.geo.flat(int(rc[0]), int(rc[1]))
 
 
-def steps_from_record(record: Any, state: State, index: int) -> list[PlanStep]:
+def steps_from_record(record: Any, state: State, index: int,
+                      follow_moves: bool = False) -> list[PlanStep]:
     """One map-back record (``planning.names.PlanStep``) -> executive steps (none for a move).
 
     A classical ``cook`` (put the steak on the pan, wait, take it off) becomes two steps
@@ -50,6 +51,12 @@ def steps_from_record(record: Any, state: State, index: int) -> list[PlanStep]:
     """
     kind = str(getattr(record, "kind", "")).lower()
     agent = getattr(record, "agent", None)
+    if kind == "move" and follow_moves and agent is not None:
+        # cell granularity: the plan's moves respect occupancy, so they are followed in order
+        dest = _flat(state, getattr(record, "spot", None))
+        if dest is not None:
+            return [PlanStep(index, int(agent), "goto", dest,
+                             via=_flat(state, getattr(record, "from_spot", None)))]
     target = _flat(state, getattr(record, "place", None))
     if kind in _SKIP or agent is None or target is None:
         return []
@@ -106,12 +113,15 @@ def compile_and_solve(
         from ..planning.engines import solve
 
         t0 = time.perf_counter()
+        # a deadlock means the stations abstraction (agents jump past each other) failed
+        # here: plan this once with cells, whose moves respect occupancy, and follow them
+        gran = "cells" if reason == "deadlock" and not anticipate_switches else granularity
         cap = orders_to_plan(state, orders_per_plan)
         attempts = [cap] if cap == 1 or len(state.orders) <= 1 else [cap, 1]
         outcome = PlanOutcome("error", [], 0.0, "no open order")
         for max_orders in attempts:
             try:
-                compiled = compile_state(state, None, encoding=encoding, granularity=granularity,
+                compiled = compile_state(state, None, encoding=encoding, granularity=gran,
                                          max_orders=max_orders,
                                          anticipate_switches=anticipate_switches)
             except CompileError as exc:
@@ -119,15 +129,16 @@ def compile_and_solve(
                 continue
             result = solve(compiled.problem, planner, timeout=timeout, validate=validate)
             if result.status == "solved" and result.plan is not None:
-                return PlanOutcome("solved", plan_steps(compiled, result.plan, state),
-                                   time.perf_counter() - t0)
+                steps = plan_steps(compiled, result.plan, state,
+                                   follow_moves=gran == "cells")
+                return PlanOutcome("solved", steps, time.perf_counter() - t0)
             outcome = PlanOutcome(result.status, [], time.perf_counter() - t0, result.reason)
         return outcome
 
     return plan
 
 
-def plan_steps(compiled: Any, plan: Any, state: State) -> list[PlanStep]:
+def plan_steps(compiled: Any, plan: Any, state: State, follow_moves: bool = False) -> list[PlanStep]:
     """Map a UP sequential or time-triggered plan back to executive steps."""
     if hasattr(plan, "timed_actions"):
         entries = [(ai, float(start), None if dur is None else float(dur))
@@ -137,7 +148,7 @@ def plan_steps(compiled: Any, plan: Any, state: State) -> list[PlanStep]:
     steps: list[PlanStep] = []
     for ai, start, dur in entries:
         record = compiled.map_back(ai, start, dur)
-        steps.extend(steps_from_record(record, state, len(steps)))
+        steps.extend(steps_from_record(record, state, len(steps), follow_moves))
     return steps
 
 

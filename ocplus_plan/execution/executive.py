@@ -39,7 +39,7 @@ from .paths import (
 )
 
 #: step kinds the executive understands; anything else is a generic "bump until something changes"
-STEP_KINDS = ("pickup", "putdown", "chop", "wash", "plate", "deliver", "trash", "bump")
+STEP_KINDS = ("pickup", "putdown", "chop", "wash", "plate", "deliver", "trash", "bump", "goto")
 _VEG = frozenset(int(v) for v in VEGETABLES)
 _PAN, _SINK, _BOARD = int(Cell.PAN), int(Cell.SINK), int(Cell.BOARD)
 _RAW, _CHOPPED, _CLEAN, _DIRTY = (int(ItemState.FRESH), int(ItemState.CHOPPED),
@@ -59,6 +59,8 @@ class PlanStep:
     items: tuple[int, ...] = ()
     start: float | None = None  # planned start (steps after planning), for time-triggered plans
     duration: float | None = None
+    #: for a ``goto`` step (a cell-level move of the plan): the cell it leaves
+    via: int | None = None
 
 
 @dataclass
@@ -129,11 +131,17 @@ def causal_dependencies(steps: Sequence[PlanStep]) -> dict[int, frozenset[int]]:
     """For each step, the latest earlier step of every *other* agent that touches the same
     cell or item: the order a sequential plan relies on between agents."""
     deps: dict[int, frozenset[int]] = {}
+    def touched(s: PlanStep) -> set[tuple[str, int]]:
+        out = {("c", s.target), *(("i", i) for i in s.items)}
+        if s.via is not None:
+            out.add(("c", s.via))
+        return out
+
     for k, s in enumerate(steps):
-        touched = {("c", s.target), *(("i", i) for i in s.items)}
+        mine = touched(s)
         need: dict[int, int] = {}
         for prev in steps[:k]:
-            if prev.agent != s.agent and touched & {("c", prev.target), *(("i", i) for i in prev.items)}:
+            if prev.agent != s.agent and mine & touched(prev):
                 need[prev.agent] = prev.index
         deps[s.index] = frozenset(need.values())
     return deps
@@ -170,6 +178,7 @@ class Executive:
         #: where idle agents wait on a switching map (empty: they just keep out of the way)
         self.hubs = hub_cells(state.geo) if dynamic else frozenset()
         self.failures_in_row = 0
+        self.no_progress = 0
         self.queues: dict[int, deque[Task]] = {a: deque() for a in self.agent_ids}
         self.done_steps: set[int] = set()
         self.planned_orders: set[int] = set()
@@ -252,14 +261,16 @@ class Executive:
                 self.boosted[a] = state.t  # right of way until it gets there
             if self.stuck[a] and self.stuck[a] % self.block_patience == 0:
                 self._trigger(state, "blocked", out)
-            if self.stuck[a] == 4 * self.block_patience:
-                self._trigger(state, "deadlock", out)
             if task is not None and task.waited == self.patience:
                 self._trigger(state, "stalled", out)
             if task is not None and not task.unreachable and \
                     self.oracle.to_station(state.layout_index, task.step.target)[pos] < 0:
                 task.unreachable = True  # once per task: the planner is told by a replan
                 self._trigger(state, "unreachable", out)
+        if any(self.queues.values()):
+            self.no_progress += 1
+            if self.no_progress % (4 * self.block_patience) == 0:
+                self._trigger(state, "deadlock", out)  # nobody finished a step for a long time
         if self.last_plan_t is not None and state.orders and not any(self.queues.values()):
             self._trigger(state, "plan_finished", out)
         return out
@@ -307,7 +318,7 @@ class Executive:
     def install(self, steps: Sequence[PlanStep]) -> None:
         """Replace the task queues with a new plan (agents the plan does not reach keep theirs)."""
         base = self.plan_id * 100_000
-        steps = [PlanStep(base + i, s.agent, s.kind, s.target, s.items, s.start, s.duration)
+        steps = [PlanStep(base + i, s.agent, s.kind, s.target, s.items, s.start, s.duration, s.via)
                  for i, s in enumerate(sorted(steps, key=lambda s: (s.start or 0.0, s.index)))]
         deps = causal_dependencies(steps)
         queues: dict[int, deque[Task]] = {a: deque() for a in self.agent_ids}
@@ -340,12 +351,15 @@ class Executive:
         task = self.queues[agent].popleft()
         self.done_steps.add(task.step.index)
         self.steps_done += 1
+        self.no_progress = 0
         self.stuck[agent] = 0
         self.boosted.pop(agent, None)
 
     def _already_done(self, state: State, task: Task) -> bool:
         """Chop/wash of an item that is already processed (e.g. per-level chop steps)."""
         kind, here = task.step.kind, state.cell_item[task.step.target]
+        if kind == "goto":
+            return state.agent_pos[task.step.agent] == task.step.target
         if kind == "chop":
             return here < 0 or state.item_state[here] == _CHOPPED
         if kind == "wash":
@@ -469,11 +483,20 @@ class Executive:
                 park = self.hubs if pos not in self.hubs else frozenset()
                 requests.append(((3, 0, a), PathRequest(a, pos, park)))
                 continue
+            if task.step.kind == "goto":  # a cell-level move of the plan, in the plan's order
+                waiting = not task.deps <= self.done_steps
+                goal = frozenset({pos}) if waiting else frozenset({task.step.target})
+                requests.append(((2, 0, a) if waiting else (1, 1, a), PathRequest(a, pos, goal)))
+                continue
             spots = frozenset(self._spots(state, task.step.target))
             if self.hubs and self.oracle.to_station(state.layout_index, task.step.target)[pos] < 0:
                 # cut off by the layout: wait where the next layout will connect us
                 park = self.hubs if pos not in self.hubs else frozenset()
                 requests.append(((3, 0, a), PathRequest(a, pos, park)))
+                continue
+            if pos in spots and not task.deps <= self.done_steps and self._needed_by_other(state, a, pos):
+                # waiting on its own spot for someone who needs that very spot: step aside
+                requests.append(((3, 0, a), PathRequest(a, pos, frozenset())))
                 continue
             if pos in spots and self._ready(state, a, task):
                 actions[a] = step_action(geo, pos, task.step.target)
@@ -483,9 +506,16 @@ class Executive:
                 continue
             if pos in spots:
                 task.waited += 1
-            urgent = 0 if geo.terrains[state.layout_index][task.step.target] == _PAN else 1
-            boost = self.boosted.get(a, 1 << 30)
-            prio = (0, boost, a) if a in self.boosted else (1 + urgent, 0, a)
+            # right of way: agents stuck for a while, then work at a pan (burn deadlines),
+            # then agents whose task can start; agents waiting for another agent's step
+            # come after those (they must not hold a spot the other one needs), idle ones last
+            if a in self.boosted:
+                prio = (0, self.boosted[a], a)
+            elif not task.deps <= self.done_steps:
+                prio = (2, 0, a)
+            else:
+                urgent = geo.terrains[state.layout_index][task.step.target] == _PAN
+                prio = (1, 0 if urgent else 1, a)
             requests.append((prio, PathRequest(a, pos, spots)))
         if requests:
             requests.sort(key=lambda x: x[0])
@@ -496,6 +526,16 @@ class Executive:
             for a, res in paths.items():
                 actions[a] = res.next_action(geo)
         return {a: actions.get(a, STAY) for a in self.agent_ids}
+
+    def _needed_by_other(self, state: State, agent: int, cell: int) -> bool:
+        """Does another driven agent's ready task have ``cell`` as its only way in?"""
+        for b in self.agent_ids:
+            task = self._current(b)
+            if b == agent or task is None or not task.deps <= self.done_steps:
+                continue
+            if self._spots(state, task.step.target) == [cell]:
+                return True
+        return False
 
     # ------------------------------------------------------------------ reporting
     def info(self) -> dict[str, object]:
