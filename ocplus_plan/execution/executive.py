@@ -519,7 +519,9 @@ class Executive:
             requests.append((prio, PathRequest(a, pos, spots)))
         if requests:
             requests.sort(key=lambda x: x[0])
-            others = {b: state.agent_pos[b] for b in range(state.n_agents) if b not in self.queues}
+            # agents we do not drive, and our agents that bump this step, stay where they are
+            others = {b: state.agent_pos[b] for b in range(state.n_agents)
+                      if b not in self.queues or b in actions}
             walk_at = layout_schedule(state, self.anticipate)
             paths = plan_paths(geo, [r for _, r in requests], others,
                                horizon=self.path_horizon, walk_at=walk_at)
