@@ -24,6 +24,7 @@ import importlib.util
 import os
 import resource
 import shutil
+import tempfile
 import warnings
 from dataclasses import asdict, dataclass, field
 from functools import cache, lru_cache
@@ -285,8 +286,14 @@ def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = No
         result.reason = avail.reason
         return result
 
-    outcome = _proc.run_isolated(_solve_in_child, (problem, config, limit),
-                                 hard_limit=limit + GRACE_SECONDS)
+    # A private working directory: Fast Downward and SymK write output.sas into the current
+    # directory, so two solves in one directory (two test runs) corrupt each other's files.
+    workdir = tempfile.mkdtemp(prefix="ocplus-solve-")
+    try:
+        outcome = _proc.run_isolated(_solve_in_child, (problem, config, limit, workdir),
+                                     hard_limit=limit + GRACE_SECONDS)
+    finally:
+        shutil.rmtree(workdir, ignore_errors=True)
     result.planning_time = round(outcome.wall_time, 4)
     result.pgid = outcome.pgid
     if outcome.kind == _proc.TIMEOUT:
@@ -303,6 +310,13 @@ def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = No
     result.status = _UP_STATUS.get(report["up_status"], "error")
     result.optimal = report["up_status"] == "SOLVED_OPTIMALLY"
     result.reason = report.get("reason", "")
+    if result.status == "unsolvable" and "Traceback (most recent call last)" in report["log"]:
+        # UP's FD/SymK wrappers report a crashed translator as UNSOLVABLE_PROVEN
+        result.status = "error"
+        result.reason = (f"engine reported {report['up_status']} after a Python traceback, "
+                         "so the planner failed rather than proved anything")
+        result.reason += _tail_hint(report["log"])
+        return result
     if result.status != "solved":
         if not result.reason:
             result.reason = f"engine reported {report['up_status']}" + _tail_hint(report["log"])
@@ -338,9 +352,11 @@ def _tail_hint(log: str) -> str:
     return f"; last output: {' | '.join(lines[-3:])[:400]}" if lines else ""
 
 
-def _solve_in_child(problem: Any, config: PlannerConfig, limit: float) -> dict[str, Any]:
+def _solve_in_child(problem: Any, config: PlannerConfig, limit: float,
+                    workdir: str) -> dict[str, Any]:
     """Runs in the forked child: call the engine and return a picklable report."""
     warnings.simplefilter("ignore")
+    os.chdir(workdir)
     from unified_planning.shortcuts import OneshotPlanner
 
     os.environ.update(config.env)  # only in this child and the planner processes it starts

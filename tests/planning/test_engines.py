@@ -550,3 +550,14 @@ def _all_children(pid: int) -> list[int]:
             if int(fields[1]) == pid and int(fields[2]) == int(entry):  # a group leader
                 out.append(int(entry))
     return out
+
+
+def test_planners_write_nothing_into_the_callers_directory(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """FD writes output.sas into its cwd: concurrent solves in one directory used to
+    corrupt each other (a crashed translator reported as UNSOLVABLE_PROVEN)."""
+    _require("fast-downward")
+    monkeypatch.chdir(tmp_path)
+    result = solve(tiny_classical(), "fast-downward", timeout=30)
+    assert result.status == "solved"
+    assert list(tmp_path.iterdir()) == []
