@@ -38,13 +38,13 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from ocplus_plan.agents.planner import PlannerAgent  # noqa: E402
-from ocplus_plan.execution.faults import FaultSchedule, run_episode  # noqa: E402
-from ocplus_plan.execution.paths import bfs_distances, interaction_spots  # noqa: E402
-from ocplus_plan.sim import make_rules, new_state  # noqa: E402
-from ocplus_plan.sim.codes import VEGETABLES, Cell, Item  # noqa: E402
-from ocplus_plan.sim.rules import Recipe, Rules  # noqa: E402
-from ocplus_plan.sim.state import Geometry  # noqa: E402
+from ocplus_plan.agents.planner import PlannerAgent
+from ocplus_plan.execution.faults import FaultSchedule, run_episode
+from ocplus_plan.execution.paths import bfs_distances, interaction_spots
+from ocplus_plan.sim import make_rules, new_state
+from ocplus_plan.sim.codes import VEGETABLES, Cell, Item
+from ocplus_plan.sim.rules import Recipe, Rules
+from ocplus_plan.sim.state import Geometry
 
 
 def _cells(geo: Geometry, code: int) -> list[int]:

@@ -22,10 +22,10 @@ from __future__ import annotations
 import time
 from collections import Counter, deque
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from ..errors import ConfigError
-from ..sim.codes import VEGETABLES, Cell, Item, ItemState
+from ..sim.codes import VEGETABLES, Cell, ItemState
 from ..sim.state import State
 from .paths import (
     STAY,
@@ -37,79 +37,26 @@ from .paths import (
     plan_paths,
     step_action,
 )
+from .plans import (
+    STEP_KINDS,
+    PlanFunction,
+    PlanOutcome,
+    PlanStep,
+    Policy,
+    causal_dependencies,
+)
 
-#: step kinds the executive understands; anything else is a generic "bump until something changes"
-STEP_KINDS = ("pickup", "putdown", "chop", "wash", "plate", "deliver", "trash", "bump", "goto")
 _VEG = frozenset(int(v) for v in VEGETABLES)
-_PAN, _SINK, _BOARD = int(Cell.PAN), int(Cell.SINK), int(Cell.BOARD)
+_PAN = int(Cell.PAN)
 _RAW, _CHOPPED, _CLEAN, _DIRTY = (int(ItemState.FRESH), int(ItemState.CHOPPED),
                                   int(ItemState.CLEAN), int(ItemState.DIRTY))
 _COOKED = int(ItemState.COOKED)
-_STEAK = int(Item.STEAK)
-
-
-@dataclass(frozen=True)
-class PlanStep:
-    """One interaction of a plan in simulator terms (what the planning layer maps back to)."""
-
-    index: int
-    agent: int
-    kind: str
-    target: int  # flat cell to bump
-    items: tuple[int, ...] = ()
-    start: float | None = None  # planned start (steps after planning), for time-triggered plans
-    duration: float | None = None
-    #: for a ``goto`` step (a cell-level move of the plan): the cell it leaves
-    via: int | None = None
-
-
-@dataclass
-class PlanOutcome:
-    """What a planner call returns to the executive (a failure is data, not an exception)."""
-
-    status: str  # "solved" or anything else (timeout, unsolvable, error, ...)
-    steps: list[PlanStep] = field(default_factory=list)
-    planning_time: float = 0.0
-    message: str = ""
-
-    @property
-    def ok(self) -> bool:
-        return self.status == "solved"
-
-
-#: planner(state, driven agent ids, reason for planning) -> PlanOutcome
-PlanFunction = Callable[[State, tuple[int, ...], str], PlanOutcome]
-
-
-@dataclass(frozen=True)
-class Policy:
-    """When to ask for a new plan: ``on_event`` (any trigger), ``periodic(k)`` (every k
-    steps), ``never`` (open loop: a new plan only once the current one is used up)."""
-
-    kind: str = "on_event"
-    period: int = 0
-
-    @classmethod
-    def parse(cls, spec: str | Policy) -> Policy:
-        if isinstance(spec, Policy):
-            return spec
-        text = str(spec).strip().lower()
-        if text in ("on_event", "never"):
-            return cls(text)
-        if text.startswith("periodic"):
-            arg = text[len("periodic"):].strip("()= ")
-            if arg.isdigit() and int(arg) > 0:
-                return cls("periodic", int(arg))
-        raise ConfigError(
-            f"unknown replanning policy {spec!r}; use on_event, never or periodic(K) with K >= 1"
-        )
-
-    def __str__(self) -> str:
-        return f"periodic({self.period})" if self.kind == "periodic" else self.kind
 
 
 @dataclass
 class Task:
+    """A plan step in an agent's queue, with what the executive learned while doing it."""
+
     step: PlanStep
     deps: frozenset[int]
     bumps: int = 0
@@ -125,26 +72,6 @@ class _Bump:
     here: int
     here_state: tuple[int, int]
     plate_sizes: tuple[int, int]
-
-
-def causal_dependencies(steps: Sequence[PlanStep]) -> dict[int, frozenset[int]]:
-    """For each step, the latest earlier step of every *other* agent that touches the same
-    cell or item: the order a sequential plan relies on between agents."""
-    deps: dict[int, frozenset[int]] = {}
-    def touched(s: PlanStep) -> set[tuple[str, int]]:
-        out = {("c", s.target), *(("i", i) for i in s.items)}
-        if s.via is not None:
-            out.add(("c", s.via))
-        return out
-
-    for k, s in enumerate(steps):
-        mine = touched(s)
-        need: dict[int, int] = {}
-        for prev in steps[:k]:
-            if prev.agent != s.agent and mine & touched(prev):
-                need[prev.agent] = prev.index
-        deps[s.index] = frozenset(need.values())
-    return deps
 
 
 class Executive:
@@ -295,7 +222,7 @@ class Executive:
         t0 = time.perf_counter()
         try:
             outcome = self.planner(state.copy(), self.agent_ids, reason)
-        except Exception as exc:  # a planner must never crash the episode
+        except Exception as exc:  # noqa: BLE001 - a planner must never crash the episode
             outcome = PlanOutcome("error", [], time.perf_counter() - t0, repr(exc))
         spent = outcome.planning_time or (time.perf_counter() - t0)
         self.planning_time += spent

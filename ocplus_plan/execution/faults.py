@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 
@@ -64,11 +64,6 @@ class MessageLoss:
         lost = bool(self.rng.random() < self.rate)
         self.dropped += lost
         return not lost
-
-
-class _Controller(Protocol):
-    def reset(self, state: State, agent_ids: Sequence[int] | None = None) -> None: ...
-    def act(self, state: State) -> list[int]: ...
 
 
 class BlockingAgent:

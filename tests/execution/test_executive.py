@@ -56,7 +56,7 @@ def test_causal_dependencies_link_agents_through_shared_cells_and_items():
 
 
 def test_easy_single_agent_serves_many_dishes():
-    stats, info, state = play(make_rules("easy", n_agents=1))
+    stats, info, _state = play(make_rules("easy", n_agents=1))
     assert stats["dishes_served"] >= 5
     assert stats["wrong_deliveries"] == 0
     assert info["failed_bumps"] == 0
@@ -66,7 +66,7 @@ def test_easy_single_agent_serves_many_dishes():
 
 
 def test_two_agents_one_idle_never_collide():
-    stats, info, _ = play(make_rules("easy", n_agents=2))
+    stats, _info, _ = play(make_rules("easy", n_agents=2))
     assert stats["dishes_served"] >= 5
     assert stats["max_agents_per_cell"] == 1
     assert stats["blocked_moves"] == 0
@@ -74,7 +74,7 @@ def test_two_agents_one_idle_never_collide():
 
 def test_planner_failure_never_crashes_and_agents_stay_safe():
     for planner in (failing_planner, crashing_planner):
-        stats, info, state = play(make_rules("easy", n_agents=2), planner=planner, steps=60)
+        stats, info, _state = play(make_rules("easy", n_agents=2), planner=planner, steps=60)
         assert stats["dishes_served"] == 0
         # retried with a growing back-off: t = 0, 5, 15, 30, 50, 70, ...
         assert [t for t, _ in info["replan_log"]][:4] == [0, 5, 15, 30]
@@ -107,7 +107,7 @@ def test_periodic_and_never_policies():
 def test_forced_burn_leads_to_trash_recook_and_a_served_dish():
     rules = make_rules("medium", recipes=["steak"])
     faults = FaultSchedule(burns=[5])
-    stats, info, state = play(rules, faults=faults, steps=120)
+    stats, info, _state = play(rules, faults=faults, steps=120)
     assert faults.applied and faults.applied[0][1] == "burn"
     assert stats["burns"] >= 1
     assert info["replans_by_reason"].get("burnt", 0) >= 1
@@ -132,7 +132,7 @@ def test_layout_switch_mid_path_triggers_replan_without_collision():
     rules = make_rules("hard", map="hard_switch", recipes=["tomato"], dirty_plates=False,
                        map_switch_step=500)
     faults = FaultSchedule(switches=[4])
-    stats, info, state = play(rules, faults=faults, steps=100)
+    stats, info, _state = play(rules, faults=faults, steps=100)
     assert faults.applied == [(4, "switch")]
     assert info["replans_by_reason"].get("layout_switch", 0) >= 1
     assert stats["max_agents_per_cell"] == 1
@@ -142,7 +142,7 @@ def test_layout_switch_mid_path_triggers_replan_without_collision():
 def test_blocking_agent_is_avoided_or_waited_for():
     rules = make_rules("easy", n_agents=2)
     blocker = BlockingAgent((2, 3), start=0, duration=40)
-    stats, info, state = play(rules, agents=[0], extra=[(blocker, [1])], steps=120)
+    stats, _info, _state = play(rules, agents=[0], extra=[(blocker, [1])], steps=120)
     assert stats["dishes_served"] >= 2
     assert stats["max_agents_per_cell"] == 1
 

@@ -1,0 +1,99 @@
+"""What the executive consumes: plan steps in simulator terms, planner outcomes, policies.
+
+Kept apart from :mod:`.executive` so that the planning glue (``agents.planner``) and
+tests can build plans without the execution machinery.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+from ..errors import ConfigError
+from ..sim.state import State
+
+#: step kinds the executive understands; anything else is a generic "bump until something changes"
+STEP_KINDS = ("pickup", "putdown", "chop", "wash", "plate", "deliver", "trash", "bump", "goto")
+
+
+@dataclass(frozen=True)
+class PlanStep:
+    """One interaction of a plan in simulator terms (what the planning layer maps back to)."""
+
+    index: int
+    agent: int
+    kind: str
+    target: int  # flat cell to bump
+    items: tuple[int, ...] = ()
+    start: float | None = None  # planned start (steps after planning), for time-triggered plans
+    duration: float | None = None
+    #: for a ``goto`` step (a cell-level move of the plan): the cell it leaves
+    via: int | None = None
+
+
+@dataclass
+class PlanOutcome:
+    """What a planner call returns to the executive (a failure is data, not an exception)."""
+
+    status: str  # "solved" or anything else (timeout, unsolvable, error, ...)
+    steps: list[PlanStep] = field(default_factory=list)
+    planning_time: float = 0.0
+    message: str = ""
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "solved"
+
+
+#: planner(state, driven agent ids, reason for planning) -> PlanOutcome
+PlanFunction = Callable[[State, tuple[int, ...], str], PlanOutcome]
+
+
+@dataclass(frozen=True)
+class Policy:
+    """When to ask for a new plan: ``on_event`` (any trigger), ``periodic(k)`` (every k
+    steps), ``never`` (open loop: a new plan only once the current one is used up)."""
+
+    kind: str = "on_event"
+    period: int = 0
+
+    @classmethod
+    def parse(cls, spec: str | Policy) -> Policy:
+        if isinstance(spec, Policy):
+            return spec
+        text = str(spec).strip().lower()
+        if text in ("on_event", "never"):
+            return cls(text)
+        if text.startswith("periodic"):
+            arg = text[len("periodic"):].strip("()= ")
+            if arg.isdigit() and int(arg) > 0:
+                return cls("periodic", int(arg))
+        raise ConfigError(
+            f"unknown replanning policy {spec!r}; use on_event, never or periodic(K) with K >= 1"
+        )
+
+    def __str__(self) -> str:
+        return f"periodic({self.period})" if self.kind == "periodic" else self.kind
+
+
+def causal_dependencies(steps: Sequence[PlanStep]) -> dict[int, frozenset[int]]:
+    """For each step, the latest earlier step of every *other* agent that touches the same
+    cell or item: the order a sequential plan relies on between agents."""
+    deps: dict[int, frozenset[int]] = {}
+    def touched(s: PlanStep) -> set[tuple[str, int]]:
+        out = {("c", s.target), *(("i", i) for i in s.items)}
+        if s.via is not None:
+            out.add(("c", s.via))
+        return out
+
+    for k, s in enumerate(steps):
+        mine = touched(s)
+        need: dict[int, int] = {}
+        for prev in steps[:k]:
+            if prev.agent != s.agent and mine & touched(prev):
+                need[prev.agent] = prev.index
+        deps[s.index] = frozenset(need.values())
+    return deps
+
+
+__all__ = ["STEP_KINDS", "PlanFunction", "PlanOutcome", "PlanStep", "Policy", "causal_dependencies"]
