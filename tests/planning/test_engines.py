@@ -561,3 +561,16 @@ def test_planners_write_nothing_into_the_callers_directory(
     result = solve(tiny_classical(), "fast-downward", timeout=30)
     assert result.status == "solved"
     assert list(tmp_path.iterdir()) == []
+
+
+def test_state_after_random_steps_is_seeded_and_checked() -> None:
+    from ocplus_plan.commands.solve import state_after_random_steps
+    from ocplus_plan.errors import ConfigError
+    from ocplus_plan.sim import make_rules
+
+    rules = make_rules("medium", n_agents=2)
+    a, b = (state_after_random_steps(rules, 3, 25) for _ in range(2))
+    assert a.t == 25 and a.state_hash() == b.state_hash()
+    assert state_after_random_steps(rules, 4, 25).state_hash() != a.state_hash()
+    with pytest.raises(ConfigError, match="--step"):
+        state_after_random_steps(rules, 0, -1)
