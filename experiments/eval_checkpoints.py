@@ -47,6 +47,7 @@ def evaluate(path: Path, preset: str, n_agents: int, seeds: int, mode: str | Non
         "dishes_std": round(statistics.pstdev(dishes), 3),
         "dishes_min": min(dishes), "dishes_max": max(dishes),
         "reward_mean": round(statistics.mean(rewards), 2),
+        "dishes_per_seed": dishes,
         "wall_s": round(time.perf_counter() - t0, 2),
     }
 

@@ -44,7 +44,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--individual-reward", action="store_true",
                    help="each agent learns from its own rewards (default: the team's sum)")
     g.add_argument("--curriculum", default="",
-                   help="comma-separated presets mixed in for the first --curriculum-fraction")
+                   help="comma-separated presets mixed in for the first --curriculum-fraction; "
+                        "PRESET:R1/R2 restricts a preset's kitchen to those recipes, e.g. "
+                        "medium:steak/tomato (one-ingredient orders teach the pan)")
     g.add_argument("--curriculum-fraction", type=float, default=0.3)
     g.add_argument("--init", default=None, help="start from this checkpoint's weights")
     g.add_argument("--checkpoint-every", type=int, default=None,

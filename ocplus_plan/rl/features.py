@@ -30,8 +30,10 @@ Per agent, one flat ``float32`` vector of :attr:`FeatureEncoder.size` values (na
 * time ``t / horizon``, layout index, steps to the next switch, the nearest cooking
   steak's progress and the nearest cooked steak's time left before it burns.
 
-Paths ignore other agents (they move); the BFS from each standing cell is cached per
-layout, so one encoding costs a scan over the map's interaction cells.
+Paths go around the cells where other agents stand (a path only through them falls back
+to ignoring them), so two agents sharing the policy do not queue behind each other for
+the same board; the BFS per (layout, own cell, others' cells) is cached, so one encoding
+costs a scan over the map's interaction cells.
 """
 
 from __future__ import annotations
@@ -107,7 +109,7 @@ class FeatureEncoder:
             tuple(c for c in range(n_cells) if terrain[c] not in _FLOORISH)
             for terrain in geo.terrains
         ]
-        self._reach_cache: dict[tuple[int, int], list[tuple[int, int]]] = {}
+        self._reach_cache: dict[tuple[int, int, tuple[int, ...]], list[tuple[int, int]]] = {}
         self._names = self._build_names()
         self.size = len(self._names)
 
@@ -146,15 +148,30 @@ class FeatureEncoder:
         names += ["time", "layout", "switch_in", "cooking_progress", "cooked_burn_risk"]
         return names
 
-    def _reach(self, layout: int, pos: int) -> list[tuple[int, int]]:
+    def _reach(
+        self, layout: int, pos: int, others: tuple[int, ...] = ()
+    ) -> list[tuple[int, int]]:
         """Per interaction cell of ``layout``: (path cost incl. bump, first action), or
-        (``_NO_PATH``, -1). Cached: geometry is static."""
-        key = (layout, pos)
+        (``_NO_PATH``, -1). Paths avoid the cells where other agents stand (``others``);
+        a cell reachable only through them falls back to the path that ignores them.
+        Cached: geometry is static."""
+        key = (layout, pos, others)
         hit = self._reach_cache.get(key)
         if hit is not None:
             return hit
+        if others:
+            free = self._reach(layout, pos)
+            out = [b if b[1] >= 0 else f for b, f in zip(self._bfs(layout, pos, others), free)]
+        else:
+            out = self._bfs(layout, pos, ())
+        self._reach_cache[key] = out
+        return out
+
+    def _bfs(self, layout: int, pos: int, others: tuple[int, ...]) -> list[tuple[int, int]]:
         geo = self.geo
-        walk = geo.walkables[layout]
+        walk = list(geo.walkables[layout])
+        for o in others:
+            walk[o] = False
         nbrs = geo.neighbors
         dist = [-1] * len(walk)
         first = [-1] * len(walk)
@@ -176,7 +193,6 @@ class FeatureEncoder:
                     best = dist[v]
                     act = (a + 2) % 4 if v == pos else first[v]
             out.append((best + 1 if act >= 0 else _NO_PATH, act))
-        self._reach_cache[key] = out
         return out
 
     def _plate_summary(self, state: State, plate: int) -> list[float]:
@@ -209,7 +225,8 @@ class FeatureEncoder:
         layout = state.layout_index
         terrain = geo.terrains[layout]
         pos = state.agent_pos[agent]
-        reach = self._reach(layout, pos)
+        others = tuple(sorted(p for b, p in enumerate(state.agent_pos) if b != agent))
+        reach = self._reach(layout, pos, others)
         cell_item, kinds, istate = state.cell_item, geo.item_kind, state.item_state
         progress = state.item_progress
         n_t = len(TARGETS)

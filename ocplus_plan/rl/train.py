@@ -76,7 +76,12 @@ class TrainConfig:
 
 
 def _rules(config: TrainConfig, preset: str, with_map: bool) -> Rules:
+    """Training rules for ``preset`` or, in a curriculum, ``PRESET:RECIPE/RECIPE...`` (the
+    preset's kitchen with only those recipes, e.g. ``medium:steak/tomato``)."""
     kw: dict[str, Any] = {"reward_mode": "individual"}
+    preset, _, recipes = preset.partition(":")
+    if recipes:
+        kw["recipes"] = [r for r in recipes.split("/") if r]
     if config.n_agents is not None:
         kw["n_agents"] = config.n_agents
     return make_rules(preset, map=config.map if with_map else None, **kw)
@@ -94,7 +99,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
     """Run one training; return the summary that is also written to ``OUT/train.json``."""
     config.validate()
     target = _rules(config, config.preset, with_map=True)
-    stages = [_rules(config, p, with_map=False) for p in config.curriculum]
+    stages = [_rules(config, p, with_map=config.map is not None) for p in config.curriculum]
     require_rl()
     import torch
     from stable_baselines3 import PPO

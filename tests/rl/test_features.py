@@ -158,3 +158,21 @@ def test_putting_a_finished_dish_down_costs_what_carrying_it_earned():
     carry = shaper.potential(state, 0)
     assert carry >= Shaping().carry_dish  # a finished dish in hand
     assert gains[5] > 0 and gains[6] < 0 and abs(gains[6] + gains[7]) < 1e-9
+
+
+def test_paths_go_around_other_agents_when_they_can():
+    rules = make_rules("easy", n_agents=2)
+    enc = FeatureEncoder(rules)
+    state = new_state(rules, 0)
+    geo = state.geo
+    state.agent_pos[:] = [geo.flat(1, 1), geo.flat(2, 4)]
+    x = enc.encode(state, 0)
+    assert _go(enc, x, "free_board") == R  # straight along row 1 to (1, 5), bump right
+    assert round(_value(enc, x, "free_board:cost") * 20) == 5
+    state.agent_pos[1] = geo.flat(1, 2)  # now the other cook stands in the way
+    x = enc.encode(state, 0)
+    assert _go(enc, x, "free_board") == D  # around it, through row 2
+    assert round(_value(enc, x, "free_board:cost") * 20) == 7
+    # the tomato's only access cell is taken: fall back to the direct way
+    state.agent_pos[1] = geo.flat(1, 2)
+    assert _go(enc, enc.encode(state, 0), "fresh_tomato") == R
