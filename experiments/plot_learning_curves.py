@@ -18,8 +18,24 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def curve(path: Path, bins: int = 25) -> tuple[list[float], list[float]]:
-    rows = list(csv.DictReader(path.open()))
+def target_rows(rows: list[dict], info: dict) -> list[dict]:
+    """Only the episodes played in the target kitchen, not in curriculum stages. Logs
+    without a ``rules`` column (older runs) are filtered by kitchen index: kitchen j ran
+    stage j % (1 + stages) until the switch (plus one episode that was under way)."""
+    stages = info.get("curriculum") or []
+    if not stages:
+        return rows
+    if rows and "rules" in rows[0]:
+        return [r for r in rows if r["rules"] == info["preset"]]
+    k = 1 + len(stages)
+    switch = info["steps"] * info["curriculum_fraction"]
+    slack = 200 * info["n_kitchens"] * int(info.get("n_agents") or 1)
+    return [r for r in rows
+            if int(r["kitchen"]) % k == 0 or int(r["timesteps"]) > switch + slack]
+
+
+def curve(path: Path, info: dict, bins: int = 25) -> tuple[list[float], list[float]]:
+    rows = target_rows(list(csv.DictReader(path.open())), info)
     if not rows:
         return [], []
     last = max(int(r["timesteps"]) for r in rows)
@@ -49,10 +65,10 @@ def main() -> None:
     fig, ax = plt.subplots(figsize=(7, 4))
     for path in runs:
         name = path.name.removesuffix(".episodes.csv")
-        xs, ys = curve(path)
+        info = json.loads((path.parent / f"{name}.json").read_text())
+        xs, ys = curve(path, info.get("config", {}))
         if not xs:
             continue
-        info = json.loads((path.parent / f"{name}.json").read_text())
         init = info.get("init")
         label = name + (f" (from {Path(init).stem})" if init else "")
         ax.plot([x / 1000 for x in xs], ys, marker="o", markersize=3, label=label)

@@ -59,6 +59,7 @@ def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None 
         "steps_per_s": summary["steps_per_s"],
         "dishes_per_episode_last50_in_training": summary["dishes_per_episode_last50"],
         "init": summary["config"]["init"],
+        "config": summary["config"],
         "size_bytes": (CKPT / f"{name}.zip").stat().st_size,
     }
     (CKPT / f"{name}.json").write_text(json.dumps(record, indent=2) + "\n")

@@ -17,7 +17,7 @@ from stable_baselines3.common.callbacks import BaseCallback
 from .vec_env import KitchenVecEnv
 
 EPISODE_FIELDS = (
-    "timesteps", "wall_s", "episode", "kitchen", "preset", "map", "seed", "steps",
+    "timesteps", "wall_s", "episode", "kitchen", "preset", "rules", "map", "seed", "steps",
     "game_reward", "train_return", "dishes", "shaping_coef",
 )
 

@@ -115,6 +115,8 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         obs=config.obs, obs_radius=config.obs_radius, shaping=config.shaping,
         team_reward=config.team_reward, reward_scale=config.reward_scale,
     )
+    venv.rule_labels = {id(r): spec for r, spec in zip(stages, config.curriculum)}
+    venv.rule_labels[id(target)] = config.preset
     n_slots = venv.num_envs
     batch = min(config.batch_size, n_slots * config.n_steps)
     model = PPO(

@@ -88,6 +88,8 @@ class KitchenVecEnv(VecEnv):
         self.base_seed = int(seed)
         self._episode_counter = 0
         self.finished: list[dict[str, Any]] = []
+        #: id(rules) -> a name for the episode log (curriculum stages); default: the preset
+        self.rule_labels: dict[int, str] = {}
         self.shapers = [RewardShaper(shaping or Shaping()) for _ in range(n_kitchens)]
         self.states: list[State] = []
         self._game_return = [0.0] * n_kitchens
@@ -163,6 +165,7 @@ class KitchenVecEnv(VecEnv):
                 self.finished.append({
                     "kitchen": j,
                     "preset": state.rules.preset,
+                    "rules": self.rule_labels.get(id(state.rules), state.rules.preset),
                     "map": state.rules.layout.name,
                     "seed": state.seed,
                     "steps": state.t,
