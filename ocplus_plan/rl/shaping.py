@@ -160,7 +160,6 @@ class RewardShaper:
         shaped = [0.0] * n
         sub = state.rules.rewards.subtask_finished
         sh = self.shaping
-        kinds = state.geo.item_kind
         for ev in events:
             kind, a = ev.kind, ev.agent
             if kind in _SUBTASK_EVENTS:
