@@ -26,6 +26,9 @@ _HOLDERS = frozenset(int(c) for c in COUNTERS)
 _TAKES_FROM = _HOLDERS | {int(Cell.BOARD), int(Cell.PAN)}
 _PLACE_FLAGS = {int(Cell.BOARD): "board", int(Cell.PAN): "pan", int(Cell.SINK): "sink",
                 int(Cell.TRASH): "trash", int(Cell.DELIVERY): "serving"}
+_STATE_FLAG = {ItemState.FRESH: "fresh", ItemState.CHOPPED: "ready",
+               ItemState.COOKED: "ready", ItemState.BURNT: "burnt", ItemState.CLEAN: "clean",
+               ItemState.DIRTY: "dirty"}
 _KIND_NAMES = {Item.TOMATO: "tomato", Item.LETTUCE: "lettuce", Item.ONION: "onion",
                Item.STEAK: "steak"}
 
@@ -256,11 +259,12 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
             b.true("ingredient", name)
             b.true("is_steak" if kind == Item.STEAK else "is_veg", name)
             b.true("kind_of", name, kind_name[kind])
-        flag = {ItemState.FRESH: "fresh", ItemState.CHOPPED: "ready", ItemState.COOKED: "ready",
-                ItemState.BURNT: "burnt", ItemState.CLEAN: "clean", ItemState.DIRTY: "dirty"}[st]
-        b.true(flag, name)
+        where, loc = state.item_where[i], state.item_loc[i]
+        heating = (where == Where.CELL and terrain[loc] == Cell.PAN and st != ItemState.BURNT)
         partial = prog > 0 and st in (ItemState.FRESH, ItemState.DIRTY)
         b.true("partly" if partial else "untouched", name)
+        if not heating:  # a steak cooking on a pan gets its state flag in _pans()
+            b.true(_STATE_FLAG[st], name)
         if partial and kind == Item.STEAK:
             b.num("cook_cost_left", rules.cook_time - prog + 1, name)
             b.num("cook_lo", max(1, rules.cook_time - prog), name)
@@ -269,14 +273,13 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
             b.num("wash_left", max(1, rules.wash_steps - prog), name)
         elif partial:
             b.num("chop_left", max(1, rules.chop_steps - prog), name)
-        where, loc = state.item_where[i], state.item_loc[i]
         if where == Where.HAND:
             continue
         if where == Where.PLATE:
             b.true("on_plate", name, item_name[loc])
         elif where == Where.WAITING:
             b.true("waiting", name)
-        elif terrain[loc] == Cell.PAN and st != ItemState.BURNT:
+        elif heating:
             cooking.append((i, loc))
         else:
             b.true("item_at", name, place_name[loc])
@@ -306,6 +309,7 @@ def _pans(b: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, in
         for i, pan in cooking:
             ticks = state.item_progress[i]
             b.true("on_heat", item_name[i], place_name[pan])
+            b.true(_STATE_FLAG[ItemState(state.item_state[i])], item_name[i])
             opens = max(0, rules.cook_time - ticks)
             closes = rules.burn_time - ticks + 1
             steak = b.objects[item_name[i]]
@@ -341,6 +345,7 @@ def _pans(b: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, in
         if best:
             rescued = True
             b.true("cooking_on", item_name[i], place_name[pan])
+            b.true(_STATE_FLAG[ItemState(state.item_state[i])], item_name[i])
             for cost, a, s in best.values():
                 b.true("can_rescue", agents[a], item_name[i], spot_name[s])
                 b.num("rescue_cost", cost, agents[a], item_name[i])

@@ -222,13 +222,18 @@ def replay(compiled: Compiled, plan: Any, state: State, freeze_layout: bool = Fa
     world = _World(copy)
     view = _ModelView(compiled)
     out = Replay(ok=True)
+    # steaks the model calls burnt while the simulator may still be cooking them: doomed at
+    # compile time, or abandoned by the plan (classical); they burn on the pan in due course
+    doomed = set(compiled.doomed)
     with SequentialSimulator(compiled.problem, name="sequential_simulator") as sim:
         up_state = sim.get_initial_state()
-        problem = view.diff(up_state, world.state, compiled.doomed)
+        problem = view.diff(up_state, world.state, frozenset(doomed))
         if problem:
             return Replay(False, 0, 0, f"before the plan: {problem}", "initial")
         for index, ai in enumerate(plan.actions):
             step = compiled.map_back(ai)
+            if step.kind == "abandon":
+                doomed.update(step.items)
             before = len(world.events)
             taken, trouble = world.run(step)
             out.steps += taken
@@ -242,12 +247,16 @@ def replay(compiled: Compiled, plan: Any, state: State, freeze_layout: bool = Fa
             category = "layout_switch" if switched else "effect"
             if trouble:
                 return _fail(out, f"{ai}: {trouble}", "blocked" if not switched else category)
-            bad = kinds & {"burnt", "wrong_delivery", "move_blocked"}
+            if any(e.kind == "burnt" and e.item not in doomed for e in events):
+                return _fail(out, f"{ai}: a steak burnt in the simulator", category)
+            bad = kinds & {"wrong_delivery", "move_blocked"}
             if bad:
                 return _fail(out, f"{ai}: simulator events {sorted(bad)}", category)
-            problem = view.diff(up_state, world.state, compiled.doomed)
+            problem = view.diff(up_state, world.state, frozenset(doomed))
             if problem:
                 return _fail(out, f"{ai}: {problem}", category)
+            if step.kind == "trash":
+                doomed.difference_update(step.items)  # back home fresh: checked again
             if taken != step.duration:
                 return _fail(out, f"{ai}: took {taken} steps, modelled {step.duration}",
                              "blocked" if step.kind in ("move", "rescue") else "cost")
