@@ -12,12 +12,16 @@ with its own line reader; :func:`register` adds it to UP's factory as
 from __future__ import annotations
 
 import re
+import warnings
 from collections.abc import Callable
 from fractions import Fraction
 from typing import Any
 
 import unified_planning as up
-from up_lpg.lpg_planner import LPGEngine
+
+with warnings.catch_warnings():  # up_lpg imports pkg_resources, which warns on import
+    warnings.simplefilter("ignore", UserWarning)
+    from up_lpg.lpg_planner import LPGEngine
 
 ENGINE_NAME = "ocplus-lpg"
 
