@@ -4,6 +4,7 @@
  (:predicates 
              (agent_at ?x0 - agent ?x1 - spot)
              (vacant ?x0_0 - spot)
+             (open ?x0_0 - spot)
              (free_hand ?x0 - agent)
              (holding ?x0 - agent ?x1_0 - item)
              (idle ?x0 - agent)
@@ -72,7 +73,7 @@
  )
  (:action move
   :parameters ( ?a - agent ?s1 - spot ?s2 - spot)
-  :precondition (and (agent_at ?a ?s1) (vacant ?s2) (link ?s1 ?s2) (calm))
+  :precondition (and (agent_at ?a ?s1) (vacant ?s2) (link ?s1 ?s2) (open ?s2) (calm))
   :effect (and (not (agent_at ?a ?s1)) (not (vacant ?s2)) (agent_at ?a ?s2) (vacant ?s1) (increase (total-cost) 1)))
  (:action pick
   :parameters ( ?a - agent ?i - item ?p - place ?s - spot)

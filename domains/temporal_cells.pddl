@@ -4,6 +4,7 @@
  (:predicates 
              (agent_at ?x0 - agent ?x1 - spot)
              (vacant ?x0_0 - spot)
+             (open ?x0_0 - spot)
              (free_hand ?x0 - agent)
              (holding ?x0 - agent ?x1_0 - item)
              (idle ?x0 - agent)
@@ -76,6 +77,7 @@
                  (at start (agent_at ?a ?s1))
                  (at start (vacant ?s2))
                  (at start (link ?s1 ?s2))
+                 (at start (open ?s2))
                  (at start (idle ?a))
              )
   :effect (and

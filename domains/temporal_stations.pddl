@@ -4,6 +4,7 @@
  (:predicates 
              (agent_at ?x0 - agent ?x1 - spot)
              (vacant ?x0_0 - spot)
+             (open ?x0_0 - spot)
              (free_hand ?x0 - agent)
              (holding ?x0 - agent ?x1_0 - item)
              (idle ?x0 - agent)

@@ -132,7 +132,7 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
                         for q in plates}
     k_max = max([3] + [len(r) for r in rules.recipes] + [len(c) for c in initial_contents.values()])
     dom = build_domain(encoding, granularity, k_max)
-    spots = build_spots(state, granularity, extra_counters)
+    spots = build_spots(state, granularity, extra_counters, every_layout=anticipate_switches)
     problem = _new_problem(f"ocplus_{encoding}_{granularity}", dom, _fast)
     comp = Compiled(problem, Names(), encoding, granularity, spots,
                     tuple(o.order_id for o in goal), geometry=geo)
@@ -215,6 +215,11 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
             b.true("drop_ok", item_name[i], place_name[p])
     for s, p in spots.adjacent:
         b.true("adj", spot_name[s], place_name[p])
+    walk_now = geo.walkables[state.layout_index]
+    if granularity == "cells":
+        for s in spots.spots:
+            if walk_now[s]:
+                b.true("open", spot_name[s])
     for s1, s2, d in spots.links:
         b.true("link", spot_name[s1], spot_name[s2])
         if granularity == "stations":
@@ -292,9 +297,35 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
     else:
         problem.add_quality_metric(MinimizeMakespan())
         if anticipate_switches:
-            raise CompileError("anticipate_switches is not implemented yet")
+            _switch_literals(b, state, spot_name)
     b.flush()
     return comp
+
+
+def _switch_literals(b: _Builder, state: State, spot_name: dict[int, str]) -> None:
+    """Timed initial literals for the coming layout switches (cells granularity).
+
+    Plan time ``tau`` is the state after ``tau`` more simulator steps; the simulator
+    switches at the end of the step that reaches ``next_switch`` (a switch already due
+    and waiting is assumed to happen after the next step). Assumes no switch waits:
+    an agent standing on a closing cell or an item on a vanishing counter delays it
+    in the simulator, not in the model (the executive replans on the event).
+    """
+    from unified_planning.model import GlobalStartTiming
+
+    rules, geo = state.rules, state.geo
+    if not rules.dynamic or len(geo.walkables) < 2:
+        return
+    fl = b.dom.fluents["open"]
+    layout = state.layout_index
+    tau = max(1, state.next_switch - state.t)
+    switching = [s for s in spot_name if s in set(geo.switch_cells)]
+    while state.t + tau <= rules.horizon:
+        layout = 1 - layout
+        for s in switching:
+            b.problem.add_timed_effect(GlobalStartTiming(tau), fl(b.objects[spot_name[s]]),
+                                       bool(geo.walkables[layout][s]))
+        tau += rules.map_switch_step
 
 
 def _pans(b: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, int]],

@@ -57,7 +57,7 @@ TYPE_NAMES = ("agent", "spot", "place", "item", "kind", "content", "order")
 #: fluent name -> parameter types (all boolean unless listed in NUMERIC)
 FLUENTS: dict[str, tuple[str, ...]] = {
     # agents and spots
-    "agent_at": ("agent", "spot"), "vacant": ("spot",), "free_hand": ("agent",),
+    "agent_at": ("agent", "spot"), "vacant": ("spot",), "open": ("spot",), "free_hand": ("agent",),
     "holding": ("agent", "item"), "idle": ("agent",),
     # items on places
     "item_at": ("item", "place"), "free": ("place",), "waiting": ("item",), "nowait": ("place",),
@@ -129,8 +129,12 @@ HAND = "a:agent i:item p:place s:spot"
 def schemas(encoding: str, granularity: str, k_max: int = 3) -> list[Schema]:
     """All action schemas of one encoding and granularity."""
     move_cost: int | str = "dist s1 s2" if granularity == "stations" else 1
+    # cells: a cell is entered only while it is floor (``open``; timed initial literals
+    # flip it when layout switches are anticipated)
+    move_pre = "agent_at a s1; vacant s2; link s1 s2" + ("; open s2" if granularity == "cells"
+                                                          else "")
     out = [
-        _schema("move", "move", "a:agent s1:spot s2:spot", "agent_at a s1; vacant s2; link s1 s2",
+        _schema("move", "move", "a:agent s1:spot s2:spot", move_pre,
                 "agent_at a s2; vacant s1", "agent_at a s1; vacant s2", move_cost),
         _schema("pick", "pick", HAND, f"{AGENT_AT}; free_hand a; item_at i p; nowait p; takes_from p",
                 "holding a i; free p", "free_hand a; item_at i p"),

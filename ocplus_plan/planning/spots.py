@@ -136,14 +136,31 @@ class SpotGraph:
         return self.info.dist.get(a, {}).get(b)
 
 
-def build_spots(state: State, granularity: str = "stations", extra_counters: int = 2) -> SpotGraph:
-    """The spot graph of ``state`` in its current layout."""
+def build_spots(state: State, granularity: str = "stations", extra_counters: int = 2,
+                every_layout: bool = False) -> SpotGraph:
+    """The spot graph of ``state`` in its current layout.
+
+    ``every_layout`` (cells only, for anticipated layout switches): the spots are the
+    floor cells reachable from the agents when every layout's floor counts, so a
+    cell that opens later is already a spot (the compiler guards it with ``open``).
+    """
     geo = state.geo
     li = state.layout_index
     info = layout_info(geo, li, extra_counters)
     terrain = geo.terrains[li]
     region = info.region
     agent_regions = {region[p] for p in state.agent_pos}
+    if every_layout and granularity == "cells":
+        union = tuple(any(w[f] for w in geo.walkables) for f in range(len(terrain)))
+        reach: set[int] = set()
+        for start in state.agent_pos:
+            if start not in reach:
+                reach.update(_bfs(union, geo.neighbors, start))
+        region = tuple(0 if f in reach else -1 for f in range(len(terrain)))
+        agent_regions = {0}
+        info = LayoutInfo(region, info.dist, {
+            f: tuple(g for g in geo.neighbors[f] if g >= 0 and union[g])
+            for f in info.floor_around}, info.stations, info.handovers, info.extras)
     chosen = set(info.stations) | set(info.handovers)
     for r in agent_regions:
         chosen.update(info.extras.get(r, ()))

@@ -180,6 +180,25 @@ def test_anticipate_switches_is_refused_where_it_cannot_be_expressed() -> None:
     state = new_state(make_rules("hard"), 0)
     with pytest.raises(CompileError, match="temporal"):
         compile(state, anticipate_switches=True)
+    with pytest.raises(CompileError, match="cells"):
+        compile(state, encoding="temporal", anticipate_switches=True)
+
+
+def test_anticipated_switches_open_and_close_cells_on_schedule() -> None:
+    rules = make_rules("easy", map="mapC", dynamic=True)
+    state = new_state(rules, 0)
+    now = compile(state, encoding="temporal", granularity="cells")
+    assert not now.problem.timed_effects
+    assert "s_2_3" not in now.names.cells  # a block now: not a spot of the current layout
+    c = compile(state, encoding="temporal", granularity="cells", anticipate_switches=True)
+    f = facts(c)
+    assert "open(s_5_3)" in f and "open(s_2_3)" not in f
+    timed = {(int(t.delay), str(e.fluent), e.value.is_true())
+             for t, effects in c.problem.timed_effects.items() for e in effects}
+    first = rules.map_switch_step  # the first switch, after map_switch_step steps
+    assert (first, "open(s_2_3)", True) in timed and (first, "open(s_5_3)", False) in timed
+    second = first + rules.map_switch_step
+    assert (second, "open(s_2_3)", False) in timed and (second, "open(s_5_3)", True) in timed
 
 
 def test_fast_path_builds_the_same_problem_as_the_public_api() -> None:
