@@ -8,11 +8,16 @@ and states, agent cells, steps taken, served orders). Prints one JSON line per
 configuration, plus one per mismatch with ``--verbose``.
 
     python experiments/fidelity.py [--states 200] [--presets easy medium hard hard-frozen]
+    python experiments/fidelity.py --states 50 --presets corridor3-stations corridor3-cells \
+        ring-stations ring-cells
 
 ``hard`` replays with the layout switching as the simulator does (the model holds
 the current layout, so a switch during the replay can break a plan: reported as
 category ``layout_switch``); ``hard-frozen`` replays the same kind of states with
 switches off during the replay, which isolates model errors from switch effects.
+``corridor3-*`` / ``ring-*``: two cooks on one-lane maps (easy recipes), where the
+stations granularity's distances ignore the other cook (a replay then finds the
+way blocked: category ``blocked``) and the cells granularity does not.
 ``hard*`` compile the first order only (``max_orders=1``): with one plate and dirty
 plates, two orders take lama-first tens of seconds (see README, planning model).
 """
@@ -31,24 +36,29 @@ from ocplus_plan.planning import compile
 from ocplus_plan.planning.engines import solve
 from ocplus_plan.planning.fidelity import replay, sample_states
 
-#: config name -> (preset, max_orders, freeze_layout)
-CONFIGS = {
-    "easy": ("easy", None, False),
-    "medium": ("medium", None, False),
-    "hard": ("hard", 1, False),
-    "hard-frozen": ("hard", 1, True),
+#: config name -> (preset, max_orders, freeze_layout, granularity, rule overrides)
+CONFIGS: dict[str, tuple] = {
+    "easy": ("easy", None, False, "stations", {}),
+    "medium": ("medium", None, False, "stations", {}),
+    "hard": ("hard", 1, False, "stations", {}),
+    "hard-frozen": ("hard", 1, True, "stations", {}),
+    # narrow maps, two cooks: stations ignore the other cook when they price a walk
+    "corridor3-stations": ("easy", None, False, "stations", {"map": "corridor3", "n_agents": 2}),
+    "corridor3-cells": ("easy", None, False, "cells", {"map": "corridor3", "n_agents": 2}),
+    "ring-stations": ("easy", None, False, "stations", {"map": "medium_ring", "n_agents": 2}),
+    "ring-cells": ("easy", None, False, "cells", {"map": "medium_ring", "n_agents": 2}),
 }
 
 
 def run(config: str, n: int, seed: int, timeout: float, verbose: bool) -> dict:
-    preset, max_orders, freeze = CONFIGS[config]
+    preset, max_orders, freeze, granularity, overrides = CONFIGS[config]
     statuses: collections.Counter[str] = collections.Counter()
     categories: collections.Counter[str] = collections.Counter()
     compile_ms, solve_s, lengths = [], [], []
     replayed = faithful = validated = 0
-    for index, state in enumerate(sample_states(preset, n, seed=seed)):
+    for index, state in enumerate(sample_states(preset, n, seed=seed, **overrides)):
         t0 = time.perf_counter()
-        compiled = compile(state, max_orders=max_orders)
+        compiled = compile(state, max_orders=max_orders, granularity=granularity)
         compile_ms.append((time.perf_counter() - t0) * 1000)
         result = solve(compiled.problem, "fast-downward", timeout=timeout, use_val=False)
         statuses[result.status] += 1
@@ -66,7 +76,8 @@ def run(config: str, n: int, seed: int, timeout: float, verbose: bool) -> dict:
                 print(json.dumps({"config": config, "state": index, "t": state.t,
                                   "category": rep.category, "mismatch": rep.mismatch}))
     return {
-        "bench": "fidelity", "config": config, "preset": preset, "states": n, "seed": seed,
+        "bench": "fidelity", "config": config, "preset": preset, "granularity": granularity,
+        "overrides": overrides, "states": n, "seed": seed,
         "max_orders": max_orders, "freeze_layout": freeze, "statuses": dict(statuses),
         "validated": validated, "replayed": replayed, "faithful": faithful,
         "fidelity": round(faithful / replayed, 4) if replayed else None,
@@ -83,7 +94,8 @@ def main() -> None:
     parser.add_argument("--states", type=int, default=200)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--timeout", type=float, default=30.0)
-    parser.add_argument("--presets", nargs="+", default=list(CONFIGS), choices=list(CONFIGS))
+    parser.add_argument("--presets", nargs="+", default=["easy", "medium", "hard", "hard-frozen"],
+                        choices=list(CONFIGS), help="configurations to run")
     parser.add_argument("--verbose", action="store_true", help="one line per mismatch")
     args = parser.parse_args()
     # Fast Downward writes output.sas into the working directory: a private one keeps
