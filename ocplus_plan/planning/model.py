@@ -40,6 +40,13 @@ Modelling choices (see the README section "Planning model"):
   both agents are free to work in between. A steak already on a pan at compile
   time is taken off by ``take_off`` inside a window opened and closed by timed
   initial literals (``window``), or, once burnt (``overdone``), by ``take_burnt``.
+  Measured (experiments/temporal_engines.py): Kairos solves both; LPG has no timed
+  literals and overflows MAX_VARS on the envelope; TAMER and Aries time out (30 s).
+  Alternatives: PDDL+ (a heat process with done/burn events, most faithful; only
+  Kairos and ENHSP take it) and UP's intermediate effects (not writable as PDDL);
+* cells granularity: a move enters a cell only while it is ``open`` (floor); with
+  ``anticipate_switches`` timed initial literals flip ``open`` at the coming layout
+  switches.
 """
 
 from __future__ import annotations
