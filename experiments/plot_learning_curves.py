@@ -6,7 +6,9 @@ Reads ``experiments/checkpoints/*.episodes.csv`` (the training logs of the shipp
 checkpoints, copied there by experiments/train_baselines.py), averages the episodes that finished in each bin of
 training steps, writes ``experiments/figures/ppo_learning_curves.png`` and prints one
 JSON line per run with its final bin. Steps are agent-steps, counted from the start of
-each run (the medium and 2-agent runs continue from the easy checkpoint).
+each run's first stage: a run initialised from earlier stages (the medium chain) is drawn
+after them, each up to the checkpoint that was carried on; the 2-agent run starts from
+the easy checkpoint. Episodes in curriculum kitchens are left out.
 """
 
 from __future__ import annotations
@@ -34,8 +36,23 @@ def target_rows(rows: list[dict], info: dict) -> list[dict]:
             if int(r["kitchen"]) % k == 0 or int(r["timesteps"]) > switch + slack]
 
 
+def chained_rows(path: Path, info: dict) -> list[dict]:
+    """The run's target-kitchen episodes, preceded by those of the earlier stages it was
+    initialised from (each up to the checkpoint that was used), on one step axis."""
+    rows: list[dict] = []
+    offset = 0
+    for stage in info.get("lineage", []):
+        part = target_rows(list(csv.DictReader((path.parent / stage["episodes"]).open())),
+                           stage["config"])
+        rows += [{**r, "timesteps": int(r["timesteps"]) + offset} for r in part
+                 if int(r["timesteps"]) <= stage["used_timesteps"]]
+        offset += stage["used_timesteps"]
+    part = target_rows(list(csv.DictReader(path.open())), info.get("config", {}))
+    return rows + [{**r, "timesteps": int(r["timesteps"]) + offset} for r in part]
+
+
 def curve(path: Path, info: dict, bins: int = 25) -> tuple[list[float], list[float]]:
-    rows = target_rows(list(csv.DictReader(path.open())), info)
+    rows = chained_rows(path, info)
     if not rows:
         return [], []
     last = max(int(r["timesteps"]) for r in rows)
@@ -61,16 +78,20 @@ def main() -> None:
         raise DependencyNotInstalled(
             "plotting needs the plots extra: pip install -e '.[plots]'"
         ) from exc
-    runs = sorted((ROOT / "experiments" / "checkpoints").glob("*.episodes.csv"))
+    runs = sorted(p for p in (ROOT / "experiments" / "checkpoints").glob("*.episodes.csv")
+                  if ".stage" not in p.name)
     fig, ax = plt.subplots(figsize=(7, 4))
     for path in runs:
         name = path.name.removesuffix(".episodes.csv")
         info = json.loads((path.parent / f"{name}.json").read_text())
-        xs, ys = curve(path, info.get("config", {}))
+        xs, ys = curve(path, info)
         if not xs:
             continue
         init = info.get("init")
-        label = name + (f" (from {Path(init).stem})" if init else "")
+        if info.get("lineage"):
+            label = f"{name} ({len(info['lineage']) + 1} stages, curriculum kitchens excluded)"
+        else:
+            label = name + (f" (from {Path(init).stem})" if init else "")
         ax.plot([x / 1000 for x in xs], ys, marker="o", markersize=3, label=label)
         print(json.dumps({"run": name, "final_bin_steps": round(xs[-1]),
                           "dishes_per_episode": round(ys[-1], 3),

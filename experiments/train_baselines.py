@@ -8,8 +8,9 @@ Each run is ``ocplus train ... --out experiments/runs/NAME``; its policy is copi
 command, its wall time and CPU time on this machine, and the training summary;
 ``NAME.episodes.csv`` keeps the training log (game reward and dishes per episode) for
 experiments/plot_learning_curves.py (``experiments/runs/`` itself is git-ignored). The
-medium and two-agent runs start from the easy checkpoint (``--init``): the features are
-map- and agent-count-independent, so what was learned in the easy kitchen transfers.
+two-agent run starts from the easy checkpoint (``--init``): the features are map- and
+agent-count-independent, so what was learned alone transfers to a shared kitchen. The
+medium checkpoint is the end of a three-stage chain (see RUNS).
 """
 
 from __future__ import annotations
@@ -26,26 +27,49 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 CKPT = ROOT / "experiments" / "checkpoints"
 
-#: name -> ocplus train arguments (without --out); order matters (--init dependencies)
+#: name -> ocplus train arguments (without --out), in order (later runs --init from earlier
+#: ones). Names starting with "_" are intermediate stages: trained, not shipped.
 RUNS: dict[str, list[str]] = {
     "easy_1agent": ["--preset", "easy", "--steps", "400000", "--seed", "0",
                     "--anneal-fraction", "0.8", "--n-epochs", "8", "--ent-coef", "0.02",
                     "--n-kitchens", "8"],
-    # starts from the easy run's checkpoint at 160k steps (it serves ~3.6 dishes there)
-    "medium_1agent": ["--preset", "medium", "--steps", "600000", "--seed", "0",
-                      "--anneal-fraction", "0.8", "--n-epochs", "8", "--ent-coef", "0.02",
-                      "--n-kitchens", "8",
-                      "--init", "experiments/runs/easy_1agent/checkpoints/step_000160000.zip"],
     "easy_2agent": ["--preset", "easy", "--n-agents", "2", "--steps", "200000", "--seed", "0",
-                    "--anneal-fraction", "0.8", "--n-epochs", "8", "--ent-coef", "0.02",
-                    "--n-kitchens", "8", "--init", "experiments/checkpoints/easy_1agent.zip"],
+                    "--init", "experiments/checkpoints/easy_1agent.zip"],
+    # medium from scratch: one-ingredient steak orders teach the pan (an easy-trained start
+    # never explored the steak), then steak + one vegetable, then the preset's own recipes
+    "_medium_stage1": ["--preset", "medium", "--steps", "400000", "--seed", "0",
+                       "--curriculum", "medium:steak,medium:steak+tomato/steak+lettuce/steak+onion",
+                       "--curriculum-fraction", "0.5", "--ent-coef", "0.03"],
+    "_medium_stage2": ["--preset", "medium", "--steps", "300000", "--seed", "2",
+                       "--curriculum", "medium:steak+tomato/steak+lettuce/steak+onion",
+                       "--curriculum-fraction", "0.3", "--ent-coef", "0.03", "--init",
+                       "experiments/runs/_medium_stage1/checkpoints/step_000160000.zip"],
+    "medium_1agent": ["--preset", "medium", "--steps", "300000", "--seed", "3",
+                      "--anneal-fraction", "0.5",
+                      "--init", "experiments/runs/_medium_stage2/policy.zip"],
 }
 
 
-def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None = None) -> dict:
+def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None = None,
+         earlier: list[Path] | None = None) -> dict:
     """Copy a finished run's policy and training log next to the shipped checkpoints and
-    write ``NAME.json`` (the exact command from the run's train.json, times, summary)."""
+    write ``NAME.json`` (the exact command from the run's train.json, times, summary).
+    ``earlier``: the runs whose checkpoints this one started from (oldest first); their
+    commands and wall times are recorded as the lineage."""
     summary = json.loads((run_dir / "train.json").read_text())
+    from ocplus_plan.rl.policy import read_meta
+
+    lineage = []
+    chain = [*(earlier or []), run_dir]
+    for k, d in enumerate(chain[:-1], start=1):
+        s = json.loads((d / "train.json").read_text())
+        nxt = json.loads((chain[k] / "train.json").read_text())
+        used = read_meta(nxt["config"]["init"])["train"]["timesteps"]
+        log = f"{name}.stage{k}.episodes.csv"
+        shutil.copyfile(d / "episodes.csv", CKPT / log)
+        lineage.append({"command": s["command"], "wall_time_s": s["wall_time_s"],
+                        "timesteps": s["timesteps"], "used_timesteps": used,
+                        "episodes": log, "config": s["config"]})
     shutil.copyfile(run_dir / "policy.zip", CKPT / f"{name}.zip")
     shutil.copyfile(run_dir / "episodes.csv", CKPT / f"{name}.episodes.csv")
     record = {
@@ -62,6 +86,10 @@ def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None 
         "config": summary["config"],
         "size_bytes": (CKPT / f"{name}.zip").stat().st_size,
     }
+    if lineage:
+        record["lineage"] = lineage
+        record["total_wall_time_s"] = round(
+            record["wall_time_s"] + sum(x["wall_time_s"] for x in lineage), 1)
     (CKPT / f"{name}.json").write_text(json.dumps(record, indent=2) + "\n")
     return record
 
@@ -78,20 +106,27 @@ def train_one(name: str, python: str) -> dict:
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return ship(name, out, round(wall, 1), round(cpu, 1))
+    if name.startswith("_"):  # an intermediate stage: keep the run, ship nothing
+        return {"run": str(out.relative_to(ROOT)), "wall_time_s": round(wall, 1),
+                "cpu_time_s": round(cpu, 1)}
+    earlier = [ROOT / "experiments" / "runs" / n for n in RUNS
+               if n.startswith("_") and n[1:].split("_stage")[0] == name.split("_")[0]]
+    return ship(name, out, round(wall, 1), round(cpu, 1), earlier=earlier)
 
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("names", nargs="*", help=f"runs among {', '.join(RUNS)} (default: all)")
-    p.add_argument("--ship", metavar="NAME=DIR", action="append", default=[],
-                   help="only copy an already finished run DIR as checkpoint NAME")
+    p.add_argument("--ship", metavar="NAME=DIR[,EARLIER...]", action="append", default=[],
+                   help="only copy an already finished run DIR as checkpoint NAME (EARLIER: "
+                        "the runs it was initialised from, oldest first)")
     args = p.parse_args()
     CKPT.mkdir(parents=True, exist_ok=True)
     if args.ship:
         for item in args.ship:
-            name, _, run_dir = item.partition("=")
-            print(json.dumps(ship(name, Path(run_dir))), flush=True)
+            name, _, dirs = item.partition("=")
+            *earlier, run_dir = [Path(d) for d in dirs.split(",")][::-1]
+            print(json.dumps(ship(name, run_dir, earlier=earlier[::-1])), flush=True)
         return
     unknown = [n for n in args.names if n not in RUNS]
     if unknown:
