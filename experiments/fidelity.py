@@ -47,7 +47,11 @@ CONFIGS: dict[str, tuple] = {
     "corridor3-cells": ("easy", None, False, "cells", {"map": "corridor3", "n_agents": 2}),
     "ring-stations": ("easy", None, False, "stations", {"map": "medium_ring", "n_agents": 2}),
     "ring-cells": ("easy", None, False, "cells", {"map": "medium_ring", "n_agents": 2}),
+    # temporal encoding, solved by Kairos and validated (UP + VAL); no sequential replay
+    # (a temporal plan's concurrency needs the executive, not a one-at-a-time replay)
+    "medium-temporal": ("medium", 1, False, "stations", {}),
 }
+TEMPORAL = {"medium-temporal": "kairos"}
 
 
 def run(config: str, n: int, seed: int, timeout: float, verbose: bool) -> dict:
@@ -58,15 +62,20 @@ def run(config: str, n: int, seed: int, timeout: float, verbose: bool) -> dict:
     replayed = faithful = validated = 0
     for index, state in enumerate(sample_states(preset, n, seed=seed, **overrides)):
         t0 = time.perf_counter()
-        compiled = compile(state, max_orders=max_orders, granularity=granularity)
+        temporal = config in TEMPORAL
+        compiled = compile(state, max_orders=max_orders, granularity=granularity,
+                           encoding="temporal" if temporal else "classical")
         compile_ms.append((time.perf_counter() - t0) * 1000)
-        result = solve(compiled.problem, "fast-downward", timeout=timeout, use_val=False)
+        planner = TEMPORAL.get(config, "fast-downward")
+        result = solve(compiled.problem, planner, timeout=timeout, use_val=temporal)
         statuses[result.status] += 1
         if result.status != "solved":
             continue
         solve_s.append(result.planning_time)
         validated += bool(result.validated)
-        lengths.append(len(result.plan.actions))
+        lengths.append(result.plan_length)
+        if temporal:
+            continue
         rep = replay(compiled, result.plan, state, freeze_layout=freeze)
         replayed += 1
         faithful += rep.ok
