@@ -117,17 +117,27 @@ def compile_and_solve(
         # here: plan this once with cells, whose moves respect occupancy, and follow them
         gran = "cells" if reason == "deadlock" and not anticipate_switches else granularity
         cap = orders_to_plan(state, orders_per_plan)
-        attempts = [cap] if cap == 1 or len(state.orders) <= 1 else [cap, 1]
+        attempts = [(cap, state)] if cap == 1 or len(state.orders) <= 1 else [(cap, state),
+                                                                                 (1, state)]
         outcome = PlanOutcome("error", [], 0.0, "no open order")
-        for max_orders in attempts:
+        tried_relaxed = False
+        while attempts:
+            max_orders, problem_state = attempts.pop(0)
             try:
-                compiled = compile_state(state, None, encoding=encoding, granularity=gran,
+                compiled = compile_state(problem_state, None, encoding=encoding, granularity=gran,
                                          max_orders=max_orders,
                                          anticipate_switches=anticipate_switches)
             except CompileError as exc:
                 outcome = PlanOutcome("error", [], time.perf_counter() - t0, f"compile: {exc}")
                 continue
             result = solve(compiled.problem, planner, timeout=timeout, validate=validate)
+            if result.status == "unsolvable" and not tried_relaxed and not anticipate_switches \
+                    and state.rules.dynamic and len(state.geo.walkables) > 1:
+                # nothing is reachable enough in this layout alone (MapC never connects every
+                # station at once): plan as if every switching cell were open, and let the
+                # executive wait for the switch where the way is still closed
+                tried_relaxed = True
+                attempts = [(1, relaxed_state(state))]
             if result.status == "solved" and result.plan is not None:
                 steps = plan_steps(compiled, result.plan, state,
                                    follow_moves=gran == "cells")
@@ -136,6 +146,35 @@ def compile_and_solve(
         return outcome
 
     return plan
+
+
+_RELAXED: dict[int, Any] = {}
+
+
+def relaxed_state(state: State) -> State:
+    """A copy of ``state`` whose current layout has every cell that is floor in some layout
+    as floor (unless an item lies on it): an optimistic kitchen for planning on maps whose
+    layout switches. The simulator state itself is never changed."""
+    from dataclasses import replace
+
+    from ..sim.codes import Cell
+
+    geo = state.geo
+    key = id(geo)
+    if key not in _RELAXED or _RELAXED[key][0] is not geo:
+        floor = [any(w[c] for w in geo.walkables) for c in range(len(geo.neighbors))]
+        terrain = tuple(int(Cell.FLOOR) if floor[c] else geo.terrains[0][c]
+                        for c in range(len(floor)))
+        walk = tuple(floor)
+        _RELAXED[key] = (geo, replace(geo, terrains=(terrain, terrain), walkables=(walk, walk)))
+    relaxed = state.copy()
+    base = _RELAXED[key][1]
+    if any(state.cell_item[c] >= 0 and base.walkables[0][c] and not geo.walkables[state.layout_index][c]
+           for c in range(len(state.cell_item))):
+        return state  # an item lies on a counter that the other layout opens: keep it real
+    relaxed.geo = base
+    relaxed.layout_index = 0
+    return relaxed
 
 
 def plan_steps(compiled: Any, plan: Any, state: State, follow_moves: bool = False) -> list[PlanStep]:
