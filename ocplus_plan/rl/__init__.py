@@ -4,11 +4,13 @@ Optional extra ``rl`` (``pip install 'ocplus-plan[rl]'``): torch and stable-base
 imported only inside the functions that train or load a policy, so importing this package
 (and its feature encoder) costs nothing.
 
-* :mod:`.features` - the compact egocentric feature encoder (numpy only);
-* :mod:`.shaping`  - annealed reward shaping from the rules' subtask rewards;
-* :mod:`.vec_env`  - a stable-baselines3 ``VecEnv`` with one slot per agent per kitchen;
-* :mod:`.train`    - :func:`train` (what ``ocplus train`` runs) and the checkpoint format;
-* :mod:`.policy`   - loading a checkpoint for acting (used by ``ppo:PATH`` agents).
+* :mod:`.features`  - the compact egocentric path-feature encoder (numpy only);
+* :mod:`.obs`       - ``features`` or ``grid`` (the SPEC one-hot vector) observations;
+* :mod:`.shaping`   - annealed reward shaping from the rules' subtask rewards;
+* :mod:`.vec_env`   - a stable-baselines3 ``VecEnv`` with one slot per agent per kitchen;
+* :mod:`.callbacks` - shaping annealing, episode CSV, checkpoints, progress bar;
+* :mod:`.train`     - :func:`train` (what ``ocplus train`` runs);
+* :mod:`.policy`    - the checkpoint format and loading a policy to act (``ppo:PATH``).
 """
 
 from __future__ import annotations
