@@ -38,6 +38,7 @@
              (home ?x0_1 - item ?x1_1 - place)
              (lt ?x0_1 - item ?x1_0 - item)
              (holder ?x0_2 - place)
+             (grabbable ?x0_2 - place)
              (takes_from ?x0_2 - place)
              (drop_ok ?x0_1 - item ?x1_1 - place)
              (board ?x0_2 - place)
@@ -77,7 +78,7 @@
   :effect (and (not (agent_at ?a ?s1)) (not (vacant ?s2)) (agent_at ?a ?s2) (vacant ?s1) (increase (total-cost) 1)))
  (:action pick
   :parameters ( ?a - agent ?i - item ?p - place ?s - spot)
-  :precondition (and (agent_at ?a ?s) (adj ?s ?p) (free_hand ?a) (item_at ?i ?p) (nowait ?p) (takes_from ?p) (calm))
+  :precondition (and (agent_at ?a ?s) (adj ?s ?p) (free_hand ?a) (item_at ?i ?p) (nowait ?p) (grabbable ?p) (calm))
   :effect (and (not (free_hand ?a)) (not (item_at ?i ?p)) (holding ?a ?i) (free ?p) (increase (total-cost) 1)))
  (:action pick_chopped
   :parameters ( ?a - agent ?i - item ?p - place ?s - spot)

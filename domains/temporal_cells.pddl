@@ -38,6 +38,7 @@
              (home ?x0_1 - item ?x1_1 - place)
              (lt ?x0_1 - item ?x1_0 - item)
              (holder ?x0_2 - place)
+             (grabbable ?x0_2 - place)
              (takes_from ?x0_2 - place)
              (drop_ok ?x0_1 - item ?x1_1 - place)
              (board ?x0_2 - place)
@@ -98,7 +99,7 @@
                  (at start (free_hand ?a))
                  (at start (item_at ?i ?p))
                  (at start (nowait ?p))
-                 (at start (takes_from ?p))
+                 (at start (grabbable ?p))
                  (at start (idle ?a))
              )
   :effect (and

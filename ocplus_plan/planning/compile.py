@@ -22,9 +22,13 @@ from ._build import Builder as _Builder
 from ._build import new_problem as _new_problem
 from .model import build_domain
 from .names import Names, PlanStep
-from .spots import SpotGraph, build_spots
+from .spots import SpotGraph, build_spots, walk_distance
 
 _HOLDERS = frozenset(int(c) for c in COUNTERS)
+#: an empty hand picks up anything here (a board chops a fresh vegetable instead, a
+#: sink washes a dirty plate: those have their own pick actions)
+_GRABBABLE = _HOLDERS | {int(Cell.PAN)}
+#: a held clean plate takes a ready ingredient from here
 _TAKES_FROM = _HOLDERS | {int(Cell.BOARD), int(Cell.PAN)}
 _PLACE_FLAGS = {int(Cell.BOARD): "board", int(Cell.PAN): "pan", int(Cell.SINK): "sink",
                 int(Cell.TRASH): "trash", int(Cell.DELIVERY): "serving"}
@@ -201,6 +205,8 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
         code = terrain[p]
         if code in _HOLDERS:
             b.true("holder", pname)
+        if code in _GRABBABLE:
+            b.true("grabbable", pname)
         if code in _TAKES_FROM:
             b.true("takes_from", pname)
         if code in _PLACE_FLAGS:
@@ -366,10 +372,12 @@ def _pans(b: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, in
                 if state.agent_hand[a] >= 0:
                     continue
                 here = state.agent_pos[a]
+                # the rescue is the plan's first action: the other cooks stand still
+                others = frozenset(q for q in state.agent_pos if q != here)
                 for s, p in comp.spots.adjacent:
                     if p != pan or (s in state.agent_pos and s != here):
                         continue
-                    d = comp.spots.distance(here, s)
+                    d = walk_distance(state, here, s, others)
                     if d is None or ticks + d > rules.burn_time:
                         continue
                     wait = max(0, rules.cook_time - ticks - d)

@@ -81,7 +81,7 @@ FLUENTS: dict[str, tuple[str, ...]] = {
     "adj": ("spot", "place"), "link": ("spot", "spot"),
     "is_veg": ("item",), "is_steak": ("item",), "is_plate": ("item",), "ingredient": ("item",),
     "kind_of": ("item", "kind"), "home": ("item", "place"), "lt": ("item", "item"),
-    "holder": ("place",), "takes_from": ("place",), "drop_ok": ("item", "place"),
+    "holder": ("place",), "grabbable": ("place",), "takes_from": ("place",), "drop_ok": ("item", "place"),
     "board": ("place",), "pan": ("place",), "sink": ("place",), "trash": ("place",),
     "serving": ("place",),
     "next_content": ("content", "kind", "content"), "serves": ("content", "order"),
@@ -143,7 +143,7 @@ def schemas(encoding: str, granularity: str, k_max: int = 3) -> list[Schema]:
     out = [
         _schema("move", "move", "a:agent s1:spot s2:spot", move_pre,
                 "agent_at a s2; vacant s1", "agent_at a s1; vacant s2", move_cost),
-        _schema("pick", "pick", HAND, f"{AGENT_AT}; free_hand a; item_at i p; nowait p; takes_from p",
+        _schema("pick", "pick", HAND, f"{AGENT_AT}; free_hand a; item_at i p; nowait p; grabbable p",
                 "holding a i; free p", "free_hand a; item_at i p"),
         _schema("pick_chopped", "pick", HAND, f"{AGENT_AT}; free_hand a; item_at i p; board p; ready i",
                 "holding a i; free p", "free_hand a; item_at i p"),

@@ -203,3 +203,11 @@ def bump_action(geo: Geometry, spot: int, place: int) -> int:
         if nbr == place:
             return action
     raise ValueError(f"cell {geo.rc(place)} is not adjacent to {geo.rc(spot)}")
+
+
+def walk_distance(state: State, start: int, goal: int, blocked: frozenset[int]) -> int | None:
+    """Steps of a shortest walk in the current layout that avoids ``blocked`` cells."""
+    geo = state.geo
+    walk = geo.walkables[state.layout_index]
+    free = tuple(w and f not in blocked for f, w in enumerate(walk))
+    return _bfs(free, geo.neighbors, start).get(goal)
