@@ -73,6 +73,9 @@ def test_held_item_and_half_chopped_vegetable() -> None:
     f = facts(c)
     assert {"item_at(tomato0, board_1_6)", "partly(tomato0)", "fresh(tomato0)"} <= f
     assert c.numbers[("chop_left", ("tomato0",))] == 2
+    # an empty hand bumping a board with a fresh vegetable chops it: no generic pick there
+    assert "grabbable(board_1_6)" not in f and "takes_from(board_1_6)" in f
+    assert "grabbable(pan_3_0)" in f and "grabbable(counter_0_3)" in f
 
 
 def test_steak_on_the_pan_classical_rescue_or_doomed() -> None:
