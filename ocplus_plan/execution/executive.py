@@ -241,6 +241,13 @@ class Executive:
         self.plan_id += 1
         self.planned_orders = {o.order_id for o in state.orders}
         self.install(outcome.steps)
+        # a target out of reach already when the plan was made (planned on a relaxed kitchen,
+        # waiting for a switch) is not a surprise: only one that becomes unreachable is
+        for a in self.agent_ids:
+            pos = state.agent_pos[a]
+            for task in self.queues[a]:
+                if self.oracle.to_station(state.layout_index, task.step.target)[pos] < 0:
+                    task.unreachable = True
 
     def install(self, steps: Sequence[PlanStep]) -> None:
         """Replace the task queues with a new plan (agents the plan does not reach keep theirs)."""
