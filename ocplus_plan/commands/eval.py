@@ -36,6 +36,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="seconds before an episode is killed and recorded as an error (None: no limit)")
     h.add_argument("--plots", action="store_true", help="also write PNG figures (plots extra)")
     h.add_argument("--quiet", action="store_true", help="no progress bar")
+    h.add_argument("--save-replays", default="", metavar="SEEDS",
+                   help="save these seeds' episodes as recordings under OUT/replays/ "
+                        "(play back with `ocplus replay FILE`)")
     p.set_defaults(func=run)
 
 
@@ -45,6 +48,7 @@ def run(args: argparse.Namespace) -> int:
         seeds=parse_seeds(args.seeds), out=args.out, horizon=args.horizon,
         n_agents=args.n_agents, map=args.map, jobs=args.jobs, resume=args.resume,
         episode_timeout=args.episode_timeout, plots=args.plots, quiet=args.quiet,
+        replay_seeds=_replay_seeds(args.save_replays),
     )
     try:
         outcome = run_eval(cfg)
@@ -60,3 +64,11 @@ def run(args: argparse.Namespace) -> int:
     if outcome.plots:
         print(f"plots:   {outcome.plots[0].parent}/ ({len(outcome.plots)} PNG files)")
     return 0
+
+
+def _replay_seeds(text: str) -> list[int]:
+    """``--save-replays``: one seed (``3``), a list (``0,4``) or a range (``5-9``)."""
+    text = text.strip()
+    if not text:
+        return []
+    return [int(text)] if text.isdigit() else parse_seeds(text)

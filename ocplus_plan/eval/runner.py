@@ -12,9 +12,11 @@ recorded as an ``error`` row), and appends each finished episode to
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import multiprocessing as mp
 import os
+import re
 import signal
 import time
 import traceback
@@ -58,6 +60,7 @@ class EpisodeSpec:
     agent: str
     seed: int
     horizon: int
+    replay_path: str | None = None  # where to save this episode's recording, if chosen
 
     def row_base(self) -> dict[str, Any]:
         d = {"preset": self.preset, "map": self.map, "n_agents": self.n_agents,
@@ -84,6 +87,7 @@ class EvalConfig:
     episode_timeout: float | None = None
     plots: bool = False
     quiet: bool = False
+    replay_seeds: list[int] = field(default_factory=list)  # episodes to save as replays
     extra: dict[str, Any] = field(default_factory=dict)
 
 
@@ -186,6 +190,11 @@ def run_episode(spec: EpisodeSpec) -> dict[str, Any]:
     for o in state.orders:
         log.order_created.setdefault(o.order_id, o.created)
     controller = None
+    recorder = None
+    if spec.replay_path is not None:
+        from ..render.replay import Recorder  # numpy only: no window, no pygame
+
+        recorder = Recorder(rules, spec.seed, meta={"agent": spec.agent, "key": row["key"]})
     status, reason = "ok", ""
     try:
         controller = make_controller(spec.agent, spec.seed)
@@ -196,6 +205,8 @@ def run_episode(spec: EpisodeSpec) -> dict[str, Any]:
             dt = time.perf_counter() - t0
             result = transition(state, joint)
             controller.observe(state, result.events)
+            if recorder is not None:
+                recorder.record(joint, result.events)
             log.record(joint, state.agent_pos, result.rewards, result.events, dt)
             for o in state.orders:
                 log.order_created.setdefault(o.order_id, o.created)
@@ -207,6 +218,8 @@ def run_episode(spec: EpisodeSpec) -> dict[str, Any]:
         status = "error"
         reason = f"{type(exc).__name__}: {exc} (at step {state.t})"
         row["traceback"] = traceback.format_exc(limit=6)
+    if recorder is not None:
+        row["replay"] = str(recorder.save(spec.replay_path, state))
     info: dict[str, Any] = {}
     if controller is not None:
         try:
@@ -272,8 +285,12 @@ def plan_episodes(cfg: EvalConfig) -> tuple[list[EpisodeSpec], list[dict[str, An
                 skipped.append(row)
                 continue
             for seed in cfg.seeds:
-                episodes.append(EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, seed,
-                                            cfg.horizon))
+                spec = EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, seed, cfg.horizon)
+                if seed in cfg.replay_seeds:
+                    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", spec.row_base()["key"])
+                    path = cfg.out / "replays" / f"{name}.jsonl.gz"
+                    spec = dataclasses.replace(spec, replay_path=str(path))
+                episodes.append(spec)
     return episodes, skipped
 
 

@@ -184,3 +184,17 @@ def test_planner_that_is_not_installed_is_skipped_with_the_reason(tmp_path, monk
     assert rows["planner:fast-downward"]["status"] == "skipped"
     assert "up_fast_downward" in rows["planner:fast-downward"]["reason"]
     assert rows["greedy"]["status"] == "ok" and outcome.skipped == 1
+
+
+def test_chosen_episodes_are_saved_as_replays_that_verify(tmp_path, capsys):
+    from ocplus_plan.render.replay import Recording, verify
+
+    out = tmp_path / "run"
+    assert main(["eval", "--presets", "easy", "--agents", "greedy", "--seeds", "2",
+                 "--horizon", "60", "--quiet", "--out", str(out), "--save-replays", "1"]) == 0
+    capsys.readouterr()
+    rows = {r["seed"]: r for r in read_results(out)}
+    assert "replay" not in rows[0] and rows[1]["replay"].endswith(".jsonl.gz")
+    rec = Recording.load(rows[1]["replay"])
+    assert len(rec.actions) == 60 and verify(rec).ok
+    assert rec.stats["dishes_served"] == rows[1]["stats"]["dishes_served"]
