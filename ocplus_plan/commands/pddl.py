@@ -13,22 +13,15 @@ import json
 import time
 
 from ..sim import make_rules
+from ._common import add_compile_args, add_kitchen_args
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("pddl", help="write domain.pddl and problem.pddl for a state",
                        description=__doc__,
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    p.add_argument("--preset", default="easy", help="easy | medium | hard")
-    p.add_argument("--map", default=None, help="map name or YAML path (default: the preset's)")
-    p.add_argument("--n-agents", type=int, default=None, help="number of agents")
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--step", type=int, default=0,
-                   help="random joint actions to take before compiling")
-    p.add_argument("--encoding", choices=("classical", "temporal"), default="classical")
-    p.add_argument("--granularity", choices=("stations", "cells"), default="stations")
-    p.add_argument("--orders", type=int, default=None,
-                   help="serve only the first k open orders (default: all)")
+    add_kitchen_args(p, step=True)
+    add_compile_args(p)
     p.add_argument("--out", default="pddl_out", help="output directory (created if missing)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)

@@ -7,19 +7,17 @@ import json
 import time
 
 from ..sim import conservation_problems, make_rules, new_state, transition
+from ._common import add_kitchen_args
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("rollout", help="run one episode and print its statistics",
                        description=__doc__,
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    p.add_argument("--preset", default="easy", help="easy | medium | hard")
-    p.add_argument("--map", default=None, help="map name or YAML path (default: the preset's)")
-    p.add_argument("--n-agents", type=int, default=None, help="number of agents")
+    add_kitchen_args(p)
     p.add_argument("--agents", default="random",
                    help="controller for all agents (random, stay, greedy, planner:NAME, ...)")
     p.add_argument("--steps", type=int, default=None, help="steps to run (default: the horizon)")
-    p.add_argument("--seed", type=int, default=0)
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
 

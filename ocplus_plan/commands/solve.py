@@ -16,27 +16,19 @@ from typing import Any
 
 from ..errors import ConfigError
 from ..sim import make_rules, new_state, transition
+from ._common import add_compile_args, add_kitchen_args
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("solve", help="compile a state and solve it with a named planner",
                        description=__doc__,
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    p.add_argument("--preset", default="easy", help="easy | medium | hard")
-    p.add_argument("--map", default=None, help="map name or YAML path (default: the preset's)")
-    p.add_argument("--n-agents", type=int, default=None, help="number of agents")
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--step", type=int, default=0,
-                   help="random joint actions to take before compiling")
+    add_kitchen_args(p, step=True)
     p.add_argument("--planner", default="fast-downward",
                    help="registry name (see --list), e.g. fast-downward, kairos")
     p.add_argument("--timeout", type=float, default=None,
                    help="seconds (default: the planner's configured limit)")
-    p.add_argument("--encoding", choices=("auto", "classical", "temporal"), default="auto",
-                   help="auto = the encoding the planner is registered for")
-    p.add_argument("--granularity", choices=("stations", "cells"), default="stations")
-    p.add_argument("--orders", type=int, default=None,
-                   help="serve only the first k open orders (default: all)")
+    add_compile_args(p, auto_encoding=True)
     p.add_argument("--no-val", action="store_true", help="validate with UP only, not VAL")
     p.add_argument("--plan", action="store_true", help="include the plan steps in the output")
     p.add_argument("--list", action="store_true",
