@@ -373,7 +373,9 @@ def _run_all(todo: list[EpisodeSpec], cfg: EvalConfig):  # -> Iterator[dict]
             while pending and len(running) < cfg.jobs:
                 spec = pending.pop()
                 recv, send = ctx.Pipe(duplex=False)
-                proc = ctx.Process(target=_worker, args=(send, spec), daemon=True)
+                # not daemonic: planner controllers start their own (killable) processes,
+                # which daemonic processes may not; the finally below kills what is left
+                proc = ctx.Process(target=_worker, args=(send, spec), daemon=False)
                 proc.start()
                 send.close()
                 running[recv] = (proc, spec, time.monotonic())

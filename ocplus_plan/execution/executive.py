@@ -122,6 +122,7 @@ class Executive:
         self.unhandled: list[str] = []  # triggers not yet answered by a replan
         self.replans: list[tuple[int, str]] = []
         self.statuses: Counter[str] = Counter()
+        self.failure_messages: Counter[str] = Counter()  # why planner calls failed
         self.planner_calls = 0
         self.planning_time = 0.0
         self.act_time = 0.0
@@ -233,6 +234,7 @@ class Executive:
             # keep the last valid plan; try again later, backing off while it keeps failing
             # (a layout switch retries at once: it may be what made the problem unsolvable)
             self.triggers.append((state.t, "planner_failed"))
+            self.failure_messages[f"{outcome.status}: {outcome.message}"[:300]] += 1
             self.failures_in_row += 1
             self.next_retry = state.t + min(4 * self.retry_after, self.retry_after * self.failures_in_row)
             return
@@ -481,6 +483,7 @@ class Executive:
             "planning_time": round(self.planning_time, 4),
             "executive_time": round(self.act_time, 4),
             "statuses": dict(self.statuses),
+            "failure_messages": dict(self.failure_messages.most_common(3)),
             "replans": len(self.replans),
             "replans_by_reason": dict(Counter(r for _, r in self.replans)),
             "triggers_by_reason": dict(Counter(r for _, r in self.triggers)),

@@ -198,3 +198,19 @@ def test_chosen_episodes_are_saved_as_replays_that_verify(tmp_path, capsys):
     rec = Recording.load(rows[1]["replay"])
     assert len(rec.actions) == 60 and verify(rec).ok
     assert rec.stats["dishes_served"] == rows[1]["stats"]["dishes_served"]
+
+
+def test_planner_agents_can_plan_inside_worker_processes(tmp_path):
+    """Regression: daemonic workers may not start the planner's own process, so every
+    planner call failed (status error) when the evaluation ran with --jobs 2."""
+    from ocplus_plan.planning import engines
+
+    av = engines.availability("fast-downward")
+    if not av.ok:
+        pytest.skip(f"fast-downward not available: {av.reason}")
+    out = tmp_path / "run"
+    run_eval(_cfg(out, agents=["planner:fast-downward"], seeds=[0], n_agents=1, horizon=40,
+                  jobs=2), echo=lambda *a: None)
+    (row,) = read_results(out)
+    assert row["status"] == "ok" and row["controller"]["statuses"].get("solved", 0) >= 1
+    assert "error" not in row["controller"]["statuses"]
