@@ -124,6 +124,17 @@ class _Base(gym.Env):
             self._window.close()
             self._window = None
 
+    def _finish(
+        self, result: Any, reward: float
+    ) -> tuple[tuple[Any, ...], SupportsFloat, bool, bool, dict[str, Any]]:
+        """The common end of ``step``: episode bookkeeping, rendering, the 5-tuple."""
+        if result.terminated or result.truncated:
+            self._needs_reset = True
+        if self.render_mode == "human":
+            self.render()
+        info = {"rewards": list(result.rewards), "events": result.events, "t": self.core.state.t}
+        return self._obs(), float(reward), result.terminated, result.truncated, info
+
     def _check_running(self) -> None:
         if self._needs_reset:
             raise ResetNeeded("call reset() before step(): the episode is over or never began")
@@ -208,13 +219,7 @@ class OvercookedPlusEnv(_Base):
         moves, tokens = self.core.split_action(action)
         result = self.core.step(moves, tokens)
         rewards = result.rewards
-        reward = rewards[0] if self.rules.reward_mode == "shared" else sum(rewards)
-        if result.terminated or result.truncated:
-            self._needs_reset = True
-        if self.render_mode == "human":
-            self.render()
-        info = {"rewards": list(rewards), "events": result.events, "t": self.core.state.t}
-        return self._obs(), float(reward), result.terminated, result.truncated, info
+        return self._finish(result, rewards[0] if self.rules.reward_mode == "shared" else sum(rewards))
 
 
 Partner = Callable[[State], Sequence[int]]
@@ -307,12 +312,7 @@ class OvercookedPlusSingleEnv(_Base):
             reward = rewards[self.agent_id]
         else:
             reward = rewards[0] if self.rules.reward_mode == "shared" else sum(rewards)
-        if result.terminated or result.truncated:
-            self._needs_reset = True
-        if self.render_mode == "human":
-            self.render()
-        info = {"rewards": list(rewards), "events": result.events, "t": self.core.state.t}
-        return self._obs(), float(reward), result.terminated, result.truncated, info
+        return self._finish(result, reward)
 
 
 __all__ = ["OvercookedPlusEnv", "OvercookedPlusSingleEnv", "StateSpace"]

