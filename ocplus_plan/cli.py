@@ -39,6 +39,10 @@ EXAMPLES: list[str] = [
     "ocplus check-map mapC",
     "ocplus check-map maps/hard_switch.yaml",
     "ocplus rollout --preset hard --n-agents 2 --steps 200 --seed 0 --json",
+    "ocplus solve --list",
+    "ocplus pddl --preset medium --seed 0 --step 20 --encoding temporal --out /tmp/ocplus-pddl",
+    "ocplus eval --presets easy --agents greedy,random --seeds 2 --horizon 50 --quiet "
+    "--out /tmp/ocplus-eval-example --resume",
 ]
 
 EXIT_OK, EXIT_BUG, EXIT_INPUT, EXIT_DEPENDENCY, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
