@@ -8,7 +8,7 @@ ingredient the open orders need beyond those already on their way.
 
 from __future__ import annotations
 
-from collections import Counter, deque
+from collections import Counter
 
 from ..sim.codes import COUNTERS, READY_STATE, Cell, Item, ItemState, Where
 from ..sim.state import State
@@ -68,16 +68,7 @@ class KitchenView:
     # ---------------------------------------------------------------- geometry
     def bfs(self, start: int, blocked: frozenset[int] = frozenset(),
              walk: tuple[bool, ...] | None = None) -> dict[int, int]:
-        walkable = self.walk if walk is None else walk
-        dist = {start: 0}
-        queue = deque([start])
-        while queue:
-            f = queue.popleft()
-            for n in self.nbrs[f]:
-                if n >= 0 and n not in dist and walkable[n] and n not in blocked:
-                    dist[n] = dist[f] + 1
-                    queue.append(n)
-        return dist
+        return self.s.geo.distances_from(start, self.walk if walk is None else walk, blocked)
 
     def reach(self, agent: int, cell: int) -> float:
         """Steps for ``agent`` to stand next to ``cell`` (inf when it cannot)."""

@@ -27,7 +27,6 @@ station and counter choice) is computed once per geometry and layout and cached.
 
 from __future__ import annotations
 
-from collections import deque
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -58,20 +57,6 @@ class LayoutInfo:
     extras: dict[int, tuple[int, ...]]
 
 
-def _bfs(walk: tuple[bool, ...], nbrs: tuple[tuple[int, int, int, int], ...],
-         start: int) -> dict[int, int]:
-    dist = {start: 0}
-    queue = deque([start])
-    while queue:
-        cur = queue.popleft()
-        d = dist[cur] + 1
-        for nxt in nbrs[cur]:
-            if nxt >= 0 and walk[nxt] and nxt not in dist:
-                dist[nxt] = d
-                queue.append(nxt)
-    return dist
-
-
 @lru_cache(maxsize=64)
 def layout_info(geo: Geometry, layout_index: int, extra_counters: int = 2) -> LayoutInfo:
     """Regions, distances and chosen places of one layout (cached per geometry)."""
@@ -84,12 +69,12 @@ def layout_info(geo: Geometry, layout_index: int, extra_counters: int = 2) -> La
     rid = 0
     for f in range(n):
         if walk[f] and region[f] < 0:
-            reach = _bfs(walk, nbrs, f)
+            reach = geo.distances_from(f, walk)
             for g in reach:
                 region[g] = rid
             rid += 1
         if walk[f]:
-            dist[f] = _bfs(walk, nbrs, f)
+            dist[f] = geo.distances_from(f, walk)
     floor_around = {
         f: tuple(g for g in nbrs[f] if g >= 0 and walk[g])
         for f in range(n) if not walk[f]
@@ -155,7 +140,7 @@ def build_spots(state: State, granularity: str = "stations", extra_counters: int
         reach: set[int] = set()
         for start in state.agent_pos:
             if start not in reach:
-                reach.update(_bfs(union, geo.neighbors, start))
+                reach.update(geo.distances_from(start, union))
         region = tuple(0 if f in reach else -1 for f in range(len(terrain)))
         agent_regions = {0}
         info = LayoutInfo(region, info.dist, {
@@ -210,4 +195,4 @@ def walk_distance(state: State, start: int, goal: int, blocked: frozenset[int]) 
     geo = state.geo
     walk = geo.walkables[state.layout_index]
     free = tuple(w and f not in blocked for f, w in enumerate(walk))
-    return _bfs(free, geo.neighbors, start).get(goal)
+    return geo.distances_from(start, free).get(goal)

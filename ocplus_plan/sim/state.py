@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import hashlib
 import struct
+from collections import deque
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, NamedTuple
@@ -90,6 +92,23 @@ class Geometry:
     def rc(self, flat: int) -> tuple[int, int]:
         return divmod(flat, self.cols)
 
+    def distances_from(
+        self, start: int, walkable: Sequence[bool], blocked: Collection[int] = (),
+    ) -> dict[int, int]:
+        """Walking steps from ``start`` to every cell reachable over ``walkable`` cells that
+        are not ``blocked`` (breadth-first; ``start`` itself is 0 whatever it is)."""
+        dist = {start: 0}
+        queue = deque([start])
+        nbrs = self.neighbors
+        while queue:
+            cur = queue.popleft()
+            d = dist[cur] + 1
+            for nxt in nbrs[cur]:
+                if nxt >= 0 and nxt not in dist and walkable[nxt] and nxt not in blocked:
+                    dist[nxt] = d
+                    queue.append(nxt)
+        return dist
+
     def flat(self, row: int, col: int) -> int:
         return row * self.cols + col
 
@@ -104,9 +123,25 @@ class State:
     """Mutable world state of one episode. ``transition`` updates it in place."""
 
     __slots__ = (
-        "rules", "geo", "t", "layout_index", "next_switch", "agent_pos", "agent_hand",
-        "cell_item", "item_state", "item_progress", "item_where", "item_loc", "item_agent",
-        "orders", "next_order_id", "_rng", "_rng_state", "stats", "seed",
+        "_rng",
+        "_rng_state",
+        "agent_hand",
+        "agent_pos",
+        "cell_item",
+        "geo",
+        "item_agent",
+        "item_loc",
+        "item_progress",
+        "item_state",
+        "item_where",
+        "layout_index",
+        "next_order_id",
+        "next_switch",
+        "orders",
+        "rules",
+        "seed",
+        "stats",
+        "t",
     )
 
     rules: Rules
@@ -363,9 +398,9 @@ def conservation_problems(state: State) -> list[str]:
 
 
 __all__ = [
+    "ITEM_NAMES",
     "Event",
     "Geometry",
-    "ITEM_NAMES",
     "Order",
     "State",
     "conservation_problems",
