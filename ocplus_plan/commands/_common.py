@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import argparse
+import json
+from typing import Any
 
 
 def add_kitchen_args(p: argparse.ArgumentParser, *, step: bool = False) -> None:
@@ -27,3 +29,12 @@ def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False)
     p.add_argument("--granularity", choices=("stations", "cells"), default="stations")
     p.add_argument("--orders", type=int, default=None,
                    help="serve only the first k open orders (default: all)")
+
+
+def emit(result: dict[str, Any], as_json: bool, width: int = 16) -> None:
+    """Print a command's result: one JSON object, or one ``key value`` line per entry."""
+    if as_json:
+        print(json.dumps(result))
+    else:
+        for key, value in result.items():
+            print(f"{key:{width}s} {value}")

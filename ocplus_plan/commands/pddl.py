@@ -9,11 +9,10 @@ and prints what it wrote.
 from __future__ import annotations
 
 import argparse
-import json
 import time
 
 from ..sim import make_rules
-from ._common import add_compile_args, add_kitchen_args
+from ._common import add_compile_args, add_kitchen_args, emit
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -47,9 +46,5 @@ def run(args: argparse.Namespace) -> int:
         "objects": len(compiled.problem.all_objects),
         "compile_time_s": round(compile_time, 5), "domain": str(domain), "problem": str(problem),
     }
-    if args.json:
-        print(json.dumps(out))
-    else:
-        for key, value in out.items():
-            print(f"{key:16s} {value}")
+    emit(out, args.json)
     return 0

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import json
 import time
 
 from ..sim import conservation_problems, make_rules, new_state, transition
-from ._common import add_kitchen_args
+from ._common import add_kitchen_args, emit
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -51,9 +50,5 @@ def run(args: argparse.Namespace) -> int:
         "wall_time_s": round(time.perf_counter() - t0, 4),
         **{f"controller_{k}": v for k, v in controller.info().items()},
     }
-    if args.json:
-        print(json.dumps(out))
-    else:
-        for k, v in out.items():
-            print(f"{k:18s} {v}")
+    emit(out, args.json, width=18)
     return 0

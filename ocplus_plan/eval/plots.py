@@ -118,10 +118,7 @@ def _leaderboard(plt: Any, rows: list[dict[str, Any]], out: Path) -> Path:
     ax.legend(fontsize=8, loc="upper right")
     ax.grid(axis="y", alpha=0.3)
     path = out / "leaderboard.png"
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path)
 
 
 def _reward_curves(plt: Any, ok: list[dict[str, Any]], out: Path) -> Path:
@@ -152,10 +149,7 @@ def _reward_curves(plt: Any, ok: list[dict[str, Any]], out: Path) -> Path:
     axes[0][-1].legend(fontsize=8)
     fig.suptitle("Reward over time (mean, 95% CI)")
     path = out / "reward_over_time.png"
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path)
 
 
 def _actions(plt: Any, ok: list[dict[str, Any]], out: Path) -> Path:
@@ -186,10 +180,7 @@ def _actions(plt: Any, ok: list[dict[str, Any]], out: Path) -> Path:
     fig.legend(handles, names, fontsize=8, loc="lower center", ncol=len(ACTION_NAMES))
     fig.suptitle("Action distribution")
     path = out / "actions.png"
-    fig.tight_layout(rect=(0, 0.08, 1, 1))
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path, rect=(0, 0.08, 1, 1))
 
 
 def _terrain(row: dict[str, Any]) -> Any:
@@ -236,9 +227,7 @@ def _heatmaps(plt: Any, ok: list[dict[str, Any]], out: Path) -> list[Path]:
             fig.suptitle(f"Visited cells: {agent} on {preset} ({rs[0]['map']}, {len(rs)} episodes)",
                          fontsize=9)
             path = out / f"heatmap_{_slug(preset)}_{_slug(agent)}.png"
-            fig.tight_layout()
-            fig.savefig(path, dpi=110)
-            plt.close(fig)
+            _save(plt, fig, path)
             files.append(path)
     return files
 
@@ -284,10 +273,18 @@ def _planning(plt: Any, ok: list[dict[str, Any]], out: Path) -> Path | None:
     for ax in (ax1, ax2):
         ax.grid(axis="y", alpha=0.3)
     path = out / "planning.png"
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path)
 
 
 __all__ = ["make_plots"]
+
+
+def _save(plt: Any, fig: Any, path: Path, rect: tuple[float, ...] | None = None) -> Path:
+    """Lay out, write (110 dpi) and close a figure."""
+    if rect is None:
+        fig.tight_layout()
+    else:
+        fig.tight_layout(rect=rect)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path

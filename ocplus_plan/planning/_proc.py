@@ -84,9 +84,10 @@ def group_alive(pgid: int) -> bool:
     return bool(group_members(pgid))
 
 
-def group_members(pgid: int) -> list[int]:
-    """PIDs of the live (non-zombie) processes whose process group is ``pgid``."""
-    members = []
+def _group_stats(pgid: int) -> list[tuple[int, list[str]]]:
+    """``(pid, stat fields after the command name)`` of every process in group ``pgid``
+    (fields: state, ppid, pgrp, ..., utime at 11, stime at 12)."""
+    out = []
     for entry in os.listdir("/proc"):
         if not entry.isdigit():
             continue
@@ -95,28 +96,21 @@ def group_members(pgid: int) -> list[int]:
                 fields = fh.read().rsplit(")", 1)[1].split()
         except OSError:
             continue
-        # fields after the command name: state, ppid, pgrp, ...
-        if fields[0] != "Z" and int(fields[2]) == pgid:
-            members.append(int(entry))
-    return members
+        if int(fields[2]) == pgid:
+            out.append((int(entry), fields))
+    return out
+
+
+def group_members(pgid: int) -> list[int]:
+    """PIDs of the live (non-zombie) processes whose process group is ``pgid``."""
+    return [pid for pid, fields in _group_stats(pgid) if fields[0] != "Z"]
 
 
 def group_cpu_seconds(pgid: int, exclude: tuple[int, ...] = ()) -> float:
     """CPU seconds (user + system) used so far by the processes of group ``pgid``,
     zombies included, except ``exclude``: for planner servers nobody waits for."""
-    tick = os.sysconf("SC_CLK_TCK")
-    total = 0
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit() or int(entry) in exclude:
-            continue
-        try:
-            with open(f"/proc/{entry}/stat", encoding="utf-8", errors="replace") as fh:
-                fields = fh.read().rsplit(")", 1)[1].split()
-        except OSError:
-            continue
-        if int(fields[2]) == pgid:
-            total += int(fields[11]) + int(fields[12])  # utime, stime
-    return total / tick
+    ticks = sum(int(f[11]) + int(f[12]) for pid, f in _group_stats(pgid) if pid not in exclude)
+    return ticks / os.sysconf("SC_CLK_TCK")
 
 
 def kill_group(pgid: int, wait: float = 2.0) -> bool:
