@@ -166,29 +166,54 @@ class _ModelView:
         self.flags = {item: [(fl[f](obj(item)), f) for f in _FLAGS] for item in self.items}
         self.cooking = {item: [fl["cooking_on"](obj(item), obj(p)) for p in places]
                         for item in self.items}
+        # temporal: a steak on a pan at compile time, cooked inside ``window`` and burnt
+        # once ``overdone`` (timed initial literals)
+        self.heating = {item: ([fl["on_heat"](obj(item), obj(p)) for p in places],
+                               fl["window"](obj(item)), fl["overdone"](obj(item)))
+                        for item in self.items}
         self.agents = {a: [(fl["agent_at"](obj(a), obj(s)), names.cells[s]) for s in spots]
                        for a in names.agents}
         self.names = names
         self.served = {o: fl["served"](obj(o)) for o in names.orders if names.orders[o] >= 0}
 
-    def diff(self, up_state: Any, state: State, doomed: frozenset[int]) -> str:
-        """The first disagreement between the model state and the simulator, or ''."""
+    def diff(self, up_state: Any, state: State, doomed: frozenset[int],
+             skip_items: frozenset[str] = frozenset(),
+             skip_agents: frozenset[str] = frozenset()) -> str:
+        """The first disagreement between the model state and the simulator, or ''.
+
+        ``skip_items`` / ``skip_agents`` (object names) are left out: the temporal
+        replay passes the parameters of the actions in progress."""
+        def true(expr: Any) -> bool:
+            return bool(up_state.get_value(expr).bool_constant_value())
+
         for item, i in self.items.items():
-            model_where = [tag for expr, tag in self.where[item]
-                           if up_state.get_value(expr).bool_constant_value()]
+            if item in skip_items:
+                continue
+            model_where = [tag for expr, tag in self.where[item] if true(expr)]
             sim_where = _sim_where(state, i)
             if model_where != [sim_where]:
                 return f"{item}: model says {model_where}, simulator says {sim_where}"
-            if i in doomed or any(up_state.get_value(e).bool_constant_value()
-                                  for e in self.cooking[item]):
-                continue
-            model_flags = [f for expr, f in self.flags[item]
-                           if up_state.get_value(expr).bool_constant_value()]
             sim_flag = _STATE_FLAG[ItemState(state.item_state[i])]
+            if any(true(e) for e in self.cooking[item]):
+                if sim_flag == "burnt" and i not in doomed:
+                    return f"{item}: burnt in the simulator while the model cooks it"
+                continue
+            if i in doomed:
+                continue
+            heat, window, overdone = self.heating[item]
+            if any(true(e) for e in heat):
+                expected = "burnt" if true(overdone) else "ready" if true(window) else "fresh"
+                if sim_flag != expected:
+                    return (f"{item} on the pan: model (timed literals) says {expected}, "
+                            f"simulator state {sim_flag}")
+                continue
+            model_flags = [f for expr, f in self.flags[item] if true(expr)]
             if model_flags != [sim_flag]:
                 return f"{item}: model state {model_flags}, simulator state {sim_flag}"
         for a, cands in self.agents.items():
-            at = [cell for expr, cell in cands if up_state.get_value(expr).bool_constant_value()]
+            if a in skip_agents:
+                continue
+            at = [cell for expr, cell in cands if true(expr)]
             sim = state.agent_rc(self.names.agents[a])
             if at != [sim]:
                 return f"{a}: model at {at}, simulator at {sim}"
