@@ -20,7 +20,7 @@ from ..sim.codes import COUNTERS, Cell, Item, ItemState, Where
 from ..sim.state import Order, State
 from ._build import Builder as _Builder
 from ._build import new_problem as _new_problem
-from .model import build_domain
+from .model import BUMP_DONE_KINDS, build_domain
 from .names import Names, PlanStep
 from .spots import SpotGraph, build_spots, walk_distance
 
@@ -66,7 +66,8 @@ class Compiled:
         args = dict(zip((p.name for p in action.parameters), values))
         sch = build_domain(self.encoding, self.granularity,
                            _k_of(self.problem)).schemas.get(action.name)
-        kind = sch.kind if sch is not None else action.name.split("_rest")[0]
+        kind = sch.kind if sch is not None else BUMP_DONE_KINDS.get(
+            action.name, action.name.split("_rest")[0])
         n = self.names
 
         def cell(key: str) -> tuple[int, int] | None:

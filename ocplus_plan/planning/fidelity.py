@@ -161,6 +161,9 @@ class _ModelView:
             for q in plates:
                 if q != item:
                     cands.append((fl["on_plate"](obj(item), obj(q)), ("plate", names.items[q])))
+            # temporal: a steak taken off the pan, in the hand once pan_take_done ends
+            cands.extend((fl["lifting"](obj(a), obj(item), obj(p)), ("hand", names.agents[a]))
+                         for a in names.agents for p in places)
             cands.append((fl["waiting"](obj(item)), ("waiting", None)))
             self.where[item] = cands
         self.flags = {item: [(fl[f](obj(item)), f) for f in _FLAGS] for item in self.items}

@@ -43,7 +43,9 @@ Modelling choices (see the README section "Planning model"):
   Measured (experiments/temporal_engines.py): Kairos solves both; LPG has no timed
   literals and overflows MAX_VARS on the envelope; TAMER and Aries time out (30 s).
   Alternatives: PDDL+ (a heat process with done/burn events, most faithful; only
-  Kairos and ENHSP take it) and UP's intermediate effects (not writable as PDDL);
+  Kairos and ENHSP take it) and UP's intermediate effects (not writable as PDDL).
+  The envelope's two ends are bumps that take their agent one step: ``pan_put_done``
+  and ``pan_take_done`` (1 step each) end them;
 * cells granularity: a move enters a cell only while it is ``open`` (floor); with
   ``anticipate_switches`` timed initial literals flip ``open`` at the coming layout
   switches.
@@ -77,6 +79,7 @@ FLUENTS: dict[str, tuple[str, ...]] = {
     # cooking specials
     "calm": (), "cooking_on": ("item", "place"), "on_heat": ("item", "place"),
     "window": ("item",), "overdone": ("item",),
+    "pan_bump": ("agent",), "lifting": ("agent", "item", "place"),
     # static facts
     "adj": ("spot", "place"), "link": ("spot", "spot"),
     "is_veg": ("item",), "is_steak": ("item",), "is_plate": ("item",), "ingredient": ("item",),
@@ -295,6 +298,7 @@ def build_domain(encoding: str = "classical", granularity: str = "stations",
     if encoding == "temporal":
         dom.actions["cook"] = _temporal_cook(dom, rest=False)
         dom.actions["cook_rest"] = _temporal_cook(dom, rest=True)
+        dom.actions.update(_pan_bumps_done(dom))
     return dom
 
 
@@ -344,7 +348,15 @@ def _durative(sch: Schema, dom: Domain) -> Any:
 
 
 def _temporal_cook(dom: Domain, rest: bool) -> Any:
-    """The cooking envelope: ``?a1`` puts the steak on at start, ``?a2`` takes it off at end."""
+    """The cooking envelope: ``?a1`` puts the steak on at start, ``?a2`` takes it off at end.
+
+    Each end is a bump, one simulator step of its agent: the envelope's start leaves
+    ``?a1`` not idle (``pan_bump``) until ``pan_put_done`` (1 step) ends, and its end
+    leaves ``?a2`` not idle, ``lifting`` the steak, until ``pan_take_done`` (1 step)
+    puts the steak in its hand and frees the pan. Without them an agent would put the
+    steak on (or take it off) and start its next action in the same simulator step
+    (the temporal fidelity replay found it).
+    """
     from unified_planning.model import DurativeAction, EndTiming, StartTiming
 
     t = dom.types
@@ -363,17 +375,46 @@ def _temporal_cook(dom: Domain, rest: bool) -> Any:
         act.add_condition(start, cond)
     act.add_effect(start, f["holding"](a1, i), False)
     act.add_effect(start, f["free"](p), False)
+    act.add_effect(start, f["idle"](a1), False)
+    act.add_effect(start, f["pan_bump"](a1), True)
     act.add_effect(start, f["free_hand"](a1), True)
     act.add_effect(start, f["cooking_on"](i, p), True)
     for cond in (f["idle"](a2), f["agent_at"](a2, s2), f["adj"](s2, p), f["free_hand"](a2)):
         act.add_condition(end, cond)
     act.add_effect(end, f["cooking_on"](i, p), False)
     act.add_effect(end, f["free_hand"](a2), False)
-    act.add_effect(end, f["holding"](a2, i), True)
-    act.add_effect(end, f["free"](p), True)
+    act.add_effect(end, f["idle"](a2), False)
+    act.add_effect(end, f["lifting"](a2, i, p), True)
     act.add_effect(end, f["fresh"](i), False)
     act.add_effect(end, f["ready"](i), True)
     if rest:
         act.add_effect(end, f["partly"](i), False)
         act.add_effect(end, f["untouched"](i), True)
     return act
+
+
+#: actions with no simulator step of their own (see :func:`_temporal_cook`): map-back kind
+BUMP_DONE_KINDS = {"pan_put_done": "wait", "pan_take_done": "wait"}
+
+
+def _pan_bumps_done(dom: Domain) -> dict[str, Any]:
+    """The one-step ends of the cook envelope's two bumps (see :func:`_temporal_cook`)."""
+    from unified_planning.model import DurativeAction, EndTiming, StartTiming
+
+    t, f = dom.types, dom.fluents
+    start, end = StartTiming(), EndTiming()
+    put = DurativeAction("pan_put_done", a=t["agent"])
+    (a,) = put.parameters
+    put.set_fixed_duration(1)
+    put.add_condition(start, f["pan_bump"](a))
+    put.add_effect(start, f["pan_bump"](a), False)
+    put.add_effect(end, f["idle"](a), True)
+    take = DurativeAction("pan_take_done", a=t["agent"], i=t["item"], p=t["place"])
+    a, i, p = take.parameters
+    take.set_fixed_duration(1)
+    take.add_condition(start, f["lifting"](a, i, p))
+    take.add_effect(start, f["lifting"](a, i, p), False)
+    take.add_effect(end, f["holding"](a, i), True)
+    take.add_effect(end, f["free"](p), True)
+    take.add_effect(end, f["idle"](a), True)
+    return {"pan_put_done": put, "pan_take_done": take}
