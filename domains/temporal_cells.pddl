@@ -347,10 +347,12 @@
   :effect (and
               (at start (not (holding ?a ?i)))
               (at start (not (plate_has ?q ?c1)))
+              (at start (not (item_at ?q ?p)))
               (at start (not (idle ?a)))
               (at end (free_hand ?a))
               (at end (on_plate ?i ?q))
               (at end (plate_has ?q ?c2))
+              (at end (item_at ?q ?p))
               (at end (idle ?a))
           )
  )

@@ -174,10 +174,14 @@ def schemas(encoding: str, granularity: str, k_max: int = 3) -> list[Schema]:
         _schema("wash_rest", "wash", HAND,
                 f"{AGENT_AT}; free_hand a; item_at i p; sink p; dirty i; partly i",
                 "clean i; untouched i", "dirty i; partly i", "wash_left i"),
+        # temporal: item_at q p is deleted at start and added back at end, so no other
+        # agent picks the plate up while the ingredient goes on it (the simulator would put
+        # the ingredient on the bare counter: found by the temporal fidelity replay)
         _schema("plate_put", "plate_put", f"{HAND} q:item k:kind c1:content c2:content",
                 f"{AGENT_AT}; holding a i; ready i; item_at q p; holder p; clean q; plate_has q c1; "
                 "kind_of i k; next_content c1 k c2",
-                "free_hand a; on_plate i q; plate_has q c2", "holding a i; plate_has q c1"),
+                "free_hand a; on_plate i q; plate_has q c2; item_at q p",
+                "holding a i; plate_has q c1; item_at q p"),
         _schema("plate_take", "plate_take", f"{HAND} q:item k:kind c1:content c2:content",
                 f"{AGENT_AT}; holding a q; clean q; item_at i p; ready i; takes_from p; "
                 "plate_has q c1; kind_of i k; next_content c1 k c2",
@@ -324,7 +328,8 @@ def _instantaneous(sch: Schema, dom: Domain) -> tuple[Any, Any]:
         if lit not in sch.add:
             act.add_effect(_lit(dom, params, lit), False)
     for lit in sch.add:
-        act.add_effect(_lit(dom, params, lit), True)
+        if lit not in sch.delete:  # in both lists: held by the durative action; no effect here
+            act.add_effect(_lit(dom, params, lit), True)
     return act, _cost_expr(dom, params, sch.cost)
 
 
