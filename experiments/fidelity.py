@@ -20,6 +20,13 @@ stations granularity's distances ignore the other cook (a replay then finds the
 way blocked: category ``blocked``) and the cells granularity does not.
 ``hard*`` compile the first order only (``max_orders=1``): with one plate and dirty
 plates, two orders take lama-first tens of seconds (see README, planning model).
+``*-temporal`` compile the temporal encoding, solve it with Kairos (validated by UP and
+VAL) and replay the plan time-triggered (``planning.fidelity_temporal``: each agent
+acts at its planned steps, the model applies the happenings, the two are compared at
+every action's end).
+
+    python experiments/fidelity.py --presets easy-temporal medium-temporal \
+        hard-frozen-temporal
 """
 
 from __future__ import annotations
@@ -35,6 +42,7 @@ import time
 from ocplus_plan.planning import compile
 from ocplus_plan.planning.engines import solve
 from ocplus_plan.planning.fidelity import replay, sample_states
+from ocplus_plan.planning.fidelity_temporal import replay_temporal
 
 #: config name -> (preset, max_orders, freeze_layout, granularity, rule overrides)
 CONFIGS: dict[str, tuple] = {
@@ -47,11 +55,14 @@ CONFIGS: dict[str, tuple] = {
     "corridor3-cells": ("easy", None, False, "cells", {"map": "corridor3", "n_agents": 2}),
     "ring-stations": ("easy", None, False, "stations", {"map": "medium_ring", "n_agents": 2}),
     "ring-cells": ("easy", None, False, "cells", {"map": "medium_ring", "n_agents": 2}),
-    # temporal encoding, solved by Kairos and validated (UP + VAL); no sequential replay
-    # (a temporal plan's concurrency needs the executive, not a one-at-a-time replay)
+    # temporal encoding, solved by Kairos, validated (UP + VAL) and replayed time-triggered
+    # (planning.fidelity_temporal: every agent acts at its planned steps, concurrently)
+    "easy-temporal": ("easy", None, False, "stations", {}),
     "medium-temporal": ("medium", 1, False, "stations", {}),
+    "hard-frozen-temporal": ("hard", 1, True, "stations", {}),
 }
-TEMPORAL = {"medium-temporal": "kairos"}
+TEMPORAL = {"easy-temporal": "kairos", "medium-temporal": "kairos",
+            "hard-frozen-temporal": "kairos"}
 
 
 def run(config: str, n: int, seed: int, timeout: float, verbose: bool) -> dict:
@@ -74,9 +85,8 @@ def run(config: str, n: int, seed: int, timeout: float, verbose: bool) -> dict:
         solve_s.append(result.planning_time)
         validated += bool(result.validated)
         lengths.append(result.plan_length)
-        if temporal:
-            continue
-        rep = replay(compiled, result.plan, state, freeze_layout=freeze)
+        replay_plan = replay_temporal if temporal else replay
+        rep = replay_plan(compiled, result.plan, state, freeze_layout=freeze)
         replayed += 1
         faithful += rep.ok
         if not rep.ok:
