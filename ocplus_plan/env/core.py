@@ -18,6 +18,7 @@ import numpy as np
 from ..errors import ConfigError, InvalidActionError
 from ..sim import Rules, State, StepResult, make_rules, new_state, transition
 from ..sim.observe import VectorEncoder, snapshot
+from ..sim.observe_incremental import IncrementalEncoder
 from .comm import CommChannel, CommConfig
 
 MODES = ("vector", "rgb", "symbolic")
@@ -129,6 +130,10 @@ class KitchenCore:
         vocab = config.comm.vocab if config.comm else 0
         self.vector = VectorEncoder(rules, config.obs_radius, vocab) if config.mode == "vector" \
             else None
+        # the env's stream of states is encoded incrementally (same values as
+        # self.vector.encode, which stays the from-scratch reference)
+        self._live = IncrementalEncoder(self.vector) if self.vector is not None else None
+        self._agent_range = range(n)
         self.rgb: Any = None
         if config.mode == "rgb":
             from ..render.rgb import RgbEncoder  # numpy only; kept local for import speed
@@ -156,8 +161,9 @@ class KitchenCore:
         ``symbolic``: one shared :class:`~ocplus_plan.sim.observe.StateSnapshot`. With
         communication, rgb and symbolic observations become ``{"obs": ..., "messages":
         tokens}`` with one token per other agent (``comm_vocab`` = nothing received)."""
-        if self.vector is not None:
-            return list(self.vector.encode(self.state, self.received if self.comm else None))
+        if self._live is not None:
+            obs = self._live.encode(self.state, self.received if self.comm else None)
+            return [obs[a] for a in self._agent_range]
         if self.rgb is not None:
             obs = list(self.rgb.encode(self.state))
         else:

@@ -1,0 +1,442 @@
+"""Incremental vector observations for one stream of states (the env's hot path).
+
+:class:`IncrementalEncoder` returns exactly what :meth:`VectorEncoder.encode` returns (that
+from-scratch path stays the reference; a property test compares the two every step), but
+it keeps the previous observation and rewrites only what changed since the previous
+call. It remembers the values it encoded (agent cells, the four per-item lists, time,
+next switch, layout, orders, received tokens) and compares them with the new state's:
+list ``==`` runs in C, so a step in which only agents moved costs a few comparisons and
+the moving agents' entries.
+
+Grid entries come in two kinds:
+
+* *lying* items (on a cell, or on a plate that is on a cell) are added with ``+=`` and
+  taken out with ``-=`` when their values change (counts are small integers, exact in
+  float32; the progress channel has one writer per cell, so it is assigned);
+* each agent's *bundle*: its agent plane plus the channels of what it holds (the item,
+  its progress, the plate's contents), which lives on the agent's floor cell. A move
+  clears the bundle at the old cell and writes it at the new one (all clears before all
+  writes, so an agent may follow another). Bundles are rebuilt when any item changed.
+
+This relies on the simulator's invariants (items lie only on non-walkable cells, one
+agent per cell, a plate with contents is on a cell or in a hand), which is why it is
+checked against the from-scratch encoder along random episodes and not assumed.
+
+Design note: it diffs values instead of trusting a list of what ``transition`` touched,
+so it stays exact for any sequence of valid states of its rules (resets, copies,
+snapshots, several steps between two calls, layout switches) and the transition pays
+nothing for it.
+
+Buffers: whole map (r = 0): the last ``(n_agents, size)`` observation itself, returned as
+a copy. Window (r > 0): the padded full-map planes once (items and every agent in
+``agent:other``), a constant 0 and 1, and the agents' feature rows; each call gathers the
+whole observation through an index cached per tuple of agent cells (the index reads the
+window centre of ``agent:self`` as 1 and of ``agent:other`` as 0).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .codes import Where
+from .observe import (
+    _CH_KIND0,
+    _CH_STATE0,
+    _KIND_INDEX,
+    _PLATE_KIND,
+    _TERRAIN_INDEX,
+    CH_OTHER,
+    CH_PROGRESS,
+    CH_SELF,
+    GRID_CHANNELS,
+    ITEM_STATES,
+    VectorEncoder,
+)
+from .state import State
+
+_CELL, _HAND, _PLATE = int(Where.CELL), int(Where.HAND), int(Where.PLATE)
+_UNSET = object()
+# feature offsets from the start of the feature block (see VectorEncoder.feature_names)
+_F_ROW, _F_COL, _F_TIME, _F_LAYOUT = 15, 16, 17, 18  # switch_in is _F_TIME + 2
+
+
+class IncrementalEncoder:
+    """Vector observations of successive states of ``encoder.rules``, updated in place.
+
+    ``encode(state, received)`` has the contract of :meth:`VectorEncoder.encode` (a fresh
+    ``(n_agents, size)`` float32 array, the same values bit for bit). :meth:`forget`
+    drops the remembered observation (the next call starts from the static planes).
+    """
+
+    def __init__(self, encoder: VectorEncoder) -> None:
+        e = self.encoder = encoder
+        self.rules = rules = e.rules
+        n, r, m = e.n_agents, e.radius, e.rows * e.cols
+        self.n_agents, self.radius = n, r
+        self._agents = range(n)
+        self._n_items = len(e._item_kind)
+        self._item_kind = e._item_kind
+        self._prog_den = e._prog_den
+        g, f = e.grid_size, e.n_features
+        self._grid_size = g
+        if r == 0:
+            # the observation itself: agent a's grid at a * size, its features after it
+            plane = m
+            self._cell_off = list(range(m))
+            self._grid_rows = [a * e.size for a in range(n)]
+            self._feat_rows = [a * e.size + g for a in range(n)]
+        else:
+            rows, cols = e.rows, e.cols
+            wp = cols + 2 * r
+            plane = (rows + 2 * r) * wp
+            zero_slot = len(GRID_CHANNELS) * plane
+            self._src_size = zero_slot + 2 + n * f
+            self._cell_off = [(c // cols + r) * wp + c % cols + r for c in range(m)]
+            self._grid_rows = [0]
+            self._feat_rows = [zero_slot + 2 + a * f for a in range(n)]
+            # the encoder's window indices per agent cell, agent:self read as the
+            # constant 1 at the centre and 0 elsewhere, agent:other as 0 at the centre
+            cells, centre = e._cells, r * e.window[1] + r
+            table = e._gather[:, :g].copy()
+            table[:, CH_SELF * cells : (CH_SELF + 1) * cells] = zero_slot
+            table[:, CH_SELF * cells + centre] = zero_slot + 1
+            table[:, CH_OTHER * cells + centre] = zero_slot
+            self._table = table
+            self._feat_index = [np.arange(fr, fr + f) for fr in self._feat_rows]
+            #: tuple of agent cells -> gather index of the observation (about 16 MB at most)
+            self._windows: dict[tuple[int, ...], np.ndarray] = {}
+            self._windows_max = max(64, (16 << 20) // (8 * n * e.size))
+        self._plane = plane
+        self._kind_off = [(_CH_KIND0 + _KIND_INDEX[k]) * plane for k in self._item_kind]
+        self._state_off = [(_CH_STATE0 + s) * plane for s in range(len(ITEM_STATES))]
+        self._prog_off = CH_PROGRESS * plane
+        # an agent's own plane, per grid row: r = 0 agent:self in its row, agent:other in
+        # the others; r > 0 the shared agent:other plane
+        if r == 0:
+            self._agent_planes = [
+                [(ro + (CH_SELF if b == a else CH_OTHER) * plane, 1.0)
+                 for b, ro in enumerate(self._grid_rows)]
+                for a in range(n)
+            ]
+        else:
+            self._agent_planes = [[(CH_OTHER * plane, 1.0)] for _ in range(n)]
+        self._pos_feat = e._pos_feat
+        self._time_offs = [fr + _F_TIME for fr in self._feat_rows]
+        self._has_switch = e._has_switch
+        self._horizon, self._switch_step = rules.horizon, rules.map_switch_step
+        self._limit = rules.order_time_limit is not None
+        self._comm = bool(e.comm_vocab) and n > 1
+        # terrain one-hots a layout switch changes, per (from, to): to clear, then to set
+        grids = [tuple(int(v) for v in grid.ravel()) for grid in rules.layout.grids()]
+        self._terrain_diff: dict[tuple[int, int], tuple[list[int], list[int]]] = {}
+        for i, gi in enumerate(grids):
+            for j, gj in enumerate(grids):
+                if i != j:
+                    diff = [c for c in range(m) if gi[c] != gj[c]]
+                    self._terrain_diff[i, j] = (
+                        [_TERRAIN_INDEX[gi[c]] * plane + self._cell_off[c] for c in diff],
+                        [_TERRAIN_INDEX[gj[c]] * plane + self._cell_off[c] for c in diff],
+                    )
+        self._ready = False
+
+    def forget(self) -> None:
+        """Drop the remembered observation; the next :meth:`encode` starts from scratch."""
+        self._ready = False
+
+    # ------------------------------------------------------------------ public
+    def encode(self, state: State, received: np.ndarray | None = None) -> np.ndarray:
+        """``(n_agents, size)`` float32 observations, equal to ``encoder.encode(state,
+        received)``."""
+        if not self._ready:
+            self._rebuild(state)
+        s = state
+        if s.layout_index != self._layout:
+            self._switch_layout(s.layout_index)
+        where, loc, st, prog = s.item_where, s.item_loc, s.item_state, s.item_progress
+        if where != self._where or loc != self._loc or st != self._st or prog != self._prog:
+            self._items_changed(s)
+        elif s.agent_pos != self._pos:
+            # only agents moved (the common step): their bundles, all old cells cleared
+            # before the new ones are written so that an agent may follow another
+            pos, old = s.agent_pos, self._pos
+            mv, cell_off, bundles = self._grid_mv, self._cell_off, self._bundles
+            for a in self._agents:
+                if pos[a] != old[a]:
+                    c = cell_off[old[a]]
+                    for x, _ in bundles[a]:
+                        mv[x + c] = 0.0
+            pos_feat = self._pos_feat
+            for a in self._agents:
+                f = pos[a]
+                if f != old[a]:
+                    c = cell_off[f]
+                    for x, v in bundles[a]:
+                        mv[x + c] = v
+                    x = self._feat_rows[a]
+                    mv[x + _F_ROW], mv[x + _F_COL] = pos_feat[f]
+            self._pos = pos[:]
+
+        t = s.t
+        if t != self._t or s.next_switch != self._next_switch:
+            mv = self._feat_mv
+            v = t / self._horizon
+            if self._has_switch:
+                w = min(1.0, max(0, s.next_switch - t) / self._switch_step)
+                for x in self._time_offs:
+                    mv[x] = v
+                    mv[x + 2] = w  # switch_in follows time and layout
+            else:
+                for x in self._time_offs:
+                    mv[x] = v
+            self._t, self._next_switch = t, s.next_switch
+        if s.orders != self._orders:
+            self._write_orders(s)
+        if self._limit:
+            self._time_left(s)
+        if self._comm:
+            self._messages(received)
+
+        if self.radius == 0:
+            return self._cur.copy()
+        key = tuple(s.agent_pos)
+        index = self._windows.get(key)
+        if index is None:
+            index = self._window_index(key)
+        return self._src[index]
+
+    # ------------------------------------------------------------------ internals
+    def _rebuild(self, state: State) -> None:
+        """Static planes of the state's layout and nothing dynamic remembered, so the
+        next update writes every item, agent and feature."""
+        e, n, m = self.encoder, self.n_agents, self._n_items
+        layout = state.layout_index
+        if self.radius == 0:
+            self._cur = e._blank[layout].copy()
+            mv = memoryview(self._cur.reshape(-1))
+        else:
+            self._src = np.zeros(self._src_size, np.float32)
+            planes = e._padded_ext[layout][:-1]
+            self._src[: len(planes)] = planes
+            self._src[len(planes) + 1] = 1.0
+            mv = memoryview(self._src)
+        self._grid_mv = self._feat_mv = mv
+        self._layout = layout
+        for fr in self._feat_rows:
+            mv[fr + _F_LAYOUT] = float(layout)
+        #: per agent: (offset without the cell, value) of its plane and what it holds
+        self._bundles = [list(p) for p in self._agent_planes]
+        self._pos = state.agent_pos[:]
+        self._held = [-1] * n  # bundles hold no item yet
+        for a, f in enumerate(self._pos):
+            c = self._cell_off[f]
+            for x, v in self._bundles[a]:
+                mv[x + c] = v
+            mv[self._feat_rows[a] + _F_ROW], mv[self._feat_rows[a] + _F_COL] = self._pos_feat[f]
+        self._where, self._loc = [-1] * m, [-1] * m
+        self._st, self._prog = [-1] * m, [-1] * m
+        #: per lying item: (cell offset, state channel offset, progress value), else None
+        self._entry: list[tuple[int, int, float] | None] = [None] * m
+        #: plate id -> items on it
+        self._contents: dict[int, list[int]] = {}
+        self._hand_offs: list[list[int]] = [[] for _ in range(n)]
+        self._t = self._next_switch = -1
+        self._orders: list | None = None
+        self._order_offs: list[int] = []
+        self._limit_offs: list[int] = []
+        self._received: object = _UNSET
+        self._msg_offs: list[int] = []
+        self._ready = True
+
+    def _switch_layout(self, layout: int) -> None:
+        """Terrain one-hots of the cells a layout switch changes, and the layout feature."""
+        mv = self._grid_mv
+        clear, put = self._terrain_diff[self._layout, layout]
+        for ro in self._grid_rows:
+            for x in clear:
+                mv[ro + x] = 0.0
+            for x in put:
+                mv[ro + x] = 1.0
+        for fr in self._feat_rows:
+            mv[fr + _F_LAYOUT] = float(layout)
+        self._layout = layout
+
+    def _window_index(self, key: tuple[int, ...]) -> np.ndarray:
+        """Gather index of every agent's window and features, for agents at ``key``."""
+        index = np.stack([np.concatenate((self._table[f], self._feat_index[a]))
+                          for a, f in enumerate(key)])
+        if len(self._windows) >= self._windows_max:
+            self._windows.clear()
+        self._windows[key] = index
+        return index
+
+    def _items_changed(self, s: State) -> None:
+        """Some item's values changed: re-enter the changed lying items (and the contents
+        of a changed plate); rebuild the bundle and own-hand features of every agent whose
+        hand is concerned; move the bundles of the agents that moved."""
+        where, loc, st, prog = s.item_where, s.item_loc, s.item_state, s.item_progress
+        w0, l0, s0, p0 = self._where, self._loc, self._st, self._prog
+        dirty = [i for i in range(self._n_items)
+                 if where[i] != w0[i] or loc[i] != l0[i] or st[i] != s0[i] or prog[i] != p0[i]]
+        self._where, self._loc, self._st, self._prog = where[:], loc[:], st[:], prog[:]
+        plates = [] if _PLATE in where or _PLATE in w0 else None
+        if plates is not None:  # keep the plate index; a changed plate's contents are dirty
+            contents, kinds = self._contents, self._item_kind
+            for i in dirty:
+                if w0[i] == _PLATE:
+                    contents[l0[i]].remove(i)
+                    plates.append(l0[i])
+                if where[i] == _PLATE:
+                    contents.setdefault(loc[i], []).append(i)
+                    plates.append(loc[i])
+            for p in list(dirty):
+                if kinds[p] == _PLATE_KIND:
+                    dirty += [i for i in contents.get(p, ()) if i not in dirty]
+        self._lying(s, dirty)
+
+        mv, cell_off, bundles = self._grid_mv, self._cell_off, self._bundles
+        pos, old_pos, hand, old_hand = s.agent_pos, self._pos, s.agent_hand, self._held
+        pos_feat, feat_rows = self._pos_feat, self._feat_rows
+        redraw = []
+        for a in self._agents:
+            h = hand[a]
+            if h != old_hand[a] or (h >= 0 and (h in dirty or (plates and h in plates))):
+                redraw.append((a, self._bundle(s, a, h)))
+                self._hand_features(s, a, h)
+            elif pos[a] != old_pos[a]:
+                redraw.append((a, bundles[a]))
+        for a, _ in redraw:  # bundles out at the old cells, then in at the new ones
+            c = cell_off[old_pos[a]]
+            for x, _ in bundles[a]:
+                mv[x + c] = 0.0
+        for a, bundle in redraw:
+            bundles[a] = bundle
+            f = pos[a]
+            c = cell_off[f]
+            for x, v in bundle:
+                mv[x + c] = v
+            fr = feat_rows[a]
+            mv[fr + _F_ROW], mv[fr + _F_COL] = pos_feat[f]
+        self._pos, self._held = pos[:], hand[:]
+
+    def _lying(self, s: State, dirty: list[int]) -> None:
+        """Take the ``dirty`` items' old lying entries out, then put their new ones in."""
+        mv, rows, entry = self._grid_mv, self._grid_rows, self._entry
+        kind_off, state_off, prog_off = self._kind_off, self._state_off, self._prog_off
+        for i in dirty:
+            old = entry[i]
+            if old is not None:
+                c, so, pv = old
+                ko, so = kind_off[i] + c, so + c
+                for ro in rows:
+                    mv[ro + ko] -= 1.0
+                    mv[ro + so] -= 1.0
+                    if pv:
+                        mv[ro + prog_off + c] = 0.0
+        where, loc, st, prog = s.item_where, s.item_loc, s.item_state, s.item_progress
+        cell_off, den = self._cell_off, self._prog_den
+        for i in dirty:
+            w = where[i]
+            if w == _CELL:
+                cell = loc[i]
+            elif w == _PLATE and where[loc[i]] == _CELL:
+                cell = loc[loc[i]]
+            else:
+                entry[i] = None
+                continue
+            c = cell_off[cell]
+            pv = min(1.0, prog[i] / den[i]) if prog[i] and w != _PLATE else 0.0
+            so = state_off[st[i]]
+            entry[i] = (c, so, pv)
+            ko, so = kind_off[i] + c, so + c
+            for ro in rows:
+                mv[ro + ko] += 1.0
+                mv[ro + so] += 1.0
+                if pv:
+                    mv[ro + prog_off + c] = pv
+
+    def _bundle(self, s: State, a: int, held: int) -> list[tuple[int, float]]:
+        """Agent ``a``'s plane and the channels of what it holds (counts summed)."""
+        bundle = self._agent_planes[a]
+        if held < 0:
+            return bundle
+        kind_off, state_off, st = self._kind_off, self._state_off, s.item_state
+        chans = {kind_off[held]: 1.0, state_off[st[held]]: 1.0}
+        if s.item_progress[held]:
+            chans[self._prog_off] = min(1.0, s.item_progress[held] / self._prog_den[held])
+        for i in self._contents.get(held, ()):
+            for x in (kind_off[i], state_off[st[i]]):
+                chans[x] = chans.get(x, 0.0) + 1.0
+        return bundle + [(ro + x, v) for ro in self._grid_rows for x, v in chans.items()]
+
+    def _hand_features(self, s: State, a: int, held: int) -> None:
+        """Agent ``a``'s own-hand features."""
+        mv, kinds, e = self._feat_mv, self._item_kind, self.encoder
+        for x in self._hand_offs[a]:
+            mv[x] = 0.0
+        if held < 0:
+            self._hand_offs[a] = []
+            return
+        fr = self._feat_rows[a]
+        feats = {fr + _KIND_INDEX[kinds[held]]: 1.0, fr + e._state_feat0 + s.item_state[held]: 1.0}
+        for i in self._contents.get(held, ()):
+            x = fr + e._plate_feat0 + e._ingredient_index[kinds[i]]
+            feats[x] = feats.get(x, 0.0) + 1.0
+        for x, v in feats.items():
+            mv[x] = v
+        self._hand_offs[a] = list(feats)
+
+    def _write_orders(self, s: State) -> None:
+        """Ingredient counts and present flags of the orders (only when they change)."""
+        mv, e = self._feat_mv, self.encoder
+        for x in self._order_offs:
+            mv[x] = 0.0
+        cached = e._orders_cache.get(tuple(s.orders))
+        if cached is None:
+            cached = e._order_features(s)
+        offs = []
+        for fr in self._feat_rows:
+            base = fr - self._grid_size
+            for x, v in zip(*cached):
+                mv[base + x] = v
+                offs.append(base + x)
+        self._order_offs = offs
+        self._orders = s.orders[:]
+
+    def _time_left(self, s: State) -> None:
+        """Time left of each order with a deadline (changes every step)."""
+        mv, rules = self._feat_mv, self.rules
+        for x in self._limit_offs:
+            mv[x] = 0.0
+        offs = []
+        limit, t, order0 = rules.order_time_limit, s.t, self.encoder._order0
+        for o, order in enumerate(s.orders[: rules.n_orders]):
+            if order.deadline >= 0:
+                v = min(1.0, max(0, order.deadline - t) / limit)
+                for fr in self._feat_rows:
+                    x = fr + order0 + 6 * o + 5
+                    mv[x] = v
+                    offs.append(x)
+        self._limit_offs = offs
+
+    def _messages(self, received: np.ndarray | None) -> None:
+        """Received-token one-hots (only when the tokens differ from the last ones)."""
+        tokens = None if received is None else received.tolist()
+        if tokens == self._received:
+            return
+        mv, e = self._feat_mv, self.encoder
+        for x in self._msg_offs:
+            mv[x] = 0.0
+        vocab = e.comm_vocab
+        offs = []
+        for a, fr in enumerate(self._feat_rows):
+            mb = fr + e._msg0
+            for k in range(self.n_agents - 1):
+                tok = -1 if tokens is None else tokens[a][k]
+                x = mb + k * (vocab + 1) + (tok if tok >= 0 else vocab)
+                mv[x] = 1.0
+                offs.append(x)
+        self._msg_offs = offs
+        self._received = tokens
+
+
+__all__ = ["IncrementalEncoder"]
