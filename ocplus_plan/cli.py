@@ -41,6 +41,7 @@ EXAMPLES: list[str] = [
     "ocplus rollout --preset hard --n-agents 2 --steps 200 --seed 0 --json",
     "ocplus solve --list",
     "ocplus pddl --preset medium --seed 0 --step 20 --encoding temporal --out /tmp/ocplus-pddl",
+    "ocplus pddl --preset hard --seed 0 --encoding temporal --anticipate-switches --out /tmp/ocplus-pddl-switches",
     "ocplus eval --presets easy --agents greedy,random --seeds 2 --horizon 50 --quiet "
     "--out /tmp/ocplus-eval-example --resume",
 ]

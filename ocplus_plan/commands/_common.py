@@ -20,7 +20,7 @@ def add_kitchen_args(p: argparse.ArgumentParser, *, step: bool = False) -> None:
 
 
 def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False) -> None:
-    """``--encoding --granularity --orders`` of the planning compiler."""
+    """``--encoding --granularity --orders --anticipate-switches`` of the planning compiler."""
     if auto_encoding:
         p.add_argument("--encoding", choices=("auto", "classical", "temporal"), default="auto",
                        help="auto = the encoding the planner is registered for")
@@ -29,6 +29,8 @@ def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False)
     p.add_argument("--granularity", choices=("stations", "cells"), default="stations")
     p.add_argument("--orders", type=int, default=None,
                    help="serve only the first k open orders (default: all)")
+    p.add_argument("--anticipate-switches", action="store_true",
+                   help="temporal only: the coming layout switches as timed initial literals")
 
 
 def emit(result: dict[str, Any], as_json: bool, width: int = 16) -> None:

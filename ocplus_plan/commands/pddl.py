@@ -36,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
     state = state_after_random_steps(rules, args.seed, args.step)
     t0 = time.perf_counter()
     compiled = compile(state, encoding=args.encoding, granularity=args.granularity,
-                       max_orders=args.orders)
+                       max_orders=args.orders, anticipate_switches=args.anticipate_switches)
     compile_time = time.perf_counter() - t0
     domain, problem = write_pddl(compiled, args.out)
     out = {

@@ -82,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
     state = state_after_random_steps(rules, args.seed, args.step)
     t0 = time.perf_counter()
     compiled = compile(state, encoding=encoding, granularity=args.granularity,
-                       max_orders=args.orders)
+                       max_orders=args.orders, anticipate_switches=args.anticipate_switches)
     compile_time = time.perf_counter() - t0
     result = solve(compiled.problem, config, timeout=args.timeout, use_val=not args.no_val)
     out: dict[str, Any] = {

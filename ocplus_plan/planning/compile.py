@@ -56,6 +56,8 @@ class Compiled:
     #: static numbers behind the costs: name -> value (per object tuple)
     numbers: dict[tuple[str, tuple[str, ...]], int] = field(default_factory=dict)
     geometry: Any = None
+    #: stations moves per layout, switches as timed literals (``anticipate_switches``)
+    switches: bool = False
 
     def map_back(self, action_instance: Any, start: float | None = None,
                  duration: float | None = None) -> PlanStep:
@@ -64,8 +66,8 @@ class Compiled:
         values = [str(p.object()) if p.is_object_exp() else str(p)
                   for p in action_instance.actual_parameters]
         args = dict(zip((p.name for p in action.parameters), values))
-        sch = build_domain(self.encoding, self.granularity,
-                           _k_of(self.problem)).schemas.get(action.name)
+        sch = build_domain(self.encoding, self.granularity, _k_of(self.problem),
+                           self.switches).schemas.get(action.name)
         kind = sch.kind if sch is not None else BUMP_DONE_KINDS.get(
             action.name, action.name.split("_rest")[0])
         n = self.names
@@ -110,17 +112,18 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
     """Compile ``state`` and its open orders into a unified-planning problem.
 
     ``orders`` defaults to ``state.orders`` (oldest first); ``max_orders`` keeps the
-    first k of them as the goal. ``anticipate_switches`` (temporal, cells only)
-    encodes the coming layout switches as timed initial literals.
+    first k of them as the goal. ``anticipate_switches`` (temporal only) encodes the
+    coming layout switches as timed initial literals: cells open and close (cells),
+    or the layout whose moves are allowed changes (stations; see ``planning.model``).
     """
     from unified_planning.model.metrics import MinimizeActionCosts, MinimizeMakespan
 
     if max_orders is not None and max_orders < 0:
         raise CompileError(f"max_orders must be >= 0, got {max_orders}")
-    if anticipate_switches and (encoding != "temporal" or granularity != "cells"):
+    if anticipate_switches and encoding != "temporal":
         raise CompileError(
-            "anticipate_switches needs encoding='temporal' and granularity='cells' (a switch "
-            "changes distances, which the stations granularity compiles as constants)"
+            "anticipate_switches needs encoding='temporal': the coming layout switches are "
+            "timed initial literals, which classical PDDL cannot express"
         )
     rules = state.rules
     geo = state.geo
@@ -138,11 +141,12 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
     initial_contents = {q: tuple(sorted(Item(geo.item_kind[i]) for i in state.plate_contents(q)))
                         for q in plates}
     k_max = max([3] + [len(r) for r in rules.recipes] + [len(c) for c in initial_contents.values()])
-    dom = build_domain(encoding, granularity, k_max)
+    switches = anticipate_switches and granularity == "stations"
+    dom = build_domain(encoding, granularity, k_max, switches)
     spots = build_spots(state, granularity, extra_counters, every_layout=anticipate_switches)
     problem = _new_problem(f"ocplus_{encoding}_{granularity}", dom, _fast)
     comp = Compiled(problem, Names(), encoding, granularity, spots,
-                    tuple(o.order_id for o in goal), geometry=geo)
+                    tuple(o.order_id for o in goal), geometry=geo, switches=switches)
     b = _Builder(problem, dom, comp, _fast)
 
     T = dom.types
@@ -231,10 +235,17 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
         for s in spots.spots:
             if walk_now[s]:
                 b.true("open", spot_name[s])
-    for s1, s2, d in spots.links:
+    for s1, s2, d in ([] if switches else spots.links):
         b.true("link", spot_name[s1], spot_name[s2])
         if granularity == "stations":
             b.num("dist", d, spot_name[s1], spot_name[s2])
+    if switches:
+        layout_name = [b.obj("layouts", f"layout{k}", k, T["layout"])
+                       for k in range(len(geo.walkables))]
+        b.true("now", layout_name[state.layout_index])
+        for k, s1, s2, d in spots.layout_links:
+            b.true("llink", layout_name[k], spot_name[s1], spot_name[s2])
+            b.num("ldist", d, layout_name[k], spot_name[s1], spot_name[s2])
 
     # --- agents
     occupied = set(state.agent_pos)
@@ -314,7 +325,8 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
 
 
 def _switch_literals(b: _Builder, state: State, spot_name: dict[int, str]) -> None:
-    """Timed initial literals for the coming layout switches (cells granularity).
+    """Timed initial literals for the coming layout switches: ``open`` of the switching
+    cells (cells granularity) or ``now`` of the layout (stations).
 
     Plan time ``tau`` is the state after ``tau`` more simulator steps; the simulator
     switches at the end of the step that reaches ``next_switch`` (a switch already due
@@ -327,14 +339,20 @@ def _switch_literals(b: _Builder, state: State, spot_name: dict[int, str]) -> No
     rules, geo = state.rules, state.geo
     if not rules.dynamic or len(geo.walkables) < 2:
         return
-    fl = b.dom.fluents["open"]
     layout = state.layout_index
     tau = max(1, state.next_switch - state.t)
     switching = [s for s in spot_name if s in set(geo.switch_cells)]
+    stations = "now" in b.dom.fluents
+    fl = b.dom.fluents["now" if stations else "open"]
     while state.t + tau <= rules.horizon:
+        at = GlobalStartTiming(tau)
+        if stations:
+            b.problem.add_timed_effect(at, fl(b.objects[f"layout{layout}"]), False)
         layout = 1 - layout
-        for s in switching:
-            b.problem.add_timed_effect(GlobalStartTiming(tau), fl(b.objects[spot_name[s]]),
+        if stations:
+            b.problem.add_timed_effect(at, fl(b.objects[f"layout{layout}"]), True)
+        for s in ([] if stations else switching):
+            b.problem.add_timed_effect(at, fl(b.objects[spot_name[s]]),
                                        bool(geo.walkables[layout][s]))
         tau += rules.map_switch_step
 

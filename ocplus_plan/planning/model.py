@@ -49,6 +49,12 @@ Modelling choices (see the README section "Planning model"):
 * cells granularity: a move enters a cell only while it is ``open`` (floor); with
   ``anticipate_switches`` timed initial literals flip ``open`` at the coming layout
   switches.
+* stations granularity with ``anticipate_switches`` (temporal only): a ``layout``
+  type, ``now(?l)`` flipped by timed initial literals at the coming switches, and a
+  move per layout: ``move(?a ?s1 ?s2 ?l)`` takes ``ldist(?l ?s1 ?s2)`` steps over a
+  link of that layout (``llink``) and needs ``now(?l)`` at its start and at its end.
+  Links no shorter than the switch period are left out, so a move cannot span a
+  switch and the layout's return; a plan waits for the layout its walk needs.
 """
 
 from __future__ import annotations
@@ -62,6 +68,10 @@ from ..errors import CompileError
 ENCODINGS = ("classical", "temporal")
 GRANULARITIES = ("stations", "cells")
 TYPE_NAMES = ("agent", "spot", "place", "item", "kind", "content", "order")
+#: what anticipating layout switches adds at the stations granularity (see the docstring)
+SWITCH_FLUENTS: dict[str, tuple[str, ...]] = {
+    "now": ("layout",), "llink": ("layout", "spot", "spot"), "ldist": ("layout", "spot", "spot"),
+}
 
 #: fluent name -> parameter types (all boolean unless listed in NUMERIC)
 FLUENTS: dict[str, tuple[str, ...]] = {
@@ -98,7 +108,7 @@ FLUENTS: dict[str, tuple[str, ...]] = {
     "rescue_cost": ("agent", "item"),
 }
 NUMERIC = frozenset({
-    "dist", "chop_full", "chop_left", "wash_full", "wash_left", "cook_cost_full",
+    "dist", "ldist", "chop_full", "chop_left", "wash_full", "wash_left", "cook_cost_full",
     "cook_cost_left", "cook_lo_full", "cook_hi_full", "cook_lo", "cook_hi", "rescue_cost",
 })
 for _k in range(1, 10):
@@ -136,15 +146,21 @@ AGENT_AT = "agent_at a s; adj s p"
 HAND = "a:agent i:item p:place s:spot"
 
 
-def schemas(encoding: str, granularity: str, k_max: int = 3) -> list[Schema]:
-    """All action schemas of one encoding and granularity."""
+def schemas(encoding: str, granularity: str, k_max: int = 3,
+            switches: bool = False) -> list[Schema]:
+    """All action schemas of one encoding and granularity (``switches``: the stations
+    moves of anticipated layout switches)."""
     move_cost: int | str = "dist s1 s2" if granularity == "stations" else 1
+    move_params = "a:agent s1:spot s2:spot"
     # cells: a cell is entered only while it is floor (``open``; timed initial literals
     # flip it when layout switches are anticipated)
     move_pre = "agent_at a s1; vacant s2; link s1 s2" + ("; open s2" if granularity == "cells"
                                                           else "")
+    if switches and granularity == "stations":
+        move_params += " l:layout"
+        move_pre, move_cost = "agent_at a s1; vacant s2; llink l s1 s2; now l", "ldist l s1 s2"
     out = [
-        _schema("move", "move", "a:agent s1:spot s2:spot", move_pre,
+        _schema("move", "move", move_params, move_pre,
                 "agent_at a s2; vacant s1", "agent_at a s1; vacant s2", move_cost),
         _schema("pick", "pick", HAND, f"{AGENT_AT}; free_hand a; item_at i p; nowait p; grabbable p",
                 "holding a i; free p", "free_hand a; item_at i p"),
@@ -274,30 +290,38 @@ def _check_options(encoding: str, granularity: str) -> None:
 
 @lru_cache(maxsize=16)
 def build_domain(encoding: str = "classical", granularity: str = "stations",
-                 k_max: int = 3) -> Domain:
-    """The UP types, fluents and actions of one encoding and granularity (cached)."""
+                 k_max: int = 3, switches: bool = False) -> Domain:
+    """The UP types, fluents and actions of one encoding and granularity (cached).
+
+    ``switches`` (temporal, stations): the per-layout moves of anticipated switches."""
     _check_options(encoding, granularity)
     if not 1 <= k_max <= 9:
         raise CompileError(f"k_max={k_max}: plates are modelled with 1 to 9 ingredients")
+    switches = switches and granularity == "stations"
+    if switches and encoding != "temporal":
+        raise CompileError("anticipated layout switches are timed initial literals: they need "
+                           "encoding='temporal'")
     from unified_planning.environment import get_environment
-    from unified_planning.model import Fluent
+    from unified_planning.model import EndTiming, Fluent
 
     tm = get_environment().type_manager
-    types = {t: tm.UserType(t) for t in TYPE_NAMES}
+    types = {t: tm.UserType(t) for t in TYPE_NAMES + (("layout",) if switches else ())}
     fluents = {}
-    for name, sig in FLUENTS.items():
+    for name, sig in {**FLUENTS, **(SWITCH_FLUENTS if switches else {})}.items():
         if name.startswith("size") and int(name[4:]) > k_max:
             continue
         typ = tm.IntType() if name in NUMERIC else tm.BoolType()
         fluents[name] = Fluent(name, typ, **{f"x{j}": types[t] for j, t in enumerate(sig)})
     dom = Domain(encoding, granularity, k_max, types, fluents, {}, {})
-    for sch in schemas(encoding, granularity, k_max):
+    for sch in schemas(encoding, granularity, k_max, switches):
         dom.schemas[sch.name] = sch
         if encoding == "classical":
             act, cost = _instantaneous(sch, dom)
             dom.costs[act] = cost
         else:
             act = _durative(sch, dom)
+            if switches and sch.name == "move":  # the layout still holds when it arrives
+                act.add_condition(EndTiming(), fluents["now"](act.parameter("l")))
         dom.actions[sch.name] = act
     if encoding == "temporal":
         dom.actions["cook"] = _temporal_cook(dom, rest=False)

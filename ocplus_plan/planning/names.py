@@ -54,6 +54,7 @@ class Names:
     orders: dict[str, int] = field(default_factory=dict)
     contents: dict[str, tuple[str, ...]] = field(default_factory=dict)
     kinds: dict[str, str] = field(default_factory=dict)
+    layouts: dict[str, int] = field(default_factory=dict)
     _reverse: dict[tuple[str, Any], str] = field(default_factory=dict)
 
     def add(self, table: str, name: str, value: Any) -> str:
@@ -63,7 +64,8 @@ class Names:
 
     def lookup(self, name: str) -> Any:
         """The simulator value behind an object name (agent index, item id, cell, ...)."""
-        for table in (self.agents, self.items, self.cells, self.orders, self.contents, self.kinds):
+        for table in (self.agents, self.items, self.cells, self.orders, self.contents, self.kinds,
+                      self.layouts):
             if name in table:
                 return table[name]
         raise CompileError(f"no object named {name!r} in this compiled problem")

@@ -67,14 +67,16 @@ def canonical_state() -> Any:
     return new_state(make_rules("easy"), 0)
 
 
-def domain_text(encoding: str, granularity: str) -> str:
-    """The canonical domain of one encoding and granularity (what ``domains/`` holds)."""
-    compiled = compile(canonical_state(), encoding=encoding, granularity=granularity)
+def domain_text(encoding: str, granularity: str, switches: bool = False) -> str:
+    """The canonical domain of one encoding and granularity (what ``domains/`` holds);
+    ``switches``: with anticipated layout switches (temporal only)."""
+    compiled = compile(canonical_state(), encoding=encoding, granularity=granularity,
+                       anticipate_switches=switches)
     return problem_texts(compiled)[0]
 
 
-def domain_path(encoding: str, granularity: str) -> Path:
-    return DOMAINS_DIR / f"{encoding}_{granularity}.pddl"
+def domain_path(encoding: str, granularity: str, switches: bool = False) -> Path:
+    return DOMAINS_DIR / f"{encoding}_{granularity}{'_switches' if switches else ''}.pddl"
 
 
 def read_pddl(domain: str | Path, problem: str | Path) -> Any:

@@ -115,6 +115,8 @@ class SpotGraph:
     #: agent -> the spot it stands on now
     agent_spot: tuple[int, ...]
     info: LayoutInfo
+    #: (layout, from, to, cost) moves per layout (stations, ``every_layout`` only)
+    layout_links: tuple[tuple[int, int, int, int], ...] = ()
 
     def distance(self, a: int, b: int) -> int | None:
         """Shortest walk from floor cell ``a`` to ``b`` in this layout (None if unreachable)."""
@@ -125,9 +127,10 @@ def build_spots(state: State, granularity: str = "stations", extra_counters: int
                 every_layout: bool = False) -> SpotGraph:
     """The spot graph of ``state`` in its current layout.
 
-    ``every_layout`` (cells only, for anticipated layout switches): the spots are the
-    floor cells reachable from the agents when every layout's floor counts, so a
-    cell that opens later is already a spot (the compiler guards it with ``open``).
+    ``every_layout`` (for anticipated layout switches): the spots are the floor cells
+    reachable from the agents when every layout's floor counts, so a cell that opens
+    later is already a spot (cells: the compiler guards it with ``open``; stations:
+    ``layout_links`` holds each layout's moves, shorter than the switch period).
     """
     geo = state.geo
     li = state.layout_index
@@ -135,7 +138,7 @@ def build_spots(state: State, granularity: str = "stations", extra_counters: int
     terrain = geo.terrains[li]
     region = info.region
     agent_regions = {region[p] for p in state.agent_pos}
-    if every_layout and granularity == "cells":
+    if every_layout:
         union = tuple(any(w[f] for w in geo.walkables) for f in range(len(terrain)))
         reach: set[int] = set()
         for start in state.agent_pos:
@@ -178,8 +181,17 @@ def build_spots(state: State, granularity: str = "stations", extra_counters: int
                 if t != s and t in ds:
                     links_list.append((s, t, ds[t]))
         links = tuple(links_list)
+    layout_links: list[tuple[int, int, int, int]] = []
+    if every_layout and granularity == "stations":
+        period = state.rules.map_switch_step
+        for layout in range(len(geo.walkables)):
+            dist = layout_info(geo, layout, extra_counters).dist
+            for s in spots:
+                ds = dist.get(s, {})
+                layout_links.extend((layout, s, t, ds[t]) for t in targets
+                                    if t != s and t in ds and ds[t] < period)
     return SpotGraph(places, spots, tuple(sorted(adjacent)), links,
-                     tuple(state.agent_pos), info)
+                     tuple(state.agent_pos), info, tuple(layout_links))
 
 
 def bump_action(geo: Geometry, spot: int, place: int) -> int:

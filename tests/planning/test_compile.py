@@ -183,8 +183,45 @@ def test_anticipate_switches_is_refused_where_it_cannot_be_expressed() -> None:
     state = new_state(make_rules("hard"), 0)
     with pytest.raises(CompileError, match="temporal"):
         compile(state, anticipate_switches=True)
-    with pytest.raises(CompileError, match="cells"):
-        compile(state, encoding="temporal", anticipate_switches=True)
+    with pytest.raises(CompileError, match="temporal"):
+        compile(state, granularity="cells", anticipate_switches=True)
+
+
+def test_anticipated_switches_at_stations_move_in_the_layout_of_the_moment() -> None:
+    rules = make_rules("hard", n_agents=1)
+    state = new_state(rules, 0)
+    c = compile(state, encoding="temporal", anticipate_switches=True)
+    f = facts(c)
+    assert "now(layout0)" in f and "now(layout1)" not in f
+    # the top-right room of MapC is closed off from the serving window in layout 0
+    # (column 3 rows 1-3 are blocks) and open in layout 1; the bottom-right the other way
+    assert any(x.startswith("llink(layout1, s_3_7, s_4_1") for x in f)
+    assert not any(x.startswith("llink(layout0, s_3_7, s_4_1") for x in f)
+    assert any(x.startswith("llink(layout0, s_7_5, s_4_1") for x in f)
+    assert all(v < rules.map_switch_step for (name, _), v in c.numbers.items() if name == "ldist")
+    timed = {(int(t.delay), str(e.fluent), e.value.is_true())
+             for t, effects in c.problem.timed_effects.items() for e in effects}
+    first = rules.map_switch_step
+    assert {(first, "now(layout0)", False), (first, "now(layout1)", True),
+            (2 * first, "now(layout1)", False), (2 * first, "now(layout0)", True)} <= timed
+    move = c.problem.action("move")
+    assert [p.name for p in move.parameters] == ["a", "s1", "s2", "l"]
+    # the layout must hold at the start and at the end of the move
+    assert sum("now(l)" in str(cs) for cs in move.conditions.values()) == 2
+
+
+def test_anticipated_stations_moves_map_back_with_their_layout_distance() -> None:
+    state = new_state(make_rules("hard", n_agents=1), 0)
+    c = compile(state, encoding="temporal", anticipate_switches=True)
+    p = c.problem
+    move = p.action("move")
+    from unified_planning.plans import ActionInstance
+
+    ai = ActionInstance(move, (p.object("a0"), p.object("s_1_7"), p.object("s_3_7"),
+                               p.object("layout1")))
+    step = c.map_back(ai, 15.0)
+    assert step.kind == "move" and step.spot == (3, 7) and step.start == 15.0
+    assert step.duration == c.numbers[("ldist", ("layout1", "s_1_7", "s_3_7"))] == 2
 
 
 def test_anticipated_switches_open_and_close_cells_on_schedule() -> None:

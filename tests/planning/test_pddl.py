@@ -41,11 +41,16 @@ def _val_parser() -> Path | None:
     return val_binary("Parser")
 
 
-@pytest.mark.parametrize("encoding", ENCODINGS)
-@pytest.mark.parametrize("granularity", GRANULARITIES)
-def test_checked_in_domains_equal_the_generated_ones(encoding: str, granularity: str) -> None:
-    text = domain_text(encoding, granularity)
-    path = domain_path(encoding, granularity)
+#: every checked-in domain: (encoding, granularity, anticipated switches)
+VARIANTS = [(e, g, False) for e in ENCODINGS for g in GRANULARITIES] + [
+    ("temporal", "stations", True)]
+
+
+@pytest.mark.parametrize("encoding,granularity,switches", VARIANTS)
+def test_checked_in_domains_equal_the_generated_ones(encoding: str, granularity: str,
+                                                     switches: bool) -> None:
+    text = domain_text(encoding, granularity, switches)
+    path = domain_path(encoding, granularity, switches)
     if REFRESH:
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(text)
@@ -88,13 +93,16 @@ def _state(encoding: str):
     return cooking
 
 
-@pytest.mark.parametrize("encoding", ENCODINGS)
-@pytest.mark.parametrize("granularity", GRANULARITIES)
-def test_every_generated_file_reads_back(encoding: str, granularity: str, tmp_path: Path) -> None:
+@pytest.mark.parametrize("encoding,granularity,switches", VARIANTS)
+def test_every_generated_file_reads_back(encoding: str, granularity: str, switches: bool,
+                                         tmp_path: Path) -> None:
     parser = _val_parser()
     pddl = pytest.importorskip("pddl") if encoding == "classical" else None
     state = _state(encoding)
-    compiled = compile(state, encoding=encoding, granularity=granularity)
+    if switches:  # a dynamic kitchen: MapC on the hard preset
+        state = new_state(make_rules("hard"), 0)
+    compiled = compile(state, encoding=encoding, granularity=granularity,
+                       anticipate_switches=switches)
     domain, problem = write_pddl(compiled, tmp_path)
     back = read_pddl(domain, problem)
     original = compiled.problem
