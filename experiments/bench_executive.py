@@ -19,6 +19,8 @@ Examples::
         --configs easy:1 easy:2 medium:1 medium:2 hard:1 hard:2 --seeds 10
     .venv/bin/python experiments/bench_executive.py --configs medium:1 --faults burns \\
         --policies on_event never --seeds 5
+    .venv/bin/python experiments/bench_executive.py --planners kairos --configs hard:1 \
+        --anticipate --seeds 10
 """
 
 from __future__ import annotations
@@ -42,13 +44,15 @@ from ocplus_plan.sim import make_rules, new_state
 
 
 def run_one(planner: str, preset: str, n_agents: int, seed: int, steps: int | None,
-            policy: str, faults: str, granularity: str, timeout: float) -> dict:
+            policy: str, faults: str, granularity: str, timeout: float,
+            anticipate: bool = False) -> dict:
     rules = make_rules(preset, n_agents=n_agents)
     state = new_state(rules, seed)
     from ocplus_plan.planning.engines import get_planner
 
     encoding = get_planner(planner).encoding
-    agent = PlannerAgent(planner, encoding, granularity, policy, timeout=timeout)
+    agent = PlannerAgent(planner, encoding, granularity, policy, timeout=timeout,
+                         anticipate_switches=anticipate)
     schedule = None
     if faults == "burns":
         schedule = FaultSchedule(burns=[20, 80, 140])
@@ -61,7 +65,8 @@ def run_one(planner: str, preset: str, n_agents: int, seed: int, steps: int | No
     bound = dish_bound(rules, stats["t"], seed=seed)
     return {
         "planner": planner, "encoding": encoding, "preset": preset, "agents": n_agents,
-        "seed": seed, "policy": policy, "faults": faults, "steps": stats["t"],
+        "seed": seed, "policy": policy, "faults": faults, "anticipate": anticipate,
+        "steps": stats["t"],
         "dishes": stats["dishes_served"], "burns": stats["burns"],
         "wrong_deliveries": stats["wrong_deliveries"], "blocked_moves": stats["blocked_moves"],
         "replans": info["replans"], "replans_by_reason": info["replans_by_reason"],
@@ -80,7 +85,7 @@ def summarise(rows: list[dict]) -> dict:
     n = len(rows)
     return {
         "summary": True, **{k: rows[0][k] for k in ("planner", "preset", "agents", "policy",
-                                                     "faults")},
+                                                     "faults", "anticipate")},
         "episodes": n,
         "dishes_mean": round(statistics.mean(r["dishes"] for r in rows), 2),
         "dishes_min": min(r["dishes"] for r in rows),
@@ -109,6 +114,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--faults", choices=["none", "burns", "switches"], default="none")
     p.add_argument("--granularity", choices=["stations", "cells"], default="stations")
     p.add_argument("--timeout", type=float, default=10.0, help="seconds per planner call")
+    p.add_argument("--anticipate", action="store_true",
+                   help="temporal planners: plan around the coming layout switches (timed literals)")
     p.add_argument("--out", type=Path, default=None, help="also append the JSON lines here")
     args = p.parse_args(argv)
     warnings.simplefilter("ignore")
@@ -118,7 +125,7 @@ def main(argv: list[str] | None = None) -> int:
         rows = []
         for seed in range(args.seeds):
             row = run_one(planner, preset, int(n or 1), seed, args.steps, policy, args.faults,
-                          args.granularity, args.timeout)
+                          args.granularity, args.timeout, args.anticipate)
             rows.append(row)
             for line in (json.dumps(row),):
                 print(line, flush=True)

@@ -229,11 +229,16 @@ class PlannerAgent(Controller):
 
 
 def make_planner_agent(arg: str | None, seed: int = 0) -> PlannerAgent:
-    """Factory for ``planner:NAME[:GRANULARITY[:POLICY]]`` (the encoding follows the planner)."""
+    """Factory for ``planner:NAME[:GRANULARITY[:POLICY[:anticipate]]]`` (the encoding follows
+    the planner; ``anticipate`` plans around the coming layout switches, temporal only)."""
     parts = (arg or "fast-downward").split(":")
     name = parts[0] or "fast-downward"
     granularity = parts[1] if len(parts) > 1 and parts[1] else "stations"
     policy = parts[2] if len(parts) > 2 and parts[2] else "on_event"
+    extra = parts[3] if len(parts) > 3 else ""
+    if extra not in ("", "anticipate") or len(parts) > 4:
+        raise ConfigError(f"planner:{arg}: the fourth field may only be 'anticipate' "
+                          "(planner:NAME:GRANULARITY:POLICY:anticipate)")
     encoding = "classical"
     try:
         from ..planning.engines import get_planner
@@ -241,7 +246,10 @@ def make_planner_agent(arg: str | None, seed: int = 0) -> PlannerAgent:
         encoding = get_planner(name).encoding
     except ImportError:  # pragma: no cover - planning layer missing
         pass
-    return PlannerAgent(name, encoding, granularity, policy)
+    if extra and encoding != "temporal":
+        raise ConfigError(f"planner:{arg}: anticipating layout switches needs a temporal planner "
+                          f"(timed initial literals); {name} is {encoding}")
+    return PlannerAgent(name, encoding, granularity, policy, anticipate_switches=bool(extra))
 
 
 __all__ = ["PlannerAgent", "compile_and_solve", "make_planner_agent", "plan_steps",

@@ -114,6 +114,8 @@ class Executive:
         self.stuck: Counter[int] = Counter()
         self.boosted: dict[int, int] = {}
         self.prev_layout = state.layout_index
+        #: switch times the current plan was made for (anticipate_switches)
+        self.expected_switches: frozenset[int] = frozenset()
         self.prev_burns = state.stats["burns"]
         self.last_plan_t: int | None = None
         self.next_retry = 0
@@ -164,7 +166,10 @@ class Executive:
         self.pending.clear()
         if state.layout_index != self.prev_layout:
             self.prev_layout = state.layout_index
-            if self._switch_matters(state) or self.failures_in_row:
+            # an anticipated switch on time is what the plan was made for; a late one
+            # (somebody stood on a closing cell) is a surprise
+            expected = self.anticipate and state.t in self.expected_switches
+            if (not expected and self._switch_matters(state)) or self.failures_in_row:
                 self._trigger(state, "layout_switch", out)
         if state.stats["burns"] > self.prev_burns:
             self.prev_burns = state.stats["burns"]
@@ -192,7 +197,7 @@ class Executive:
             if task is not None and task.waited == self.patience:
                 self._trigger(state, "stalled", out)
             if task is not None and not task.unreachable and \
-                    self.oracle.to_station(state.layout_index, task.step.target)[pos] < 0:
+                    self._out_of_reach(state, pos, task.step.target):
                 task.unreachable = True  # once per task: the planner is told by a replan
                 self._trigger(state, "unreachable", out)
         if any(self.queues.values()):
@@ -250,6 +255,16 @@ class Executive:
             for task in self.queues[a]:
                 if self.oracle.to_station(state.layout_index, task.step.target)[pos] < 0:
                     task.unreachable = True
+        if self.anticipate and state.rules.dynamic:
+            period = state.rules.map_switch_step
+            first = max(state.t + 1, state.next_switch)
+            self.expected_switches = frozenset(range(first, state.rules.horizon + 1, period))
+
+    def _out_of_reach(self, state: State, pos: int, target: int) -> bool:
+        """Is ``target`` cut off from ``pos``? With anticipated switches, only if no layout
+        reaches it (the plan may be waiting for the next switch)."""
+        layouts = range(len(state.geo.walkables)) if self.anticipate else (state.layout_index,)
+        return all(self.oracle.to_station(k, target)[pos] < 0 for k in layouts)
 
     def install(self, steps: Sequence[PlanStep]) -> None:
         """Replace the task queues with a new plan (agents the plan does not reach keep theirs)."""

@@ -46,6 +46,12 @@ def test_factory_builds_a_planner_agent():
         PlannerAgent("fast-downward", granularity="rooms")
     with pytest.raises(ConfigError, match="orders_per_plan"):
         PlannerAgent("fast-downward", orders_per_plan=0)
+    agent = make_controller("planner:kairos:stations:on_event:anticipate")
+    assert agent.executive.anticipate and agent.encoding == "temporal"
+    with pytest.raises(ConfigError, match="temporal planner"):
+        make_controller("planner:fast-downward:stations:on_event:anticipate")
+    with pytest.raises(ConfigError, match="anticipate"):
+        make_controller("planner:kairos:stations:on_event:sometimes")
 
 
 def test_map_back_records_become_executive_steps():
