@@ -439,7 +439,7 @@ def replay_temporal(compiled: Compiled, plan: Any, state: State,
     final = max(last_time, Fraction(schedule.last))
     checkpoints = sorted(set(checkpoints)) + [final]
     try:
-        for when in checkpoints:
+        for n, when in enumerate(checkpoints):
             while pending and pending[0].time <= when:
                 bad = apply_happening(model, pending.popleft())
                 if bad:
@@ -447,7 +447,7 @@ def replay_temporal(compiled: Compiled, plan: Any, state: State,
             world.advance_to(_floor(when))
             skip_items: set[str] = set()
             skip_agents: set[str] = set()
-            for lo, hi, items, agents in busy:
+            for lo, hi, items, agents in busy if n < len(checkpoints) - 1 else ():
                 if lo <= when < hi:
                     skip_items |= items
                     skip_agents |= agents
