@@ -8,7 +8,8 @@ the two worlds are compared: where each item is (a place, a hand, a plate, waiti
 to respawn), its state (fresh / ready / burnt / clean / dirty), where each agent
 stands, and the number of steps the action took against its modelled cost. At the
 end the served orders must agree. The first disagreement ends the replay and is
-reported with the action that caused it.
+reported with the action that caused it. Temporal plans are replayed time-triggered
+by :mod:`.fidelity_temporal`, which shares the comparison (:class:`_ModelView`).
 """
 
 from __future__ import annotations
