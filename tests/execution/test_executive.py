@@ -185,3 +185,17 @@ def test_executive_rejects_unknown_agents():
 
 def test_outcome_ok():
     assert PlanOutcome("solved").ok and not PlanOutcome("timeout").ok
+
+
+def test_anticipated_switches_on_schedule_are_not_surprises():
+    rules = make_rules("hard", map="hard_switch", recipes=["tomato"], dirty_plates=False,
+                       map_switch_step=10)
+    stats, reactive, state = play(rules, steps=120)
+    assert state.stats["layout_switches"] >= 10
+    assert reactive["replans_by_reason"].get("layout_switch", 0) >= 1
+    stats_a, ahead, state_a = play(rules, steps=120, anticipate_switches=True)
+    assert state_a.stats["layout_switches"] >= 10
+    assert "layout_switch" not in ahead["replans_by_reason"]
+    assert "unreachable" not in ahead["replans_by_reason"]
+    assert stats_a["max_agents_per_cell"] == 1
+    assert stats_a["dishes_served"] >= stats["dishes_served"] >= 1
