@@ -13,10 +13,11 @@ Grid entries come in two kinds:
 * *lying* items (on a cell, or on a plate that is on a cell) are added with ``+=`` and
   taken out with ``-=`` when their values change (counts are small integers, exact in
   float32; the progress channel has one writer per cell, so it is assigned);
-* each agent's *bundle*: its agent plane plus the channels of what it holds (the item,
-  its progress, the plate's contents), which lives on the agent's floor cell. A move
-  clears the bundle at the old cell and writes it at the new one (all clears before all
-  writes, so an agent may follow another). Bundles are rebuilt when any item changed.
+* each *agent* with what it *carries* (the held item, its progress, the plate's
+  contents) lives on the agent's floor cell and is assigned: a move clears it at the old
+  cell and writes it at the new one (all clears before all writes, so an agent may
+  follow another); what it carries is rebuilt (cached by the held item's values) when
+  its hand or what lies on its plate changed.
 
 This relies on the simulator's invariants (items lie only on non-walkable cells, one
 agent per cell, a plate with contents is on a cell or in a hand), which is why it is
@@ -106,26 +107,33 @@ class IncrementalEncoder:
             #: tuple of agent cells -> gather index of the observation (about 16 MB at most)
             self._windows: dict[tuple[int, ...], np.ndarray] = {}
             self._windows_max = max(64, (16 << 20) // (8 * n * e.size))
-        self._plane = plane
         self._kind_off = [(_CH_KIND0 + _KIND_INDEX[k]) * plane for k in self._item_kind]
         self._state_off = [(_CH_STATE0 + s) * plane for s in range(len(ITEM_STATES))]
         self._prog_off = CH_PROGRESS * plane
         # an agent's own plane, per grid row: r = 0 agent:self in its row, agent:other in
         # the others; r > 0 the shared agent:other plane
         if r == 0:
-            self._agent_planes = [
-                [(ro + (CH_SELF if b == a else CH_OTHER) * plane, 1.0)
-                 for b, ro in enumerate(self._grid_rows)]
-                for a in range(n)
-            ]
+            planes = [[ro + (CH_SELF if b == a else CH_OTHER) * plane
+                       for b, ro in enumerate(self._grid_rows)] for a in range(n)]
         else:
-            self._agent_planes = [[(CH_OTHER * plane, 1.0)] for _ in range(n)]
-        self._pos_feat = e._pos_feat
+            planes = [[CH_OTHER * plane] for _ in range(n)]
+        # per agent, per map cell: the absolute offsets of the agent standing there, and
+        # (offset, value) writes of that plus its (row, col) features
+        self._agent_clear = [[[x + self._cell_off[c] for x in planes[a]] for c in range(m)]
+                             for a in range(n)]
+        self._agent_put = [
+            [[(x, 1.0) for x in self._agent_clear[a][c]]
+             + list(zip((self._feat_rows[a] + _F_ROW, self._feat_rows[a] + _F_COL),
+                        e._pos_feat[c]))
+             for c in range(m)]
+            for a in range(n)
+        ]
         self._time_offs = [fr + _F_TIME for fr in self._feat_rows]
         self._has_switch = e._has_switch
         self._horizon, self._switch_step = rules.horizon, rules.map_switch_step
         self._limit = rules.order_time_limit is not None
         self._comm = bool(e.comm_vocab) and n > 1
+        self._extras = self._limit or self._comm
         # terrain one-hots a layout switch changes, per (from, to): to clear, then to set
         grids = [tuple(int(v) for v in grid.ravel()) for grid in rules.layout.grids()]
         self._terrain_diff: dict[tuple[int, int], tuple[list[int], list[int]]] = {}
@@ -137,51 +145,54 @@ class IncrementalEncoder:
                         [_TERRAIN_INDEX[gi[c]] * plane + self._cell_off[c] for c in diff],
                         [_TERRAIN_INDEX[gj[c]] * plane + self._cell_off[c] for c in diff],
                     )
-        self._ready = False
+        self._holding_cache: dict[tuple, tuple[list, list]] = {}
+        self._layout = -1  # nothing remembered yet
 
     def forget(self) -> None:
         """Drop the remembered observation; the next :meth:`encode` starts from scratch."""
-        self._ready = False
+        self._layout = -1
 
     # ------------------------------------------------------------------ public
     def encode(self, state: State, received: np.ndarray | None = None) -> np.ndarray:
         """``(n_agents, size)`` float32 observations, equal to ``encoder.encode(state,
         received)``."""
-        if not self._ready:
-            self._rebuild(state)
         s = state
-        if s.layout_index != self._layout:
-            self._switch_layout(s.layout_index)
+        if s.layout_index != self._layout:  # a switch, or nothing remembered (-1)
+            self._new_layout(s)
         where, loc, st, prog = s.item_where, s.item_loc, s.item_state, s.item_progress
         if where != self._where or loc != self._loc or st != self._st or prog != self._prog:
             self._items_changed(s)
         elif s.agent_pos != self._pos:
-            # only agents moved (the common step): their bundles, all old cells cleared
-            # before the new ones are written so that an agent may follow another
-            pos, old = s.agent_pos, self._pos
-            mv, cell_off, bundles = self._grid_mv, self._cell_off, self._bundles
+            # only agents moved (the common step): each one and what it carries, all old
+            # cells cleared before the new ones are written (an agent may follow another)
+            pos, old, mv = s.agent_pos, self._pos, self._mv
             for a in self._agents:
-                if pos[a] != old[a]:
-                    c = cell_off[old[a]]
-                    for x, _ in bundles[a]:
-                        mv[x + c] = 0.0
-            pos_feat = self._pos_feat
+                f = old[a]
+                if pos[a] != f:
+                    for x in self._agent_clear[a][f]:
+                        mv[x] = 0.0
+                    if self._carry[a]:
+                        c = self._cell_off[f]
+                        for x, _ in self._carry[a]:
+                            mv[x + c] = 0.0
             for a in self._agents:
                 f = pos[a]
                 if f != old[a]:
-                    c = cell_off[f]
-                    for x, v in bundles[a]:
-                        mv[x + c] = v
-                    x = self._feat_rows[a]
-                    mv[x + _F_ROW], mv[x + _F_COL] = pos_feat[f]
+                    for x, v in self._agent_put[a][f]:
+                        mv[x] = v
+                    if self._carry[a]:
+                        c = self._cell_off[f]
+                        for x, v in self._carry[a]:
+                            mv[x + c] = v
             self._pos = pos[:]
 
         t = s.t
         if t != self._t or s.next_switch != self._next_switch:
-            mv = self._feat_mv
+            mv = self._mv
             v = t / self._horizon
             if self._has_switch:
-                w = min(1.0, max(0, s.next_switch - t) / self._switch_step)
+                d, step = s.next_switch - t, self._switch_step  # min(1, max(0, d) / step)
+                w = 0.0 if d <= 0 else 1.0 if d >= step else d / step
                 for x in self._time_offs:
                     mv[x] = v
                     mv[x + 2] = w  # switch_in follows time and layout
@@ -191,10 +202,11 @@ class IncrementalEncoder:
             self._t, self._next_switch = t, s.next_switch
         if s.orders != self._orders:
             self._write_orders(s)
-        if self._limit:
-            self._time_left(s)
-        if self._comm:
-            self._messages(received)
+        if self._extras:
+            if self._limit:
+                self._time_left(s)
+            if self._comm:
+                self._messages(received)
 
         if self.radius == 0:
             return self._cur.copy()
@@ -219,37 +231,38 @@ class IncrementalEncoder:
             self._src[: len(planes)] = planes
             self._src[len(planes) + 1] = 1.0
             mv = memoryview(self._src)
-        self._grid_mv = self._feat_mv = mv
+        self._mv = mv
         self._layout = layout
         for fr in self._feat_rows:
             mv[fr + _F_LAYOUT] = float(layout)
-        #: per agent: (offset without the cell, value) of its plane and what it holds
-        self._bundles = [list(p) for p in self._agent_planes]
         self._pos = state.agent_pos[:]
-        self._held = [-1] * n  # bundles hold no item yet
         for a, f in enumerate(self._pos):
-            c = self._cell_off[f]
-            for x, v in self._bundles[a]:
-                mv[x + c] = v
-            mv[self._feat_rows[a] + _F_ROW], mv[self._feat_rows[a] + _F_COL] = self._pos_feat[f]
+            for x, v in self._agent_put[a][f]:
+                mv[x] = v
+        #: per agent: (offset without the cell, value) of the channels of what it holds
+        self._carry: list[list[tuple[int, float]]] = [[] for _ in range(n)]
+        self._held = [-1] * n
         self._where, self._loc = [-1] * m, [-1] * m
         self._st, self._prog = [-1] * m, [-1] * m
         #: per lying item: (cell offset, state channel offset, progress value), else None
         self._entry: list[tuple[int, int, float] | None] = [None] * m
         #: plate id -> items on it
         self._contents: dict[int, list[int]] = {}
-        self._hand_offs: list[list[int]] = [[] for _ in range(n)]
+        self._hand_feats: list[list[tuple[int, float]]] = [[] for _ in range(n)]
         self._t = self._next_switch = -1
         self._orders: list | None = None
         self._order_offs: list[int] = []
         self._limit_offs: list[int] = []
         self._received: object = _UNSET
         self._msg_offs: list[int] = []
-        self._ready = True
 
-    def _switch_layout(self, layout: int) -> None:
-        """Terrain one-hots of the cells a layout switch changes, and the layout feature."""
-        mv = self._grid_mv
+    def _new_layout(self, s: State) -> None:
+        """Rebuild when nothing is remembered; else the terrain one-hots of the cells a
+        layout switch changes, and the layout feature."""
+        if self._layout < 0:
+            self._rebuild(s)
+            return
+        layout, mv = s.layout_index, self._mv
         clear, put = self._terrain_diff[self._layout, layout]
         for ro in self._grid_rows:
             for x in clear:
@@ -271,8 +284,8 @@ class IncrementalEncoder:
 
     def _items_changed(self, s: State) -> None:
         """Some item's values changed: re-enter the changed lying items (and the contents
-        of a changed plate); rebuild the bundle and own-hand features of every agent whose
-        hand is concerned; move the bundles of the agents that moved."""
+        of a changed plate); rebuild what is carried and the own-hand features of every
+        agent whose hand is concerned; redraw the agents that moved or carry something new."""
         where, loc, st, prog = s.item_where, s.item_loc, s.item_state, s.item_progress
         w0, l0, s0, p0 = self._where, self._loc, self._st, self._prog
         dirty = [i for i in range(self._n_items)
@@ -293,34 +306,41 @@ class IncrementalEncoder:
                     dirty += [i for i in contents.get(p, ()) if i not in dirty]
         self._lying(s, dirty)
 
-        mv, cell_off, bundles = self._grid_mv, self._cell_off, self._bundles
+        mv, cell_off, carries = self._mv, self._cell_off, self._carry
         pos, old_pos, hand, old_hand = s.agent_pos, self._pos, s.agent_hand, self._held
-        pos_feat, feat_rows = self._pos_feat, self._feat_rows
         redraw = []
         for a in self._agents:
             h = hand[a]
             if h != old_hand[a] or (h >= 0 and (h in dirty or (plates and h in plates))):
-                redraw.append((a, self._bundle(s, a, h)))
-                self._hand_features(s, a, h)
+                carry, feats = self._holding(s, a, h)
+                redraw.append((a, carry))
+                for x, _ in self._hand_feats[a]:
+                    mv[x] = 0.0
+                for x, v in feats:
+                    mv[x] = v
+                self._hand_feats[a] = feats
             elif pos[a] != old_pos[a]:
-                redraw.append((a, bundles[a]))
-        for a, _ in redraw:  # bundles out at the old cells, then in at the new ones
-            c = cell_off[old_pos[a]]
-            for x, _ in bundles[a]:
-                mv[x + c] = 0.0
-        for a, bundle in redraw:
-            bundles[a] = bundle
-            f = pos[a]
+                redraw.append((a, carries[a]))
+        for a, _ in redraw:  # agents out at the old cells, then in at the new ones
+            f = old_pos[a]
+            for x in self._agent_clear[a][f]:
+                mv[x] = 0.0
             c = cell_off[f]
-            for x, v in bundle:
+            for x, _ in carries[a]:
+                mv[x + c] = 0.0
+        for a, carry in redraw:
+            carries[a] = carry
+            f = pos[a]
+            for x, v in self._agent_put[a][f]:
+                mv[x] = v
+            c = cell_off[f]
+            for x, v in carry:
                 mv[x + c] = v
-            fr = feat_rows[a]
-            mv[fr + _F_ROW], mv[fr + _F_COL] = pos_feat[f]
         self._pos, self._held = pos[:], hand[:]
 
     def _lying(self, s: State, dirty: list[int]) -> None:
         """Take the ``dirty`` items' old lying entries out, then put their new ones in."""
-        mv, rows, entry = self._grid_mv, self._grid_rows, self._entry
+        mv, rows, entry = self._mv, self._grid_rows, self._entry
         kind_off, state_off, prog_off = self._kind_off, self._state_off, self._prog_off
         for i in dirty:
             old = entry[i]
@@ -354,40 +374,41 @@ class IncrementalEncoder:
                 if pv:
                     mv[ro + prog_off + c] = pv
 
-    def _bundle(self, s: State, a: int, held: int) -> list[tuple[int, float]]:
-        """Agent ``a``'s plane and the channels of what it holds (counts summed)."""
-        bundle = self._agent_planes[a]
+    def _holding(self, s: State, a: int, held: int) -> tuple[list, list]:
+        """The grid channels of what agent ``a`` holds (offsets without the cell) and its
+        own-hand features, as (offset, value) lists; cached by what it holds."""
         if held < 0:
-            return bundle
-        kind_off, state_off, st = self._kind_off, self._state_off, s.item_state
-        chans = {kind_off[held]: 1.0, state_off[st[held]]: 1.0}
-        if s.item_progress[held]:
-            chans[self._prog_off] = min(1.0, s.item_progress[held] / self._prog_den[held])
-        for i in self._contents.get(held, ()):
-            for x in (kind_off[i], state_off[st[i]]):
-                chans[x] = chans.get(x, 0.0) + 1.0
-        return bundle + [(ro + x, v) for ro in self._grid_rows for x, v in chans.items()]
-
-    def _hand_features(self, s: State, a: int, held: int) -> None:
-        """Agent ``a``'s own-hand features."""
-        mv, kinds, e = self._feat_mv, self._item_kind, self.encoder
-        for x in self._hand_offs[a]:
-            mv[x] = 0.0
-        if held < 0:
-            self._hand_offs[a] = []
-            return
-        fr = self._feat_rows[a]
-        feats = {fr + _KIND_INDEX[kinds[held]]: 1.0, fr + e._state_feat0 + s.item_state[held]: 1.0}
-        for i in self._contents.get(held, ()):
-            x = fr + e._plate_feat0 + e._ingredient_index[kinds[i]]
-            feats[x] = feats.get(x, 0.0) + 1.0
-        for x, v in feats.items():
-            mv[x] = v
-        self._hand_offs[a] = list(feats)
+            key: tuple = (a,)
+        else:
+            on = self._contents.get(held)
+            key = (a, held, s.item_state[held], s.item_progress[held], tuple(on) if on else ())
+        hit = self._holding_cache.get(key)
+        if hit is not None:
+            return hit
+        carry: list[tuple[int, float]] = []
+        feats: list[tuple[int, float]] = []
+        if held >= 0:
+            kinds, kind_off, state_off, st = self._item_kind, self._kind_off, self._state_off, s.item_state
+            e, fr = self.encoder, self._feat_rows[a]
+            chans = {kind_off[held]: 1.0, state_off[st[held]]: 1.0}
+            if s.item_progress[held]:
+                chans[self._prog_off] = min(1.0, s.item_progress[held] / self._prog_den[held])
+            hand = {fr + _KIND_INDEX[kinds[held]]: 1.0, fr + e._state_feat0 + st[held]: 1.0}
+            for i in self._contents.get(held, ()):
+                for x in (kind_off[i], state_off[st[i]]):
+                    chans[x] = chans.get(x, 0.0) + 1.0
+                x = fr + e._plate_feat0 + e._ingredient_index[kinds[i]]
+                hand[x] = hand.get(x, 0.0) + 1.0
+            carry = [(ro + x, v) for ro in self._grid_rows for x, v in chans.items()]
+            feats = list(hand.items())
+        if len(self._holding_cache) > 4096:
+            self._holding_cache.clear()
+        hit = self._holding_cache[key] = (carry, feats)
+        return hit
 
     def _write_orders(self, s: State) -> None:
         """Ingredient counts and present flags of the orders (only when they change)."""
-        mv, e = self._feat_mv, self.encoder
+        mv, e = self._mv, self.encoder
         for x in self._order_offs:
             mv[x] = 0.0
         cached = e._orders_cache.get(tuple(s.orders))
@@ -404,7 +425,7 @@ class IncrementalEncoder:
 
     def _time_left(self, s: State) -> None:
         """Time left of each order with a deadline (changes every step)."""
-        mv, rules = self._feat_mv, self.rules
+        mv, rules = self._mv, self.rules
         for x in self._limit_offs:
             mv[x] = 0.0
         offs = []
@@ -423,7 +444,7 @@ class IncrementalEncoder:
         tokens = None if received is None else received.tolist()
         if tokens == self._received:
             return
-        mv, e = self._feat_mv, self.encoder
+        mv, e = self._mv, self.encoder
         for x in self._msg_offs:
             mv[x] = 0.0
         vocab = e.comm_vocab
