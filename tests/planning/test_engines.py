@@ -461,3 +461,31 @@ def test_state_after_random_steps_is_seeded_and_checked() -> None:
     assert state_after_random_steps(rules, 4, 25).state_hash() != a.state_hash()
     with pytest.raises(ConfigError, match="--step"):
         state_after_random_steps(rules, 0, -1)
+
+
+@pytest.mark.parametrize("encoding", ["classical", "temporal"])
+def test_frozen_queries_write_the_same_pddl_and_kind(encoding: str) -> None:
+    """The planner child answers kind / initial_values from one computation each: the PDDL
+    the engine writes must not change (same facts, same numbers, same kind)."""
+    from unified_planning.io import PDDLWriter
+    from unified_planning.model import Problem
+
+    from ocplus_plan.planning import compile
+    from ocplus_plan.planning.engines import _freeze_queries
+    from ocplus_plan.planning.fidelity import sample_states
+
+    def init_lines(problem: Problem) -> list[str]:
+        text = PDDLWriter(problem).get_problem()
+        return sorted(x.strip() for x in text.split("(:init", 1)[1].splitlines() if x.strip())
+
+    plain_kind, plain_values = Problem.kind, Problem.initial_values
+    for state in sample_states("hard", 2, seed=5) + sample_states("medium", 2, seed=5):
+        frozen = compile(state, encoding=encoding).problem
+        try:
+            _freeze_queries(frozen)
+            frozen_lines, frozen_kind = init_lines(frozen), frozen.kind
+        finally:
+            Problem.kind, Problem.initial_values = plain_kind, plain_values
+        plain = compile(state, encoding=encoding).problem
+        assert frozen_lines == init_lines(plain)
+        assert frozen_kind == plain.kind
