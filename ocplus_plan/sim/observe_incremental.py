@@ -104,9 +104,10 @@ class IncrementalEncoder:
             table[:, CH_OTHER * cells + centre] = zero_slot
             self._table = table
             self._feat_index = [np.arange(fr, fr + f) for fr in self._feat_rows]
-            #: tuple of agent cells -> gather index of the observation (about 16 MB at most)
+            #: tuple of agent cells -> gather index of the observation; at most about 8 MB,
+            #: the oldest entry goes first (two random cooks on mapC visit ~1,500 tuples)
             self._windows: dict[tuple[int, ...], np.ndarray] = {}
-            self._windows_max = max(64, (16 << 20) // (8 * n * e.size))
+            self._windows_max = max(64, (8 << 20) // (8 * n * e.size))
         self._kind_off = [(_CH_KIND0 + _KIND_INDEX[k]) * plane for k in self._item_kind]
         self._state_off = [(_CH_STATE0 + s) * plane for s in range(len(ITEM_STATES))]
         self._prog_off = CH_PROGRESS * plane
@@ -278,7 +279,7 @@ class IncrementalEncoder:
         index = np.stack([np.concatenate((self._table[f], self._feat_index[a]))
                           for a, f in enumerate(key)])
         if len(self._windows) >= self._windows_max:
-            self._windows.clear()
+            del self._windows[next(iter(self._windows))]
         self._windows[key] = index
         return index
 
