@@ -9,6 +9,7 @@ channel, and turns ``(moves, tokens)`` into observations. No gymnasium import he
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -133,7 +134,8 @@ class KitchenCore:
         # the env's stream of states is encoded incrementally (same values as
         # self.vector.encode, which stays the from-scratch reference)
         self._live = IncrementalEncoder(self.vector) if self.vector is not None else None
-        self._agent_range = range(n)
+        # the rows of an (n, size) array as n arrays (itemgetter: no Python-level loop)
+        self._rows = operator.itemgetter(*range(n)) if n > 1 else lambda obs: (obs[0],)
         self.rgb: Any = None
         if config.mode == "rgb":
             from ..render.rgb import RgbEncoder  # numpy only; kept local for import speed
@@ -155,15 +157,15 @@ class KitchenCore:
             self.received = self.comm.exchange(tokens, self.state.agent_pos)
         return result
 
-    def observe(self) -> list[Any]:
-        """One observation per agent. ``vector``: rows of an ``(n, size)`` float32 array
-        (received tokens are among the features); ``rgb``: ``(H, W, 3)`` uint8 images;
-        ``symbolic``: one shared :class:`~ocplus_plan.sim.observe.StateSnapshot`. With
+    def observe(self) -> Sequence[Any]:
+        """One observation per agent (a tuple or a list). ``vector``: rows of an ``(n,
+        size)`` float32 array (received tokens are among the features), encoded
+        incrementally; ``rgb``: ``(H, W, 3)`` uint8 images; ``symbolic``: one shared :class:`~ocplus_plan.sim.observe.StateSnapshot`. With
         communication, rgb and symbolic observations become ``{"obs": ..., "messages":
         tokens}`` with one token per other agent (``comm_vocab`` = nothing received)."""
         if self._live is not None:
             obs = self._live.encode(self.state, self.received if self.comm else None)
-            return [obs[a] for a in self._agent_range]
+            return self._rows(obs)
         if self.rgb is not None:
             obs = list(self.rgb.encode(self.state))
         else:
