@@ -200,7 +200,7 @@ class Executive:
                     self._out_of_reach(state, pos, task.step.target):
                 task.unreachable = True  # once per task: the planner is told by a replan
                 self._trigger(state, "unreachable", out)
-        if any(self.queues.values()):
+        if any(self.queues.values()) and not self._waiting_for_switch(state):
             self.no_progress += 1
             if self.no_progress % (4 * self.block_patience) == 0:
                 self._trigger(state, "deadlock", out)  # nobody finished a step for a long time
@@ -260,11 +260,28 @@ class Executive:
             first = max(state.t + 1, state.next_switch)
             self.expected_switches = frozenset(range(first, state.rules.horizon + 1, period))
 
+    def _waiting_for_switch(self, state: State) -> bool:
+        """With anticipated switches: is a driven agent's next target out of reach until the
+        layout switches? Such a wait is in the plan, not a deadlock."""
+        if not self.anticipate:
+            return False
+        for a in self.agent_ids:
+            task = self._current(a)
+            if task is not None and \
+                    self.oracle.to_station(state.layout_index, task.step.target)[state.agent_pos[a]] < 0:
+                return True
+        return False
+
     def _out_of_reach(self, state: State, pos: int, target: int) -> bool:
-        """Is ``target`` cut off from ``pos``? With anticipated switches, only if no layout
-        reaches it (the plan may be waiting for the next switch)."""
-        layouts = range(len(state.geo.walkables)) if self.anticipate else (state.layout_index,)
-        return all(self.oracle.to_station(k, target)[pos] < 0 for k in layouts)
+        """Is ``target`` cut off from ``pos``? With anticipated switches, only if no walk
+        over the cells of every layout reaches it (the plan may cross in several layouts,
+        waiting for each switch)."""
+        if not self.anticipate:
+            return self.oracle.to_station(state.layout_index, target)[pos] < 0
+        geo = state.geo
+        union = [any(w[c] for w in geo.walkables) for c in range(len(geo.neighbors))]
+        reach = geo.distances_from(pos, union)
+        return not any(nb >= 0 and nb in reach for nb in geo.neighbors[target])
 
     def install(self, steps: Sequence[PlanStep]) -> None:
         """Replace the task queues with a new plan (agents the plan does not reach keep theirs)."""
