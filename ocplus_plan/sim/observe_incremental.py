@@ -57,8 +57,6 @@ from .state import State
 
 _CELL, _HAND, _PLATE = int(Where.CELL), int(Where.HAND), int(Where.PLATE)
 _UNSET = object()
-# feature offsets from the start of the feature block (see VectorEncoder.feature_names)
-_F_ROW, _F_COL, _F_TIME, _F_LAYOUT = 15, 16, 17, 18  # switch_in is _F_TIME + 2
 
 
 class IncrementalEncoder:
@@ -80,6 +78,9 @@ class IncrementalEncoder:
         self._prog_den = e._prog_den
         g, f = e.grid_size, e.n_features
         self._grid_size = g
+        # feature offsets from the start of an agent's feature block
+        f_row, f_col, f_time, f_switch, f_layout = (
+            e.feature_names.index(name) for name in ("row", "col", "time", "switch_in", "layout"))
         if r == 0:
             # the observation itself: agent a's grid at a * size, its features after it
             plane = m
@@ -103,7 +104,8 @@ class IncrementalEncoder:
             table[:, CH_SELF * cells + centre] = zero_slot + 1
             table[:, CH_OTHER * cells + centre] = zero_slot
             self._table = table
-            self._feat_index = [np.arange(fr, fr + f) for fr in self._feat_rows]
+            self._feat_block = np.array([np.arange(fr, fr + f) for fr in self._feat_rows],
+                                        dtype=np.intp).reshape(n, f)
             #: tuple of agent cells -> gather index of the observation; at most about 8 MB,
             #: the oldest entry goes first (two random cooks on mapC visit ~1,500 tuples)
             self._windows: dict[tuple[int, ...], np.ndarray] = {}
@@ -124,12 +126,13 @@ class IncrementalEncoder:
                              for a in range(n)]
         self._agent_put = [
             [[(x, 1.0) for x in self._agent_clear[a][c]]
-             + list(zip((self._feat_rows[a] + _F_ROW, self._feat_rows[a] + _F_COL),
+             + list(zip((self._feat_rows[a] + f_row, self._feat_rows[a] + f_col),
                         e._pos_feat[c]))
              for c in range(m)]
             for a in range(n)
         ]
-        self._time_offs = [fr + _F_TIME for fr in self._feat_rows]
+        self._tick_offs = [(fr + f_time, fr + f_switch) for fr in self._feat_rows]
+        self._layout_offs = [fr + f_layout for fr in self._feat_rows]
         self._has_switch = e._has_switch
         self._horizon, self._switch_step = rules.horizon, rules.map_switch_step
         self._limit = rules.order_time_limit is not None
@@ -194,11 +197,11 @@ class IncrementalEncoder:
             if self._has_switch:
                 d, step = s.next_switch - t, self._switch_step  # min(1, max(0, d) / step)
                 w = 0.0 if d <= 0 else 1.0 if d >= step else d / step
-                for x in self._time_offs:
+                for x, y in self._tick_offs:
                     mv[x] = v
-                    mv[x + 2] = w  # switch_in follows time and layout
+                    mv[y] = w
             else:
-                for x in self._time_offs:
+                for x, _ in self._tick_offs:
                     mv[x] = v
             self._t, self._next_switch = t, s.next_switch
         if s.orders != self._orders:
@@ -234,8 +237,8 @@ class IncrementalEncoder:
             mv = memoryview(self._src)
         self._mv = mv
         self._layout = layout
-        for fr in self._feat_rows:
-            mv[fr + _F_LAYOUT] = float(layout)
+        for x in self._layout_offs:
+            mv[x] = float(layout)
         self._pos = state.agent_pos[:]
         for a, f in enumerate(self._pos):
             for x, v in self._agent_put[a][f]:
@@ -270,14 +273,13 @@ class IncrementalEncoder:
                 mv[ro + x] = 0.0
             for x in put:
                 mv[ro + x] = 1.0
-        for fr in self._feat_rows:
-            mv[fr + _F_LAYOUT] = float(layout)
+        for x in self._layout_offs:
+            mv[x] = float(layout)
         self._layout = layout
 
     def _window_index(self, key: tuple[int, ...]) -> np.ndarray:
         """Gather index of every agent's window and features, for agents at ``key``."""
-        index = np.stack([np.concatenate((self._table[f], self._feat_index[a]))
-                          for a, f in enumerate(key)])
+        index = np.concatenate((self._table[list(key)], self._feat_block), axis=1)
         if len(self._windows) >= self._windows_max:
             del self._windows[next(iter(self._windows))]
         self._windows[key] = index
