@@ -27,6 +27,12 @@ every action's end).
 
     python experiments/fidelity.py --presets easy-temporal medium-temporal \
         hard-frozen-temporal
+
+``hard-anticipate`` / ``hard1-anticipate`` (2 cooks / 1 cook): the temporal encoding
+with ``anticipate_switches=True`` (the coming switches as timed literals, stations
+moves per layout), replayed with the layout switching live, as in ``hard``.
+
+    python experiments/fidelity.py --states 50 --presets hard1-anticipate hard-anticipate
 """
 
 from __future__ import annotations
@@ -60,9 +66,17 @@ CONFIGS: dict[str, tuple] = {
     "easy-temporal": ("easy", None, False, "stations", {}),
     "medium-temporal": ("medium", 1, False, "stations", {}),
     "hard-frozen-temporal": ("hard", 1, True, "stations", {}),
+    # live switches, anticipated: the coming switches are timed literals of the problem
+    # (stations moves per layout), so the plan must hold while the layout switches under it
+    # (states of the first 40 steps: the switches are modelled up to the episode's end,
+    # and a plan from a late state can outlast the 200-step episode)
+    "hard-anticipate": ("hard", 1, False, "stations", {"max_steps": 40}),
+    "hard1-anticipate": ("hard", 1, False, "stations", {"n_agents": 1, "max_steps": 40}),
 }
 TEMPORAL = {"easy-temporal": "kairos", "medium-temporal": "kairos",
-            "hard-frozen-temporal": "kairos"}
+            "hard-frozen-temporal": "kairos", "hard-anticipate": "kairos",
+            "hard1-anticipate": "kairos"}
+ANTICIPATE = {"hard-anticipate", "hard1-anticipate"}
 
 
 def run(config: str, n: int, seed: int, timeout: float, verbose: bool) -> dict:
@@ -70,12 +84,16 @@ def run(config: str, n: int, seed: int, timeout: float, verbose: bool) -> dict:
     statuses: collections.Counter[str] = collections.Counter()
     categories: collections.Counter[str] = collections.Counter()
     compile_ms, solve_s, lengths = [], [], []
-    replayed = faithful = validated = 0
-    for index, state in enumerate(sample_states(preset, n, seed=seed, **overrides)):
+    replayed = faithful = validated = outlasted = 0
+    overrides = dict(overrides)
+    max_steps = overrides.pop("max_steps", 120)
+    for index, state in enumerate(sample_states(preset, n, seed=seed, max_steps=max_steps,
+                                                **overrides)):
         t0 = time.perf_counter()
         temporal = config in TEMPORAL
         compiled = compile(state, max_orders=max_orders, granularity=granularity,
-                           encoding="temporal" if temporal else "classical")
+                           encoding="temporal" if temporal else "classical",
+                           anticipate_switches=config in ANTICIPATE)
         compile_ms.append((time.perf_counter() - t0) * 1000)
         planner = TEMPORAL.get(config, "fast-downward")
         result = solve(compiled.problem, planner, timeout=timeout, use_val=temporal)
@@ -85,10 +103,14 @@ def run(config: str, n: int, seed: int, timeout: float, verbose: bool) -> dict:
         solve_s.append(result.planning_time)
         validated += bool(result.validated)
         lengths.append(result.plan_length)
-        replay_plan = replay_temporal if temporal else replay
-        rep = replay_plan(compiled, result.plan, state, freeze_layout=freeze)
+        if temporal:  # anticipated switches are modelled up to the episode's end only
+            rep = replay_temporal(compiled, result.plan, state, freeze_layout=freeze,
+                                  until_horizon=config in ANTICIPATE)
+        else:
+            rep = replay(compiled, result.plan, state, freeze_layout=freeze)
         replayed += 1
         faithful += rep.ok
+        outlasted += rep.outlasted
         if not rep.ok:
             categories[rep.category] += 1
             if verbose:
@@ -99,6 +121,7 @@ def run(config: str, n: int, seed: int, timeout: float, verbose: bool) -> dict:
         "overrides": overrides, "states": n, "seed": seed,
         "max_orders": max_orders, "freeze_layout": freeze, "statuses": dict(statuses),
         "validated": validated, "replayed": replayed, "faithful": faithful,
+        "outlasting_the_episode": outlasted,
         "fidelity": round(faithful / replayed, 4) if replayed else None,
         "mismatch_categories": dict(categories),
         "compile_ms_median": round(statistics.median(compile_ms), 2),

@@ -57,6 +57,8 @@ class Replay:
     mismatch: str = ""
     category: str = ""
     served: list[int] = field(default_factory=list)
+    #: the plan runs past the episode's horizon and was checked up to it only
+    outlasted: bool = False
 
 
 def _path(state: State, start: int, goal: int, agent: int) -> list[int] | None:

@@ -216,3 +216,27 @@ def test_kairos_plans_are_faithful_on_sampled_states(preset: str, max_orders: in
         rep = replay_temporal(compiled, result.plan, state)
         assert rep.ok, (state.t, rep.category, rep.mismatch)
         assert sorted(rep.served) == sorted(compiled.goal_orders)
+
+
+@pytest.mark.usefixtures("_private_cwd")
+def test_kairos_plans_with_anticipated_switches_hold_while_the_layout_switches() -> None:
+    """One cook on MapC: the plan waits for the layouts its walks need; replayed with the
+    layout switching live, it is faithful up to the episode's horizon."""
+    avail = availability("kairos")
+    if not avail.ok:
+        pytest.skip(f"kairos unavailable: {avail.reason}")
+    state = new_state(make_rules("hard", n_agents=1), 0)
+    compiled = compile(state, encoding="temporal", max_orders=1, anticipate_switches=True)
+    result = solve(compiled.problem, "kairos", timeout=90, use_val=False)
+    if result.status == "timeout":
+        pytest.skip("kairos timed out on a loaded machine")
+    assert result.status == "solved", result.reason
+    assert any(str(ai.actual_parameters[-1]) == "layout1" for _, ai, _ in
+               result.plan.timed_actions if ai.action.name == "move")
+    rep = replay_temporal(compiled, result.plan, state, until_horizon=True)
+    assert rep.ok, (rep.category, rep.mismatch)
+    if not rep.outlasted:
+        assert sorted(rep.served) == sorted(compiled.goal_orders)
+    # the same plan with the layout frozen at layout 0 breaks: the switches are real
+    frozen = replay_temporal(compiled, result.plan, state, freeze_layout=True, until_horizon=True)
+    assert not frozen.ok
