@@ -331,9 +331,10 @@ def _switch_literals(b: _Builder, state: State, spot_name: dict[int, str]) -> No
     Plan time ``tau`` is the state after ``tau`` more simulator steps; the simulator
     switches at the end of the step that reaches ``next_switch`` (a switch already due
     and waiting is assumed to happen after the next step). Switches are listed up to
-    the episode's horizon: a plan that outlasts the episode is not modelled past it. Assumes no switch waits:
-    an agent standing on a closing cell or an item on a vanishing counter delays it
-    in the simulator, not in the model (the executive replans on the event).
+    the episode's horizon: a plan that outlasts the episode is not modelled past it.
+    Assumes no switch waits: an agent standing on a closing cell or an item on a
+    vanishing counter delays it in the simulator, not in the model (the executive
+    replans on the event).
     """
     from unified_planning.model import GlobalStartTiming
 
