@@ -101,6 +101,23 @@ def summarise(rows: list[dict]) -> dict:
     }
 
 
+def table(paths: list[Path]) -> list[str]:
+    """README rows (markdown) from the summary lines of earlier ``--out`` files."""
+    rows = []
+    for path in paths:
+        for line in path.read_text().splitlines():
+            d = json.loads(line)
+            if not d.get("summary"):
+                continue
+            name = d["planner"] + (" (anticipate)" if d.get("anticipate") else "")
+            rows.append(
+                f"| {name} | {d['preset']} {d['agents']} | {d['dishes_mean']:g} ({d['dishes_min']}) "
+                f"| {d['episodes_with_a_dish']}/{d['episodes']} | {d['replans_per_episode']:g} "
+                f"| {d['planning_share']:.2f} | {d['wall_mean']:.1f} / {d['wall_max']:.1f} "
+                f"| {d['dish_bound_mean']:g} | {d['bound_ratio_mean']:.2f} |")
+    return rows
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -116,8 +133,13 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--timeout", type=float, default=10.0, help="seconds per planner call")
     p.add_argument("--anticipate", action="store_true",
                    help="temporal planners: plan around the coming layout switches (timed literals)")
+    p.add_argument("--table", type=Path, nargs="+", default=None,
+                   help="print the README table rows of these --out files and stop")
     p.add_argument("--out", type=Path, default=None, help="also append the JSON lines here")
     args = p.parse_args(argv)
+    if args.table:
+        print("\n".join(table(args.table)))
+        return 0
     warnings.simplefilter("ignore")
     out = args.out.open("a") if args.out else None
     for planner, config, policy in itertools.product(args.planners, args.configs, args.policies):
