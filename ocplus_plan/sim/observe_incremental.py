@@ -31,8 +31,8 @@ nothing for it.
 Buffers: whole map (r = 0): the last ``(n_agents, size)`` observation itself, returned as
 a copy. Window (r > 0): the padded full-map planes once (items and every agent in
 ``agent:other``), a constant 0 and 1, and the agents' feature rows; each call gathers the
-whole observation through an index cached per tuple of agent cells (the index reads the
-window centre of ``agent:self`` as 1 and of ``agent:other`` as 0).
+whole observation through a precomputed index per agent and cell (it reads the window
+centre of ``agent:self`` as 1 and of ``agent:other`` as 0).
 """
 
 from __future__ import annotations
@@ -103,13 +103,14 @@ class IncrementalEncoder:
             table[:, CH_SELF * cells : (CH_SELF + 1) * cells] = zero_slot
             table[:, CH_SELF * cells + centre] = zero_slot + 1
             table[:, CH_OTHER * cells + centre] = zero_slot
-            self._table = table
-            self._feat_block = np.array([np.arange(fr, fr + f) for fr in self._feat_rows],
-                                        dtype=np.intp).reshape(n, f)
-            #: tuple of agent cells -> gather index of the observation; at most about 8 MB,
-            #: the oldest entry goes first (two random cooks on mapC visit ~1,500 tuples)
-            self._windows: dict[tuple[int, ...], np.ndarray] = {}
-            self._windows_max = max(64, (8 << 20) // (8 * n * e.size))
+            feats = np.array([np.arange(fr, fr + f) for fr in self._feat_rows],
+                             dtype=np.intp).reshape(n, f)
+            #: [agent, cell] -> gather index of that agent's observation row when it stands
+            #: on that cell (its window, then its features): one lookup per step, no misses
+            self._rows = np.concatenate(
+                (np.broadcast_to(table, (n, m, g)), np.broadcast_to(feats[:, None, :], (n, m, f))),
+                axis=2).astype(np.intp)
+            self._agent_ids = np.arange(n)
         self._kind_off = [(_CH_KIND0 + _KIND_INDEX[k]) * plane for k in self._item_kind]
         self._state_off = [(_CH_STATE0 + s) * plane for s in range(len(ITEM_STATES))]
         self._prog_off = CH_PROGRESS * plane
@@ -214,11 +215,7 @@ class IncrementalEncoder:
 
         if self.radius == 0:
             return self._cur.copy()
-        key = tuple(s.agent_pos)
-        index = self._windows.get(key)
-        if index is None:
-            index = self._window_index(key)
-        return self._src[index]
+        return self._src.take(self._rows[self._agent_ids, s.agent_pos])
 
     # ------------------------------------------------------------------ internals
     def _rebuild(self, state: State) -> None:
@@ -276,14 +273,6 @@ class IncrementalEncoder:
         for x in self._layout_offs:
             mv[x] = float(layout)
         self._layout = layout
-
-    def _window_index(self, key: tuple[int, ...]) -> np.ndarray:
-        """Gather index of every agent's window and features, for agents at ``key``."""
-        index = np.concatenate((self._table[list(key)], self._feat_block), axis=1)
-        if len(self._windows) >= self._windows_max:
-            del self._windows[next(iter(self._windows))]
-        self._windows[key] = index
-        return index
 
     def _items_changed(self, s: State) -> None:
         """Some item's values changed: re-enter the changed lying items (and the contents
