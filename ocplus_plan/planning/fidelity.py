@@ -61,27 +61,23 @@ class Replay:
     outlasted: bool = False
 
 
-def _path(state: State, start: int, goal: int, agent: int) -> list[int] | None:
-    """Actions of a shortest walk from ``start`` to ``goal`` avoiding the other agents."""
-    if start == goal:
-        return []
+def walk_actions(state: State, start: int, goal: int,
+                 avoid: frozenset[int] = frozenset()) -> list[int] | None:
+    """Actions of a shortest walk from ``start`` to ``goal`` in the current layout that
+    avoids the ``avoid`` cells (None when there is none)."""
     geo = state.geo
     walk = geo.walkables[state.layout_index]
-    blocked = {p for a, p in enumerate(state.agent_pos) if a != agent}
     prev: dict[int, tuple[int, int]] = {start: (-1, -1)}
     queue = deque([start])
-    while queue:
+    while queue and goal not in prev:
         cur = queue.popleft()
-        if cur == goal:
-            break
         for action, nxt in enumerate(geo.neighbors[cur]):
-            if nxt >= 0 and walk[nxt] and nxt not in blocked and nxt not in prev:
+            if nxt >= 0 and walk[nxt] and nxt not in avoid and nxt not in prev:
                 prev[nxt] = (cur, action)
                 queue.append(nxt)
     if goal not in prev:
         return None
-    actions = []
-    cur = goal
+    actions, cur = [], goal
     while cur != start:
         cur, action = prev[cur]
         actions.append(action)
@@ -110,7 +106,8 @@ class _World:
         spot = geo.flat(*step.spot) if step.spot else None
         taken = 0
         if step.kind in ("move", "rescue") and spot is not None:
-            path = _path(st, st.agent_pos[agent], spot, agent)
+            others = frozenset(p for a, p in enumerate(st.agent_pos) if a != agent)
+            path = walk_actions(st, st.agent_pos[agent], spot, others)
             if path is None:
                 return 0, f"agent {agent} has no free path to {step.spot}"
             for action in path:

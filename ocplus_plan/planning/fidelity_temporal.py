@@ -62,7 +62,7 @@ from typing import Any, NamedTuple
 from ..sim import transition
 from ..sim.state import State
 from .compile import Compiled
-from .fidelity import Replay, _fail, _ModelView
+from .fidelity import Replay, _fail, _ModelView, walk_actions
 from .spots import bump_action
 
 _STAY = 4
@@ -266,27 +266,6 @@ class _Activity:
     path: list[int] = field(default_factory=list)
 
 
-def _walk(state: State, start: int, goal: int, avoid: frozenset[int]) -> list[int] | None:
-    """Actions of a shortest walk in the current layout that avoids ``avoid`` cells."""
-    geo = state.geo
-    walk = geo.walkables[state.layout_index]
-    prev: dict[int, tuple[int, int]] = {start: (-1, -1)}
-    queue = deque([start])
-    while queue and goal not in prev:
-        cur = queue.popleft()
-        for action, nxt in enumerate(geo.neighbors[cur]):
-            if nxt >= 0 and walk[nxt] and nxt not in avoid and nxt not in prev:
-                prev[nxt] = (cur, action)
-                queue.append(nxt)
-    if goal not in prev:
-        return None
-    actions, cur = [], goal
-    while cur != start:
-        cur, action = prev[cur]
-        actions.append(action)
-    return actions[::-1]
-
-
 class _Schedule:
     """Per agent and simulator step, the activity to perform (and any double booking)."""
 
@@ -331,9 +310,9 @@ class _TimedWorld:
             if act.walk:
                 if k == act.first:
                     others = frozenset(p for b, p in enumerate(st.agent_pos) if b != a)
-                    path = _walk(st, here, act.spot, others)
+                    path = walk_actions(st, here, act.spot, others)
                     if path is None or len(path) != act.steps:
-                        path = _walk(st, here, act.spot, frozenset())
+                        path = walk_actions(st, here, act.spot)
                     if path is None or len(path) != act.steps:
                         raise _Mismatch(
                             f"{act.label}: the walk from {geo.rc(here)} to {geo.rc(act.spot)} "
