@@ -104,6 +104,9 @@ class Executive:
         dynamic = state.rules.dynamic and len(state.geo.walkables) > 1
         #: where idle agents wait on a switching map (empty: they just keep out of the way)
         self.hubs = hub_cells(state.geo) if dynamic else frozenset()
+        #: cells walkable in some layout (where a walk across switches may go)
+        self.any_layout = [any(w[c] for w in state.geo.walkables)
+                           for c in range(len(state.geo.neighbors))]
         self.failures_in_row = 0
         self.no_progress = 0
         self.queues: dict[int, deque[Task]] = {a: deque() for a in self.agent_ids}
@@ -279,8 +282,7 @@ class Executive:
         if not self.anticipate:
             return self.oracle.to_station(state.layout_index, target)[pos] < 0
         geo = state.geo
-        union = [any(w[c] for w in geo.walkables) for c in range(len(geo.neighbors))]
-        reach = geo.distances_from(pos, union)
+        reach = geo.distances_from(pos, self.any_layout)
         return not any(nb >= 0 and nb in reach for nb in geo.neighbors[target])
 
     def install(self, steps: Sequence[PlanStep]) -> None:
