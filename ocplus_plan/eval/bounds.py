@@ -26,8 +26,9 @@ One agent's first dish is an open tour from its spawn cell (clean plates, no
 sink) ending at the serving window; after it, each dish costs at least the
 cheapest closed cycle. For ``n`` agents the bound is the sum of each agent's
 bound (perfect parallelism with no shared-resource conflicts). That sum assumes
-no agent shortens another's walk by handing items over a counter; no built-in
-controller does, and on the preset maps a hand-over walk is not shorter.
+no agent shortens another's walk by handing items over a counter (which the tour
+does not cover); the built-in controllers never beat it (tested for the greedy
+cook).
 """
 
 from __future__ import annotations
