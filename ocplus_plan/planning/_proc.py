@@ -84,8 +84,8 @@ def group_alive(pgid: int) -> bool:
     return bool(group_members(pgid))
 
 
-def _group_stats(pgid: int) -> list[tuple[int, list[str]]]:
-    """``(pid, stat fields after the command name)`` of every process in group ``pgid``
+def process_stats() -> list[tuple[int, list[str]]]:
+    """``(pid, stat fields after the command name)`` of every process on the machine
     (fields: state, ppid, pgrp, ..., utime at 11, stime at 12)."""
     out = []
     for entry in os.listdir("/proc"):
@@ -96,9 +96,13 @@ def _group_stats(pgid: int) -> list[tuple[int, list[str]]]:
                 fields = fh.read().rsplit(")", 1)[1].split()
         except OSError:
             continue
-        if int(fields[2]) == pgid:
-            out.append((int(entry), fields))
+        out.append((int(entry), fields))
     return out
+
+
+def _group_stats(pgid: int) -> list[tuple[int, list[str]]]:
+    """:func:`process_stats` of the processes in group ``pgid``."""
+    return [(pid, fields) for pid, fields in process_stats() if int(fields[2]) == pgid]
 
 
 def group_members(pgid: int) -> list[int]:

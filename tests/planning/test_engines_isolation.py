@@ -31,16 +31,9 @@ ENGINES_TEST_FILE = Path(__file__).with_name("test_engines.py")
 
 def _live_children() -> set[int]:
     """Live (non-zombie) direct children of this test process."""
-    me, out = os.getpid(), set()
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                fields = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()
-            except OSError:
-                continue
-            if fields[0] != "Z" and int(fields[1]) == me:
-                out.add(int(entry))
-    return out
+    me = os.getpid()
+    return {pid for pid, fields in _proc.process_stats()
+            if fields[0] != "Z" and int(fields[1]) == me}
 
 
 
@@ -119,16 +112,9 @@ def test_planner_group_dies_with_the_calling_process(tmp_path: Path) -> None:
 
 
 def _all_children(pid: int) -> list[int]:
-    out = []
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                fields = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()
-            except OSError:
-                continue
-            if int(fields[1]) == pid and int(fields[2]) == int(entry):  # a group leader
-                out.append(int(entry))
-    return out
+    """Children of ``pid`` that lead their own process group."""
+    return [child for child, fields in _proc.process_stats()
+            if int(fields[1]) == pid and int(fields[2]) == child]
 
 
 def test_planners_write_nothing_into_the_callers_directory(
