@@ -45,14 +45,18 @@ from ocplus_plan.sim import make_rules, new_state
 
 def run_one(planner: str, preset: str, n_agents: int, seed: int, steps: int | None,
             policy: str, faults: str, granularity: str, timeout: float,
-            anticipate: bool = False) -> dict:
+            anticipate: bool = False, schedule_cooks: bool = True,
+            orders_per_plan: int | str | None = "auto", plan_cooks: str = "all",
+            chain_orders: int = 1) -> dict:
     rules = make_rules(preset, n_agents=n_agents)
     state = new_state(rules, seed)
     from ocplus_plan.planning.engines import get_planner
 
     encoding = get_planner(planner).encoding
     agent = PlannerAgent(planner, encoding, granularity, policy, timeout=timeout,
-                         anticipate_switches=anticipate)
+                         anticipate_switches=anticipate, schedule_cooks=schedule_cooks,
+                         orders_per_plan=orders_per_plan, plan_cooks=plan_cooks,
+                         chain_orders=chain_orders)
     schedule = None
     if faults == "burns":
         schedule = FaultSchedule(burns=[20, 80, 140])
@@ -66,6 +70,8 @@ def run_one(planner: str, preset: str, n_agents: int, seed: int, steps: int | No
     return {
         "planner": planner, "encoding": encoding, "preset": preset, "agents": n_agents,
         "seed": seed, "policy": policy, "faults": faults, "anticipate": anticipate,
+        "schedule": schedule_cooks, "orders_per_plan": orders_per_plan, "plan_cooks": plan_cooks,
+        "chain_orders": chain_orders,
         "steps": stats["t"],
         "dishes": stats["dishes_served"], "burns": stats["burns"],
         "wrong_deliveries": stats["wrong_deliveries"], "blocked_moves": stats["blocked_moves"],
@@ -85,7 +91,9 @@ def summarise(rows: list[dict]) -> dict:
     n = len(rows)
     return {
         "summary": True, **{k: rows[0][k] for k in ("planner", "preset", "agents", "policy",
-                                                     "faults", "anticipate")},
+                                                     "faults", "anticipate", "schedule",
+                                                     "orders_per_plan", "plan_cooks",
+                                                     "chain_orders")},
         "episodes": n,
         "dishes_mean": round(statistics.mean(r["dishes"] for r in rows), 2),
         "dishes_min": min(r["dishes"] for r in rows),
@@ -133,6 +141,17 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--timeout", type=float, default=10.0, help="seconds per planner call")
     p.add_argument("--anticipate", action="store_true",
                    help="temporal planners: plan around the coming layout switches (timed literals)")
+    p.add_argument("--no-schedule", action="store_true",
+                   help="run a sequential plan's steps with the cooks the planner chose instead "
+                        "of scheduling its segments over the cooks (execution/schedule.py)")
+    p.add_argument("--plan-cooks", choices=["all", "one"], default="all",
+                   help="classical: model every cook, or only the cooks holding an item (one when "
+                        "none does) and schedule the plan over all (default: %(default)s)")
+    p.add_argument("--chain-orders", type=int, default=1,
+                   help="classical: plan up to K open orders one after the other, each from the "
+                        "state the previous plan leaves (default: %(default)s)")
+    p.add_argument("--orders-per-plan", default="auto",
+                   help="'auto', 'all' or K: open orders one planner call covers (default: auto)")
     p.add_argument("--table", type=Path, nargs="+", default=None,
                    help="print the README table rows of these --out files and stop")
     p.add_argument("--out", type=Path, default=None, help="also append the JSON lines here")
@@ -142,12 +161,14 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     warnings.simplefilter("ignore")
     out = args.out.open("a") if args.out else None
+    orders = {"auto": "auto", "all": None}.get(args.orders_per_plan) or int(args.orders_per_plan)
     for planner, config, policy in itertools.product(args.planners, args.configs, args.policies):
         preset, _, n = config.partition(":")
         rows = []
         for seed in range(args.seeds):
             row = run_one(planner, preset, int(n or 1), seed, args.steps, policy, args.faults,
-                          args.granularity, args.timeout, args.anticipate)
+                          args.granularity, args.timeout, args.anticipate,
+                          not args.no_schedule, orders, args.plan_cooks, args.chain_orders)
             rows.append(row)
             for line in (json.dumps(row),):
                 print(line, flush=True)

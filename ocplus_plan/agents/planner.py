@@ -20,6 +20,7 @@ from typing import Any
 
 from ..errors import ConfigError
 from ..execution.executive import Executive, PlanFunction, PlanOutcome, PlanStep, Policy
+from ..execution.schedule import KEEP, RELEASE, TAKE, schedule
 from ..sim.state import State
 from .base import Controller
 
@@ -95,13 +96,30 @@ def orders_to_plan(state: State, orders_per_plan: int | str | None) -> int | Non
 def compile_and_solve(
     planner: str, encoding: str = "classical", granularity: str = "stations",
     anticipate_switches: bool = False, timeout: float = 10.0, validate: bool = False,
-    orders_per_plan: int | str | None = "auto",
+    orders_per_plan: int | str | None = "auto", schedule_cooks: bool = True,
+    plan_cooks: str = "all", chain_orders: int = 1,
 ) -> PlanFunction:
     """A :data:`PlanFunction` that compiles the state and solves it with a named planner.
 
     When a plan for several orders is not found in time, the oldest order alone is tried
     (decomposition by order). A compile error (a state the model cannot express) is
-    reported as status ``error``; nothing raises."""
+    reported as status ``error``; nothing raises.
+
+    ``plan_cooks="one"`` (stations): the problem models only the cooks that hold an item,
+    or one cook when nobody does; the plan's work is then scheduled over every driven cook
+    (``schedule_cooks``). A classical planner minimising total cost gains nothing from a
+    second cook, and each modelled cook multiplies any planner's search space.
+
+    ``chain_orders=K`` (classical, stations, static layouts): after a plan for the oldest
+    order, the next open orders are planned one at a time from the state the previous plan
+    leaves (:func:`~ocplus_plan.planning.fidelity.advance` runs it in a copy of the
+    simulator), up to K orders; the chained plans are scheduled together, so a cook can
+    prepare the next dish while another serves this one. K small problems are solved
+    much faster than one problem with K orders."""
+    if not isinstance(chain_orders, int) or chain_orders < 1:
+        raise ConfigError(f"chain_orders must be a positive int, got {chain_orders!r}")
+    if plan_cooks not in ("all", "one"):
+        raise ConfigError(f"plan_cooks must be 'all' or 'one', got {plan_cooks!r}")
     if not (orders_per_plan in ("auto", None) or
             (isinstance(orders_per_plan, int) and orders_per_plan >= 1)):
         raise ConfigError(f"orders_per_plan must be 'auto', None or a positive int, "
@@ -123,10 +141,12 @@ def compile_and_solve(
         tried_relaxed = False
         while attempts:
             max_orders, problem_state = attempts.pop(0)
+            modelled = modelled_cooks(problem_state, agents)
             try:
                 compiled = compile_state(problem_state, None, encoding=encoding, granularity=gran,
                                          max_orders=max_orders,
-                                         anticipate_switches=anticipate_switches)
+                                         anticipate_switches=anticipate_switches,
+                                         agents=modelled)
             except CompileError as exc:
                 outcome = PlanOutcome("error", [], time.perf_counter() - t0, f"compile: {exc}")
                 continue
@@ -139,11 +159,45 @@ def compile_and_solve(
                 tried_relaxed = True
                 attempts = [(1, relaxed_state(state))]
             if result.status == "solved" and result.plan is not None:
-                steps = plan_steps(compiled, result.plan, state,
-                                   follow_moves=gran == "cells")
+                entries = plan_entries(compiled, result.plan, state, gran == "cells")
+                if max_orders == 1 and problem_state is state and gran == "stations" \
+                        and encoding == "classical" and not state.rules.dynamic:
+                    entries += chained(compiled, result.plan, state, agents)
+                steps = (schedule(entries, state, agents) if schedule_cooks and gran == "stations"
+                         else renumber([s for s, _, _ in entries]))
                 return PlanOutcome("solved", steps, time.perf_counter() - t0)
             outcome = PlanOutcome(result.status, [], time.perf_counter() - t0, result.reason)
         return outcome
+
+    def modelled_cooks(problem_state: State, agents: tuple[int, ...]) -> list[int] | None:
+        if plan_cooks != "one" or granularity != "stations":
+            return None
+        holders = [a for a in range(problem_state.n_agents) if problem_state.agent_hand[a] >= 0]
+        return holders or [agents[0]]
+
+    def chained(compiled: Any, plan: Any, state: State, agents: tuple[int, ...]) -> list[Entry]:
+        """Plans for the next open orders, each from the state the previous plan leaves."""
+        from ..errors import CompileError
+        from ..planning.compile import compile as compile_state
+        from ..planning.engines import solve
+        from ..planning.fidelity import advance
+
+        out: list[Entry] = []
+        for _ in range(chain_orders - 1):
+            after = advance(compiled, plan, state)
+            if after is None or not after.orders:
+                break
+            try:
+                compiled = compile_state(after, None, encoding=encoding, granularity=granularity,
+                                         max_orders=1, agents=modelled_cooks(after, agents))
+            except CompileError:
+                break
+            result = solve(compiled.problem, planner, timeout=timeout, validate=validate)
+            if result.status != "solved" or result.plan is None:
+                break
+            plan, state = result.plan, after
+            out += plan_entries(compiled, plan, state, False)
+        return out
 
     return plan
 
@@ -177,18 +231,66 @@ def relaxed_state(state: State) -> State:
     return relaxed
 
 
-def plan_steps(compiled: Any, plan: Any, state: State, follow_moves: bool = False) -> list[PlanStep]:
-    """Map a UP sequential or time-triggered plan back to executive steps."""
-    if hasattr(plan, "timed_actions"):
-        entries = [(ai, float(start), None if dur is None else float(dur))
+def hand_effects(record: Any) -> list[tuple[str, int]]:
+    """What each executive step of one map-back record does to its cook's hand, and how many
+    bumps it takes (aligned with :func:`steps_from_record`; used by the scheduler)."""
+    kind = str(getattr(record, "kind", "")).lower()
+    if kind == "cook":  # classical: put the steak on, (wait), take it off
+        return [(RELEASE, 1), (TAKE, 1)]
+    if kind in ("pick", "rescue", "take_off"):
+        return [(TAKE, 1)]
+    if kind in ("put", "plate_put", "deliver") or (
+            kind == "trash" and str(getattr(record, "action", "")) == "trash_item"):
+        return [(RELEASE, 1)]
+    if kind in ("chop", "wash"):
+        return [(KEEP, max(1, int(getattr(record, "duration", 1) or 1)))]
+    return [(KEEP, 1)]
+
+
+#: an executive step with its hand effect and bumps, as the scheduler takes them
+Entry = tuple[PlanStep, str, int]
+
+
+def plan_entries(compiled: Any, plan: Any, state: State, follow_moves: bool = False) -> list[Entry]:
+    """Map a UP sequential or time-triggered plan back to executive steps, each with its hand
+    effect and bumps (:func:`hand_effects`), in the order the plan does them."""
+    timed = hasattr(plan, "timed_actions")
+    if timed:
+        actions = [(ai, float(start), None if dur is None else float(dur))
                    for start, ai, dur in plan.timed_actions]
     else:
-        entries = [(ai, None, None) for ai in plan.actions]
-    steps: list[PlanStep] = []
-    for ai, start, dur in entries:
+        actions = [(ai, None, None) for ai in plan.actions]
+    entries: list[Entry] = []
+    for ai, start, dur in actions:
         record = compiled.map_back(ai, start, dur)
-        steps.extend(steps_from_record(record, state, len(steps), follow_moves))
-    return steps
+        steps = steps_from_record(record, state, len(entries), follow_moves)
+        effects = hand_effects(record)[:len(steps)]
+        effects += [(KEEP, 1)] * (len(steps) - len(effects))
+        entries += [(s, e, b) for s, (e, b) in zip(steps, effects)]
+    if timed:  # a time-triggered plan, read in the order its steps start
+        entries.sort(key=lambda x: (x[0].start or 0.0, x[0].index))
+    return entries
+
+
+def renumber(steps: Sequence[PlanStep]) -> list[PlanStep]:
+    """The steps with indices 0, 1, ... in their order (chained plans restart at 0)."""
+    from dataclasses import replace
+
+    return [replace(s, index=i) for i, s in enumerate(steps)]
+
+
+def plan_steps(compiled: Any, plan: Any, state: State, follow_moves: bool = False,
+               agents: Sequence[int] | None = None) -> list[PlanStep]:
+    """Map a UP sequential or time-triggered plan back to executive steps.
+
+    With ``agents``, a stations plan is scheduled over them
+    (:func:`~ocplus_plan.execution.schedule.schedule`): who does each segment of work and
+    in what order is chosen to finish early (a classical planner minimised total cost; a
+    temporal planner's first plan is read in the order its steps start)."""
+    entries = plan_entries(compiled, plan, state, follow_moves)
+    if follow_moves or agents is None:
+        return [s for s, _, _ in entries]
+    return schedule(entries, state, agents)
 
 
 class PlannerAgent(Controller):
@@ -200,7 +302,8 @@ class PlannerAgent(Controller):
         self, planner: str | PlanFunction = "fast-downward", encoding: str = "classical",
         granularity: str = "stations", policy: str | Policy = "on_event", *,
         anticipate_switches: bool = False, timeout: float = 10.0,
-        orders_per_plan: int | str | None = "auto", **executive_options: Any,
+        orders_per_plan: int | str | None = "auto", schedule_cooks: bool = True,
+        plan_cooks: str = "all", chain_orders: int = 1, **executive_options: Any,
     ) -> None:
         if encoding not in ("classical", "temporal"):
             raise ConfigError(f"encoding must be 'classical' or 'temporal', got {encoding!r}")
@@ -209,7 +312,8 @@ class PlannerAgent(Controller):
         self.planner_name = planner if isinstance(planner, str) else getattr(planner, "__name__", "custom")
         fn = planner if callable(planner) else compile_and_solve(
             planner, encoding, granularity, anticipate_switches, timeout,
-            orders_per_plan=orders_per_plan)
+            orders_per_plan=orders_per_plan, schedule_cooks=schedule_cooks,
+            plan_cooks=plan_cooks, chain_orders=chain_orders)
         self.encoding, self.granularity = encoding, granularity
         self.executive = Executive(fn, Policy.parse(policy),
                                    anticipate_switches=anticipate_switches, **executive_options)

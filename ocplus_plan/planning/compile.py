@@ -108,13 +108,16 @@ def _k_of(problem: Any) -> int:
 def compile(state: State, orders: Sequence[Order] | None = None, encoding: str = "classical",
             granularity: str = "stations", max_orders: int | None = None,
             anticipate_switches: bool = False, extra_counters: int = 2,
-            _fast: bool = True) -> Compiled:
+            _fast: bool = True, agents: Sequence[int] | None = None) -> Compiled:
     """Compile ``state`` and its open orders into a unified-planning problem.
 
     ``orders`` defaults to ``state.orders`` (oldest first); ``max_orders`` keeps the
     first k of them as the goal. ``anticipate_switches`` (temporal only) encodes the
     coming layout switches as timed initial literals: cells open and close (cells),
     or the layout whose moves are allowed changes (stations; see ``planning.model``).
+    ``agents`` (default: every cook) are the cooks the problem models; the others are
+    left out (they must hold nothing), e.g. to plan the work for one cook and schedule
+    it over all of them afterwards (``execution.schedule``).
     """
     from unified_planning.model.metrics import MinimizeActionCosts, MinimizeMakespan
 
@@ -127,6 +130,12 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
         )
     rules = state.rules
     geo = state.geo
+    cooks = tuple(range(state.n_agents)) if agents is None else tuple(sorted(set(agents)))
+    if not cooks or any(not 0 <= a < state.n_agents for a in cooks):
+        raise CompileError(f"agents={agents!r}: the kitchen has cooks 0..{state.n_agents - 1}")
+    left_out = [a for a in range(state.n_agents) if a not in cooks and state.agent_hand[a] >= 0]
+    if left_out:
+        raise CompileError(f"cooks {left_out} hold an item: they must be among agents={cooks}")
     goal = list(state.orders if orders is None else orders)
     if max_orders is not None:
         goal = goal[:max_orders]
@@ -150,7 +159,7 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
     b = _Builder(problem, dom, comp, _fast)
 
     T = dom.types
-    agents = [b.obj("agents", f"a{a}", a, T["agent"]) for a in range(state.n_agents)]
+    agent_obj = {a: b.obj("agents", f"a{a}", a, T["agent"]) for a in cooks}
     spot_name = {s: b.obj("cells", "s_{}_{}".format(*geo.rc(s)), geo.rc(s), T["spot"])
                  for s in spots.spots}
     terrain = geo.terrains[state.layout_index]
@@ -248,11 +257,11 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
             b.num("ldist", d, layout_name[k], spot_name[s1], spot_name[s2])
 
     # --- agents
-    occupied = set(state.agent_pos)
+    occupied = {state.agent_pos[a] for a in cooks}
     for s in spots.spots:
         if s not in occupied:
             b.true("vacant", spot_name[s])
-    for a, name in enumerate(agents):
+    for a, name in agent_obj.items():
         b.true("agent_at", name, spot_name[state.agent_pos[a]])
         if encoding == "temporal":
             b.true("idle", name)
@@ -310,7 +319,7 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
             cooking.append((i, loc))
         else:
             b.true("item_at", name, place_name[loc])
-    _pans(b, state, comp, cooking, spot_name, place_name, item_name, agents)
+    _pans(b, state, comp, cooking, spot_name, place_name, item_name, agent_obj)
 
     if encoding == "classical":
         if not hasattr(dom, "_metric"):
@@ -361,9 +370,10 @@ def _switch_literals(b: _Builder, state: State, spot_name: dict[int, str]) -> No
 
 def _pans(b: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, int]],
           spot_name: dict[int, str], place_name: dict[int, str], item_name: list[str],
-          agents: list[str]) -> None:
+          agent_obj: dict[int, str]) -> None:
     """Steaks on a pan at compile time (not burnt yet): see the model's docstring."""
     rules = state.rules
+    occupied = {state.agent_pos[a] for a in agent_obj}
     doomed = set()
     if comp.encoding == "temporal":
         from unified_planning.model import GlobalStartTiming
@@ -389,14 +399,14 @@ def _pans(b: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, in
         ticks = state.item_progress[i]
         offers = []
         if not rescued:
-            for a in range(state.n_agents):
+            for a in agent_obj:
                 if state.agent_hand[a] >= 0:
                     continue
                 here = state.agent_pos[a]
                 # the rescue is the plan's first action: the other cooks stand still
-                others = frozenset(q for q in state.agent_pos if q != here)
+                others = frozenset(q for q in occupied if q != here)
                 for s, p in comp.spots.adjacent:
-                    if p != pan or (s in state.agent_pos and s != here):
+                    if p != pan or (s in occupied and s != here):
                         continue
                     d = walk_distance(state, here, s, others)
                     if d is None or ticks + d > rules.burn_time:
@@ -411,8 +421,8 @@ def _pans(b: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, in
             b.true("cooking_on", item_name[i], place_name[pan])
             b.true(_STATE_FLAG[ItemState(state.item_state[i])], item_name[i])
             for cost, a, s in best.values():
-                b.true("can_rescue", agents[a], item_name[i], spot_name[s])
-                b.num("rescue_cost", cost, agents[a], item_name[i])
+                b.true("can_rescue", agent_obj[a], item_name[i], spot_name[s])
+                b.num("rescue_cost", cost, agent_obj[a], item_name[i])
         else:
             doomed.add(i)
             b.true("item_at", item_name[i], place_name[pan])

@@ -234,6 +234,21 @@ def _sim_where(state: State, i: int) -> tuple[str, Any]:
     return ("cell", state.geo.rc(loc))
 
 
+def advance(compiled: Compiled, plan: Any, state: State) -> State | None:
+    """The state a sequential plan leaves: its steps run in a copy of ``state`` as in a
+    replay (the acting cook walks a shortest free path and bumps; the others stay). None
+    when a step cannot run or the simulator disagrees (a blocked move, a wrong delivery,
+    a burn): what comes after it could not be planned from a state the plan predicts."""
+    world = _World(state.copy())
+    for ai in plan.actions:
+        before = len(world.events)
+        _, trouble = world.run(compiled.map_back(ai))
+        kinds = {e.kind for e in world.events[before:]}
+        if trouble or kinds & {"wrong_delivery", "move_blocked", "burnt", "layout_switch"}:
+            return None
+    return world.state
+
+
 def replay(compiled: Compiled, plan: Any, state: State, freeze_layout: bool = False) -> Replay:
     """Replay a sequential plan in a copy of ``state`` and compare with the model.
 

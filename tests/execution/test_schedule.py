@@ -1,0 +1,178 @@
+"""Scheduling a sequential plan over the cooks (execution/schedule.py).
+
+Hand-built plans on easy_open (5x7: tomato (0,2), lettuce (0,4), onion (4,4), plate (2,0),
+boards (1,6) and (3,6), window (4,2)); then real Fast Downward plans on sampled states,
+checked for the properties the executive relies on.
+"""
+
+from __future__ import annotations
+
+import random
+import warnings
+
+import pytest
+
+from ocplus_plan.execution.plans import PlanStep
+from ocplus_plan.execution.schedule import KEEP, RELEASE, TAKE, schedule, segments
+from ocplus_plan.sim import make_rules, new_state, transition
+
+warnings.simplefilter("ignore", UserWarning)
+
+
+def _state(n_agents: int = 2):
+    return new_state(make_rules("easy", n_agents=n_agents), 0)
+
+
+def _cell(state, r: int, c: int) -> int:
+    return state.geo.flat(r, c)
+
+
+def _item_at(state, r: int, c: int) -> int:
+    return state.cell_item[_cell(state, r, c)]
+
+
+def _chop_job(state, agent: int, spawn: tuple[int, int], board: tuple[int, int], first: int):
+    """Fetch a vegetable to a board and chop it: two segments (carry, chop)."""
+    veg = _item_at(state, *spawn)
+    return [
+        (PlanStep(first, agent, "pickup", _cell(state, *spawn), (veg,)), TAKE, 1),
+        (PlanStep(first + 1, agent, "putdown", _cell(state, *board), (veg,)), RELEASE, 1),
+        (PlanStep(first + 2, agent, "chop", _cell(state, *board), (veg,)), KEEP, 3),
+    ]
+
+
+def test_independent_jobs_of_one_cook_are_shared_between_two():
+    state = _state(2)
+    plan = _chop_job(state, 0, (0, 2), (1, 6), 0) + _chop_job(state, 0, (0, 4), (3, 6), 3)
+    out = schedule(plan, state, (0, 1))
+    assert sorted((s.kind, s.target) for s in out) == sorted((s.kind, s.target) for s, _, _ in plan)
+    cooks = {s.agent for s in out}
+    assert cooks == {0, 1}, "the second job goes to the idle cook"
+    # each job stays with one cook: the put and the chop follow the pick on the same board
+    for board in ((1, 6), (3, 6)):
+        assert len({s.agent for s in out if s.target == _cell(state, *board)}) == 1
+
+
+def test_one_cook_chops_while_its_steak_cooks():
+    """medium_kitchen: steak (2,0), pan (3,0), tomato (0,2), board (1,6), counter (1,0).
+    The plan cooks first and chops after; the schedule fills the cooking wait."""
+    state = new_state(make_rules("medium", n_agents=1), 0)
+    steak = _item_at(state, 2, 0)
+    pan, counter = _cell(state, 3, 0), _cell(state, 1, 0)
+    plan = [
+        (PlanStep(0, 0, "pickup", _cell(state, 2, 0), (steak,)), TAKE, 1),
+        (PlanStep(1, 0, "putdown", pan, (steak,)), RELEASE, 1),
+        (PlanStep(2, 0, "pickup", pan, (steak,)), TAKE, 1),
+        (PlanStep(3, 0, "putdown", counter, (steak,)), RELEASE, 1),
+        *_chop_job(state, 0, (0, 2), (1, 6), 4),
+    ]
+    out = schedule(plan, state, (0,))
+    kinds = [(s.kind, s.target) for s in out]
+    assert {s.agent for s in out} == {0}
+    assert kinds.index(("chop", _cell(state, 1, 6))) < kinds.index(("pickup", pan)), kinds
+    assert kinds.index(("putdown", pan)) < kinds.index(("pickup", pan))
+
+
+def test_a_cook_holding_an_item_does_its_own_segment_first():
+    state = _state(2)
+    tomato = _item_at(state, 0, 2)
+    state.agent_hand[0] = tomato  # only the hands matter to the scheduler
+    plan = [
+        (PlanStep(0, 0, "putdown", _cell(state, 3, 6), (tomato,)), RELEASE, 1),
+        (PlanStep(1, 0, "chop", _cell(state, 3, 6), (tomato,)), KEEP, 3),
+    ]
+    segs = segments(plan, state)
+    assert segs[0].pinned == 0 and segs[1].pinned is None and segs[1].deps == {0}
+    out = schedule(plan, state, (0, 1))
+    assert out[0].agent == 0 and out[0].kind == "putdown"
+
+
+def test_resource_order_is_kept():
+    """A step that touches a board after another step touched it stays after it."""
+    state = _state(2)
+    plan = _chop_job(state, 0, (0, 2), (1, 6), 0)
+    tomato = plan[0][0].items[0]
+    plate = _item_at(state, 2, 0)
+    plan += [
+        (PlanStep(3, 1, "pickup", _cell(state, 2, 0), (plate,)), TAKE, 1),
+        (PlanStep(4, 1, "plate", _cell(state, 1, 6), (tomato, plate)), KEEP, 1),
+        (PlanStep(5, 1, "deliver", _cell(state, 4, 2), (plate, tomato)), RELEASE, 1),
+    ]
+    out = schedule(plan, state, (0, 1))
+    board = [s.kind for s in out if s.target == _cell(state, 1, 6)]
+    assert board == ["putdown", "chop", "plate"]
+    assert [s.index for s in out] == list(range(len(out)))
+    starts = [s.start for s in out]
+    assert starts == sorted(starts)
+
+
+def test_segments_that_would_interleave_leave_the_plan_alone():
+    """Cook 0 takes the plate, cook 1 then needs the board cook 0 uses later in the same
+    segment, and cook 0 needs the board after cook 1: no segment can go first."""
+    state = _state(2)
+    plate, tomato = _item_at(state, 2, 0), _item_at(state, 0, 2)
+    board = _cell(state, 1, 6)
+    plan = [
+        (PlanStep(0, 0, "pickup", _cell(state, 2, 0), (plate,)), TAKE, 1),
+        (PlanStep(1, 0, "bump", board, ()), KEEP, 1),
+        (PlanStep(2, 1, "chop", board, (tomato,)), KEEP, 3),
+        (PlanStep(3, 0, "plate", board, (tomato, plate)), KEEP, 1),
+        (PlanStep(4, 0, "deliver", _cell(state, 4, 2), (plate, tomato)), RELEASE, 1),
+    ]
+    segs = segments(plan, state)
+    assert 1 in segs[0].deps and 0 in segs[1].deps  # a cycle
+    assert schedule(plan, state, (0, 1)) == [s for s, _, _ in plan]
+
+
+def _fd():
+    try:
+        from ocplus_plan.planning.engines import availability
+    except ImportError as exc:  # pragma: no cover
+        return False, str(exc)
+    a = availability("fast-downward")
+    return a.ok, a.reason
+
+
+FD_OK, FD_WHY = _fd()
+
+
+@pytest.mark.skipif(not FD_OK, reason=f"fast-downward unavailable: {FD_WHY}")
+@pytest.mark.parametrize("preset", ["easy", "medium"])
+def test_scheduled_fast_downward_plans_keep_every_step_and_every_resource_order(preset):
+    from ocplus_plan.agents.planner import hand_effects, steps_from_record
+    from ocplus_plan.planning.compile import compile as compile_state
+    from ocplus_plan.planning.engines import solve
+
+    rng = random.Random(7)
+    for seed in range(3):
+        state = new_state(make_rules(preset, n_agents=2), seed)
+        for _ in range(rng.randrange(0, 25)):
+            transition(state, [rng.randrange(5), rng.randrange(5)])
+        compiled = compile_state(state, max_orders=1)
+        result = solve(compiled.problem, "fast-downward", timeout=20, validate=False)
+        assert result.status == "solved", result.reason
+        entries = []
+        for ai in result.plan.actions:
+            record = compiled.map_back(ai)
+            steps = steps_from_record(record, state, len(entries))
+            entries += [(s, e, b) for s, (e, b) in zip(steps, hand_effects(record))]
+        out = schedule(entries, state, (0, 1))
+        key = lambda s: (s.kind, s.target, s.items)  # noqa: E731
+        assert sorted(map(key, out)) == sorted(key(s) for s, _, _ in entries)
+        resources = {r for s, _, _ in entries for r in [("c", s.target)] + [("i", i) for i in s.items]}
+        for res in resources:
+            def touching(seq, res=res):
+                return [key(s) for s in seq if (res[0] == "c" and s.target == res[1])
+                        or (res[0] == "i" and res[1] in s.items)]
+            assert touching(out) == touching([s for s, _, _ in entries]), res
+        # every cook's queue is whole segments: its hand is empty between them
+        for a in (0, 1):
+            holding = state.agent_hand[a] >= 0
+            effects = {key(s): e for s, e, _ in entries}
+            for s in (s for s in out if s.agent == a):
+                e = effects[key(s)]
+                if e == TAKE:
+                    assert not holding, f"cook {a} would pick up with full hands"
+                    holding = True
+                elif e == RELEASE:
+                    holding = False
