@@ -72,6 +72,10 @@ def run_one(planner: str, preset: str, n_agents: int, seed: int, steps: int | No
         "seed": seed, "policy": policy, "faults": faults, "anticipate": anticipate,
         "schedule": schedule_cooks, "orders_per_plan": orders_per_plan, "plan_cooks": plan_cooks,
         "chain_orders": chain_orders,
+        "options": "+".join(o for o, on in (("anticipate", anticipate),
+                                            ("one-cook", plan_cooks == "one"),
+                                            (f"chain{chain_orders}", chain_orders > 1),
+                                            ("no-schedule", not schedule_cooks)) if on),
         "steps": stats["t"],
         "dishes": stats["dishes_served"], "burns": stats["burns"],
         "wrong_deliveries": stats["wrong_deliveries"], "blocked_moves": stats["blocked_moves"],
@@ -93,7 +97,7 @@ def summarise(rows: list[dict]) -> dict:
         "summary": True, **{k: rows[0][k] for k in ("planner", "preset", "agents", "policy",
                                                      "faults", "anticipate", "schedule",
                                                      "orders_per_plan", "plan_cooks",
-                                                     "chain_orders")},
+                                                     "chain_orders", "options")},
         "episodes": n,
         "dishes_mean": round(statistics.mean(r["dishes"] for r in rows), 2),
         "dishes_min": min(r["dishes"] for r in rows),
@@ -117,7 +121,8 @@ def table(paths: list[Path]) -> list[str]:
             d = json.loads(line)
             if not d.get("summary"):
                 continue
-            name = d["planner"] + (" (anticipate)" if d.get("anticipate") else "")
+            options = d.get("options", "anticipate" if d.get("anticipate") else "")
+            name = d["planner"] + (f" ({options})" if options else "")
             rows.append(
                 f"| {name} | {d['preset']} {d['agents']} | {d['dishes_mean']:g} ({d['dishes_min']}) "
                 f"| {d['episodes_with_a_dish']}/{d['episodes']} | {d['replans_per_episode']:g} "

@@ -332,17 +332,43 @@ class PlannerAgent(Controller):
                 "granularity": self.granularity, **self.executive.info()}
 
 
+#: the fourth field of ``planner:NAME:GRANULARITY:POLICY:OPTIONS`` (options joined by '+')
+PLANNER_OPTIONS = ("anticipate", "one-cook", "chainK", "no-schedule")
+
+
+def parse_planner_options(text: str, spec: str) -> dict[str, Any]:
+    """``anticipate+one-cook+chain2`` -> PlannerAgent keywords (see :data:`PLANNER_OPTIONS`)."""
+    out: dict[str, Any] = {}
+    for token in filter(None, text.split("+")):
+        if token == "anticipate":
+            out["anticipate_switches"] = True
+        elif token == "one-cook":
+            out["plan_cooks"] = "one"
+        elif token == "no-schedule":
+            out["schedule_cooks"] = False
+        elif token.startswith("chain") and token[5:].isdigit() and int(token[5:]) >= 1:
+            out["chain_orders"] = int(token[5:])
+        else:
+            raise ConfigError(
+                f"planner:{spec}: unknown option {token!r} in the fourth field; options, joined "
+                f"by '+': anticipate (temporal: plan around the coming layout switches), one-cook "
+                f"(model one cook, schedule its plan over all), chainK (plan up to K orders one "
+                f"after the other), no-schedule (keep the cooks the planner chose)")
+    return out
+
+
 def make_planner_agent(arg: str | None, seed: int = 0) -> PlannerAgent:
-    """Factory for ``planner:NAME[:GRANULARITY[:POLICY[:anticipate]]]`` (the encoding follows
-    the planner; ``anticipate`` plans around the coming layout switches, temporal only)."""
+    """Factory for ``planner:NAME[:GRANULARITY[:POLICY[:OPTIONS]]]`` (the encoding follows the
+    planner; OPTIONS joined by '+': ``anticipate`` plans around the coming layout switches,
+    temporal only; ``one-cook``, ``chainK``, ``no-schedule``: see :func:`compile_and_solve`)."""
     parts = (arg or "fast-downward").split(":")
     name = parts[0] or "fast-downward"
     granularity = parts[1] if len(parts) > 1 and parts[1] else "stations"
     policy = parts[2] if len(parts) > 2 and parts[2] else "on_event"
-    extra = parts[3] if len(parts) > 3 else ""
-    if extra not in ("", "anticipate") or len(parts) > 4:
-        raise ConfigError(f"planner:{arg}: the fourth field may only be 'anticipate' "
-                          "(planner:NAME:GRANULARITY:POLICY:anticipate)")
+    if len(parts) > 4:
+        raise ConfigError(f"planner:{arg}: at most four fields "
+                          "(planner:NAME:GRANULARITY:POLICY:OPTIONS)")
+    options = parse_planner_options(parts[3] if len(parts) > 3 else "", str(arg))
     encoding = "classical"
     try:
         from ..planning.engines import get_planner
@@ -350,10 +376,10 @@ def make_planner_agent(arg: str | None, seed: int = 0) -> PlannerAgent:
         encoding = get_planner(name).encoding
     except ImportError:  # pragma: no cover - planning layer missing
         pass
-    if extra and encoding != "temporal":
+    if options.get("anticipate_switches") and encoding != "temporal":
         raise ConfigError(f"planner:{arg}: anticipating layout switches needs a temporal planner "
                           f"(timed initial literals); {name} is {encoding}")
-    return PlannerAgent(name, encoding, granularity, policy, anticipate_switches=bool(extra))
+    return PlannerAgent(name, encoding, granularity, policy, **options)
 
 
 __all__ = ["PlannerAgent", "compile_and_solve", "make_planner_agent", "plan_steps",

@@ -14,10 +14,13 @@ a planner (partial-order lifting plus list scheduling):
 * a segment depends on every segment with an earlier step that touches a cell or item
   one of its steps touches later (the order the sequential plan relies on); two segments
   that would have to interleave leave the plan as it is;
-* list scheduling: repeatedly, among the segments whose dependencies are scheduled, the
-  (segment, cook) pair that would *finish* first is placed, with walking times from
-  the kitchen's shortest walks, bumps as the plan's costs and a steak's remaining
-  cooking time on the pan. A cook that holds an item now does its own segment first.
+* list scheduling: segments are taken in the plan's order (the planner chose it for its
+  cost), each by the cook that would *finish* it first, with walking times from the
+  kitchen's shortest walks, bumps as the plan's costs and a steak's remaining cooking
+  time on the pan; a cook that would wait (a steak still cooking) first does a later
+  segment that does not delay it (backfilling). A cook that holds an item now does its
+  own segment first. (``order="earliest"`` instead places whichever available segment
+  finishes first: more freedom, and it can walk a single cook further.)
 
 The result is the same steps with cooks reassigned, renumbered in scheduled order and
 stamped with their estimated start (a time-triggered plan's own times are replaced);
@@ -113,13 +116,24 @@ class _Walks:
         return best if best is not None else (10 * len(self.walk), pos)
 
 
+#: how the next segment is chosen: the plan's order with backfilling, or earliest finish
+ORDERS = ("plan", "earliest")
+
+
 def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
-             agents: Sequence[int], oracle: DistanceOracle | None = None) -> list[PlanStep]:
+             agents: Sequence[int], oracle: DistanceOracle | None = None,
+             order: str = "plan") -> list[PlanStep]:
     """Reassign and reorder a sequential plan's steps over ``agents`` (see the module doc).
 
     ``steps`` are in plan order, each with its hand effect (TAKE, RELEASE, KEEP) and the
-    bumps it takes. With one cook only the order changes (it may fetch and chop while a
-    steak cooks). A plan with steps of cooks outside ``agents`` is left as it is."""
+    bumps it takes. ``order="plan"``: segments are taken in the plan's order (the planner
+    chose it for its cost), each by the cook that finishes it first, and a cook that would
+    wait for the next one (a steak still cooking, a board still busy) first does a later
+    segment that does not delay it (backfilling); with one cook only that backfilling
+    changes anything. ``order="earliest"``: whichever available segment and cook finish
+    first. A plan with steps of cooks outside ``agents`` is left as it is."""
+    if order not in ORDERS:
+        raise ValueError(f"order must be one of {ORDERS}, got {order!r}")
     agents = tuple(agents)
     if not agents or any(s.agent not in agents for s, _, _ in steps):
         return _in_plan_order(steps)
@@ -134,8 +148,11 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
     done: set[int] = set()
     placed: list[tuple[int, int, PlanStep]] = []  # (start, order, step with its cook)
 
-    def simulate(seg: Segment, a: int) -> tuple[int, list[int], int]:
-        t, here, starts = free_at[a], pos[a], []
+    def simulate(seg: Segment, a: int, t: int | None = None,
+                 here: int | None = None) -> tuple[int, list[int], int]:
+        t = free_at[a] if t is None else t
+        here = pos[a] if here is None else here
+        starts = []
         for step, effect, bumps in seg.steps:
             walk, here = walks.to(here, step.target)
             t += walk
@@ -147,23 +164,21 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
             t += max(1, bumps)
         return t, starts, here
 
-    while len(done) < len(segs):
-        best = None
-        for k, seg in enumerate(segs):
-            if k in done or not seg.deps <= done:
-                continue
-            if seg.pinned is not None:
-                cooks = [seg.pinned]
-            else:
-                cooks = [a for a in agents if a not in waiting_pin and a not in closed]
-            for a in cooks:
-                end, starts, here = simulate(seg, a)
-                key = (end, k, a != seg.steps[0][0].agent, a)
-                if best is None or key < best[0]:
-                    best = (key, k, a, starts, end, here)
-        if best is None:  # nobody may take what is left: keep the plan's own cooks
-            return _in_plan_order(steps)
-        _, k, a, starts, end, here = best
+    def cooks_for(seg: Segment) -> list[int]:
+        if seg.pinned is not None:
+            return [seg.pinned]
+        return [a for a in agents if a not in waiting_pin and a not in closed]
+
+    def best_cook(k: int) -> tuple[tuple[int, bool, int], int, list[int], int] | None:
+        seg, out = segs[k], None
+        for a in cooks_for(seg):
+            end, starts, here = simulate(seg, a)
+            key = (end, a != seg.steps[0][0].agent, a)
+            if out is None or key < out[0]:
+                out = (key, end, starts, here)
+        return out
+
+    def place(k: int, a: int, starts: list[int], end: int, here: int) -> None:
         seg = segs[k]
         for (step, effect, bumps), start in zip(seg.steps, starts):
             placed.append((start, len(placed), replace(step, agent=a)))
@@ -175,10 +190,30 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
                     0, state.rules.cook_time - state.item_progress[steak])
         free_at[a], pos[a] = end, here
         done.add(k)
-        if seg.pinned is not None:
-            waiting_pin.discard(seg.pinned)
+        waiting_pin.discard(seg.pinned)
         if seg.open_end:
             closed.add(a)
+
+    while len(done) < len(segs):
+        ready = [k for k in range(len(segs)) if k not in done and segs[k].deps <= done]
+        options = [(opt[0], k, opt) for k in ready if (opt := best_cook(k)) is not None]
+        if not options:  # nobody may take what is left: keep the plan's own cooks
+            return _in_plan_order(steps)
+        if order == "earliest" or options[0][1] != ready[0]:
+            (_, k, (key, end, starts, here)) = min(options, key=lambda o: (o[0][0], o[1]))
+            place(k, key[2], starts, end, here)
+            continue
+        (_, k, (key, end, starts, here)) = options[0]
+        a = key[2]
+        for _, k2, _ in options[1:]:
+            if a not in cooks_for(segs[k2]):
+                continue
+            end2, starts2, here2 = simulate(segs[k2], a)
+            if simulate(segs[k], a, end2, here2)[0] <= end:  # fits in the wait: backfill
+                place(k2, a, starts2, end2, here2)
+                break
+        else:
+            place(k, a, starts, end, here)
     placed.sort(key=lambda x: (x[0], x[1]))
     return [replace(step, index=i, start=float(start))
             for i, (start, _, step) in enumerate(placed)]
@@ -192,4 +227,4 @@ def _resources(step: PlanStep) -> list[tuple[str, int]]:
     return [("c", step.target), *(("i", i) for i in step.items)]
 
 
-__all__ = ["KEEP", "RELEASE", "TAKE", "Segment", "schedule", "segments"]
+__all__ = ["KEEP", "ORDERS", "RELEASE", "TAKE", "Segment", "schedule", "segments"]

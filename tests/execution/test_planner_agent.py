@@ -184,3 +184,50 @@ def test_every_seed_serves_a_dish(preset, n_agents):
         agent = PlannerAgent("fast-downward")
         stats = run_episode(state, [(agent, list(range(n_agents)))])
         assert stats["dishes_served"] >= 1, (preset, n_agents, seed, agent.info())
+
+
+def test_planner_options_field():
+    from ocplus_plan.agents.planner import parse_planner_options
+
+    assert parse_planner_options("one-cook+chain3+no-schedule", "x") == {
+        "plan_cooks": "one", "chain_orders": 3, "schedule_cooks": False}
+    agent = make_controller("planner:fast-downward:stations:on_event:one-cook+chain2")
+    assert agent.planner_name == "fast-downward"
+    for bad in ("chain0", "chain", "two-cooks"):
+        with pytest.raises(ConfigError, match="unknown option"):
+            parse_planner_options(bad, "x")
+    with pytest.raises(ConfigError, match="plan_cooks"):
+        PlannerAgent("fast-downward", plan_cooks="some")
+    with pytest.raises(ConfigError, match="chain_orders"):
+        PlannerAgent("fast-downward", chain_orders=0)
+
+
+@needs_fd
+def test_one_modelled_cook_chained_plans_are_shared_by_two_cooks():
+    """easy, 2 cooks: the planner sees one cook and two chained one-order problems; the
+    schedule gives both cooks work, and dishes are served."""
+    state = new_state(make_rules("easy", n_agents=2), 0)
+    agent = PlannerAgent("fast-downward", plan_cooks="one", chain_orders=2, orders_per_plan=1)
+    agent.reset(state, [0, 1])
+    agent.act(state)
+    cooks = {t.step.agent for q in agent.executive.queues.values() for t in q}
+    assert cooks == {0, 1}
+    stats = run_episode(state, [(agent, [0, 1])], None, 60)
+    assert stats["dishes_served"] >= 2
+
+
+@needs_fd
+def test_advance_runs_a_plan_in_a_copy():
+    from ocplus_plan.planning.compile import compile as compile_state
+    from ocplus_plan.planning.engines import solve
+    from ocplus_plan.planning.fidelity import advance
+
+    state = new_state(make_rules("easy", n_agents=1), 0)
+    first = state.orders[0].order_id
+    compiled = compile_state(state, max_orders=1)
+    result = solve(compiled.problem, "fast-downward", timeout=20, validate=False)
+    after = advance(compiled, result.plan, state)
+    assert after is not None and after is not state
+    assert first not in {o.order_id for o in after.orders}  # served in the copy
+    assert state.t == 0 and first in {o.order_id for o in state.orders}  # the original is untouched
+    assert after.t == sum(compiled.map_back(ai).duration for ai in result.plan.actions)

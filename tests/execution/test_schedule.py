@@ -55,8 +55,9 @@ def test_independent_jobs_of_one_cook_are_shared_between_two():
 
 def test_one_cook_chops_while_its_steak_cooks():
     """medium_kitchen: steak (2,0), pan (3,0), tomato (0,2), board (1,6), counter (1,0).
-    The plan cooks first and chops after; the schedule fills the cooking wait."""
-    state = new_state(make_rules("medium", n_agents=1), 0)
+    The plan cooks first and chops after; with a 20-step cook the schedule fills the wait
+    with the chopping (it is back at the pan when the steak is done)."""
+    state = new_state(make_rules("medium", n_agents=1, cook_time=20, burn_time=30), 0)
     steak = _item_at(state, 2, 0)
     pan, counter = _cell(state, 3, 0), _cell(state, 1, 0)
     plan = [
@@ -71,6 +72,10 @@ def test_one_cook_chops_while_its_steak_cooks():
     assert {s.agent for s in out} == {0}
     assert kinds.index(("chop", _cell(state, 1, 6))) < kinds.index(("pickup", pan)), kinds
     assert kinds.index(("putdown", pan)) < kinds.index(("pickup", pan))
+    # with the default 10-step cook the chop would delay the steak: the plan's order stays
+    state = new_state(make_rules("medium", n_agents=1), 0)
+    assert [(s.kind, s.target) for s in schedule(plan, state, (0,))] == \
+        [(s.kind, s.target) for s, _, _ in plan]
 
 
 def test_a_cook_holding_an_item_does_its_own_segment_first():

@@ -260,3 +260,25 @@ def test_compile_is_fast_when_warm() -> None:
         compile(state)
         times.append(time.perf_counter() - t0)
     assert statistics.median(times) < 0.05
+
+
+def test_a_subset_of_cooks_is_modelled() -> None:
+    """agents=(1,): only cook 1 is an object; the other cook's cell is not occupied."""
+    state = new_state(make_rules("medium", n_agents=2), 0)
+    c = compile(state, agents=(1,))
+    assert set(c.names.agents) == {"a1"}
+    f = facts(c)
+    assert f"agent_at(a1, {c.names.cell(state.geo.rc(state.agent_pos[1]))})" in f
+    assert f"vacant({c.names.cell(state.geo.rc(state.agent_pos[0]))})" in f
+    with pytest.raises(CompileError, match="cooks 0..1"):
+        compile(state, agents=(2,))
+
+
+def test_a_cook_holding_an_item_cannot_be_left_out() -> None:
+    state = new_state(make_rules("medium", n_agents=2), 0)
+    transition(state, [U, S])  # cook 0 at (2, 2) goes up to (1, 2)
+    transition(state, [U, S])  # and bumps the tomato at (0, 2): holds it
+    assert state.agent_hand[0] >= 0
+    with pytest.raises(CompileError, match=r"cooks \[0\] hold an item"):
+        compile(state, agents=(1,))
+    assert set(compile(state, agents=(0,)).names.agents) == {"a0"}
