@@ -125,11 +125,43 @@ def compile_and_solve(
         raise ConfigError(f"orders_per_plan must be 'auto', None or a positive int, "
                           f"got {orders_per_plan!r}")
 
-    def plan(state: State, agents: tuple[int, ...], reason: str = "") -> PlanOutcome:
+    def attempt(problem_state: State, agents: tuple[int, ...], max_orders: int | None,
+                gran: str) -> tuple[Any, Any]:
+        """Compile and solve one problem: (compiled, PlanResult), or (None, why not)."""
         from ..errors import CompileError
         from ..planning.compile import compile as compile_state  # optional layer: lazy
         from ..planning.engines import solve
 
+        modelled = None
+        if plan_cooks == "one" and gran == "stations":
+            holders = [a for a in range(problem_state.n_agents)
+                       if problem_state.agent_hand[a] >= 0]
+            modelled = holders or [agents[0]]
+        try:
+            compiled = compile_state(problem_state, None, encoding=encoding, granularity=gran,
+                                     max_orders=max_orders,
+                                     anticipate_switches=anticipate_switches, agents=modelled)
+        except CompileError as exc:
+            return None, f"compile: {exc}"
+        return compiled, solve(compiled.problem, planner, timeout=timeout, validate=validate)
+
+    def chained(compiled: Any, plan: Any, state: State, agents: tuple[int, ...]) -> list[Entry]:
+        """Plans for the next open orders, each from the state the previous plan leaves."""
+        from ..planning.fidelity import advance
+
+        out: list[Entry] = []
+        for _ in range(chain_orders - 1):
+            after = advance(compiled, plan, state)
+            if after is None or not after.orders:
+                break
+            compiled, result = attempt(after, agents, 1, granularity)
+            if compiled is None or result.status != "solved" or result.plan is None:
+                break
+            plan, state = result.plan, after
+            out += plan_entries(compiled, plan, state)
+        return out
+
+    def plan(state: State, agents: tuple[int, ...], reason: str = "") -> PlanOutcome:
         t0 = time.perf_counter()
         # a deadlock means the stations abstraction (agents jump past each other) failed
         # here: plan this once with cells, whose moves respect occupancy, and follow them
@@ -141,16 +173,10 @@ def compile_and_solve(
         tried_relaxed = False
         while attempts:
             max_orders, problem_state = attempts.pop(0)
-            modelled = modelled_cooks(problem_state, agents)
-            try:
-                compiled = compile_state(problem_state, None, encoding=encoding, granularity=gran,
-                                         max_orders=max_orders,
-                                         anticipate_switches=anticipate_switches,
-                                         agents=modelled)
-            except CompileError as exc:
-                outcome = PlanOutcome("error", [], time.perf_counter() - t0, f"compile: {exc}")
+            compiled, result = attempt(problem_state, agents, max_orders, gran)
+            if compiled is None:
+                outcome = PlanOutcome("error", [], time.perf_counter() - t0, result)
                 continue
-            result = solve(compiled.problem, planner, timeout=timeout, validate=validate)
             if result.status == "unsolvable" and not tried_relaxed and not anticipate_switches \
                     and state.rules.dynamic and len(state.geo.walkables) > 1:
                 # nothing is reachable enough in this layout alone (MapC never connects every
@@ -168,36 +194,6 @@ def compile_and_solve(
                 return PlanOutcome("solved", steps, time.perf_counter() - t0)
             outcome = PlanOutcome(result.status, [], time.perf_counter() - t0, result.reason)
         return outcome
-
-    def modelled_cooks(problem_state: State, agents: tuple[int, ...]) -> list[int] | None:
-        if plan_cooks != "one" or granularity != "stations":
-            return None
-        holders = [a for a in range(problem_state.n_agents) if problem_state.agent_hand[a] >= 0]
-        return holders or [agents[0]]
-
-    def chained(compiled: Any, plan: Any, state: State, agents: tuple[int, ...]) -> list[Entry]:
-        """Plans for the next open orders, each from the state the previous plan leaves."""
-        from ..errors import CompileError
-        from ..planning.compile import compile as compile_state
-        from ..planning.engines import solve
-        from ..planning.fidelity import advance
-
-        out: list[Entry] = []
-        for _ in range(chain_orders - 1):
-            after = advance(compiled, plan, state)
-            if after is None or not after.orders:
-                break
-            try:
-                compiled = compile_state(after, None, encoding=encoding, granularity=granularity,
-                                         max_orders=1, agents=modelled_cooks(after, agents))
-            except CompileError:
-                break
-            result = solve(compiled.problem, planner, timeout=timeout, validate=validate)
-            if result.status != "solved" or result.plan is None:
-                break
-            plan, state = result.plan, after
-            out += plan_entries(compiled, plan, state, False)
-        return out
 
     return plan
 
