@@ -58,10 +58,13 @@ class Layout:
     spawn_points: tuple[tuple[int, int], ...]
     max_agents: int
     is_dynamic: bool
+    #: steps between switches; 0 is allowed on a static map (it never switches)
     map_switch_step: int
     description: str = ""
     #: cell code -> sorted (row, col) cells of that station / spawn tile kind
     stations: dict[int, tuple[tuple[int, int], ...]] = field(default_factory=dict)
+    #: ``max_n_agent`` as the file says it (``max_agents`` is capped at the spawn count)
+    declared_max_agents: int = 0
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -222,9 +225,7 @@ def _parse(raw: dict[str, Any], src: str) -> Layout:
         raise MapFormatError(f"{src}: 'is_dynamic_map' must be true or false, got {is_dynamic!r}")
     if is_dynamic and switch_grid is None:
         raise MapFormatError(f"{src}: 'is_dynamic_map' is true but there is no 'switch_map'")
-    switch_step = d.get("map_switch_step", 15)
-    if isinstance(switch_step, bool) or not isinstance(switch_step, int) or switch_step < 1:
-        raise MapFormatError(f"{src}: 'map_switch_step' must be a positive integer, got {switch_step!r}")
+    switch_step = _switch_step(d, bool(is_dynamic), src)
 
     grids = [grid] if switch_grid is None else [grid, switch_grid]
     if "agent_spawn_points" in d:
@@ -258,14 +259,9 @@ def _parse(raw: dict[str, Any], src: str) -> Layout:
                 f"{src}: no spawn points: add 'agent_spawn_points' or cells with code 2"
             )
 
-    max_agents = d.get("max_n_agent", len(spawns))
-    if isinstance(max_agents, bool) or not isinstance(max_agents, int) or max_agents < 1:
-        raise MapFormatError(f"{src}: 'max_n_agent' must be a positive integer, got {max_agents!r}")
-    if max_agents > len(spawns):
-        raise MapFormatError(
-            f"{src}: 'max_n_agent' is {max_agents} but only {len(spawns)} spawn points are given; "
-            "add spawn points or lower max_n_agent"
-        )
+    declared = d.get("max_n_agent", len(spawns))
+    if isinstance(declared, bool) or not isinstance(declared, int) or declared < 1:
+        raise MapFormatError(f"{src}: 'max_n_agent' must be a positive integer, got {declared!r}")
 
     stations: dict[int, tuple[tuple[int, int], ...]] = {}
     for code in STATIONS | {Cell.COUNTER}:
@@ -280,12 +276,28 @@ def _parse(raw: dict[str, Any], src: str) -> Layout:
         grid=grid,
         switch_grid=switch_grid,
         spawn_points=tuple(spawns),
-        max_agents=max_agents,
+        # more cooks than spawn points cannot be placed: the paper's mapF says 3 for 2
+        max_agents=min(declared, len(spawns)),
         is_dynamic=bool(is_dynamic),
         map_switch_step=switch_step,
         description=str(d.get("description") or ""),
         stations=stations,
+        declared_max_agents=declared,
     )
+
+
+#: the switch period of a dynamic map that does not give one (SPEC section 2's MapC value)
+DEFAULT_SWITCH_STEP = 15
+
+
+def _switch_step(d: dict[str, Any], is_dynamic: bool, src: str) -> int:
+    """``map_switch_step``: a positive integer on a dynamic map. A static map never switches,
+    so any integer >= 0 is accepted there (the paper's static maps say 0)."""
+    step = d.get("map_switch_step", DEFAULT_SWITCH_STEP)
+    if isinstance(step, bool) or not isinstance(step, int) or step < (1 if is_dynamic else 0):
+        need = "a positive integer on a dynamic map" if is_dynamic else "an integer >= 0"
+        raise MapFormatError(f"{src}: 'map_switch_step' must be {need}, got {step!r}")
+    return step
 
 
 def reachable_floor(grid: np.ndarray, start: tuple[int, int]) -> set[tuple[int, int]]:

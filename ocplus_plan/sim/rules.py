@@ -177,14 +177,13 @@ def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, 
     if not isinstance(n_agents, int) or n_agents < 1:
         raise ConfigError(f"n_agents must be a positive integer, got {n_agents!r}")
     if n_agents > layout.max_agents:
-        raise ConfigError(
-            f"n_agents={n_agents} but map {layout.name!r} allows at most {layout.max_agents} "
-            f"(max_n_agent); pick another map or fewer agents"
-        )
+        raise ConfigError(_too_many_agents(n_agents, layout))
     dynamic = overrides.pop("dynamic", p.dynamic)
     if dynamic and not layout.is_dynamic:
+        why = ("has no switch_map" if layout.switch_grid is None
+               else "is marked static (is_dynamic_map / dynamic_map: false)")
         raise ConfigError(
-            f"preset {preset!r} wants a dynamic layout but map {layout.name!r} has no switch_map; "
+            f"preset {preset!r} wants a dynamic layout but map {layout.name!r} {why}; "
             "use a dynamic map (e.g. mapC) or pass dynamic=False"
         )
     missing = [c.name.lower() for c in p.stations if not layout.cells_of(c)]
@@ -216,7 +215,9 @@ def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, 
         )
 
     rewards = Rewards.from_mapping(overrides.pop("rewards", None))
-    params: dict[str, Any] = {"map_switch_step": layout.map_switch_step}
+    # a static map may say 0 (the paper's do): then the Rules default stands, unused
+    params: dict[str, Any] = (
+        {"map_switch_step": layout.map_switch_step} if layout.map_switch_step > 0 else {})
     params.update(overrides)
     rules = Rules(
         preset=preset,
@@ -230,6 +231,15 @@ def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, 
     )
     _check(rules)
     return rules
+
+
+def _too_many_agents(n_agents: int, layout: Layout) -> str:
+    spawns = len(layout.spawn_points)
+    why = f"max_n_agent {layout.max_agents}"
+    if layout.declared_max_agents > spawns:
+        why = f"it has only {spawns} spawn points; max_n_agent {layout.declared_max_agents}"
+    return (f"n_agents={n_agents} but map {layout.name!r} allows at most {layout.max_agents} "
+            f"cooks ({why}); pick another map or fewer agents")
 
 
 def _check(rules: Rules) -> None:
