@@ -226,3 +226,19 @@ def test_importing_the_env_loads_no_heavy_package():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     loaded = {m.split(".")[0] for m in out.stdout.split()}
     assert not loaded & {"unified_planning", "pygame", "torch", "matplotlib", "pettingzoo"}
+
+
+@pytest.mark.parametrize("code", [
+    # gymnasium imports the package named before the colon: no import of ours first
+    "import gymnasium as gym; e = gym.make('ocplus_plan:OvercookedPlus-v0')",
+    # the package import alone registers every id, whatever the import order
+    "import ocplus_plan, gymnasium as gym; e = gym.make('OvercookedPlus-v0'); "
+    "gym.make('Overcooked-Plus'); gym.make('OvercookedPlusSingle-v0')",
+    "import gymnasium as gym, ocplus_plan; e = gym.make('OvercookedPlus-v0')",
+])
+def test_the_ids_are_registered_in_a_fresh_interpreter(code, tmp_path):
+    code += "; obs, info = e.reset(seed=0); print(e.unwrapped.rules.preset, len(obs))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=tmp_path, check=False)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.split() == ["hard", "2"]
