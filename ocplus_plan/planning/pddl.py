@@ -11,12 +11,12 @@ with UP's PDDLReader.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .compile import Compiled, compile
 
-#: Where the checked-in generated domains live.
-DOMAINS_DIR = Path(__file__).resolve().parents[2] / "domains"
+if TYPE_CHECKING:
+    from importlib.resources.abc import Traversable
 
 
 def _writer(compiled: Compiled) -> Any:
@@ -75,8 +75,11 @@ def domain_text(encoding: str, granularity: str, switches: bool = False) -> str:
     return problem_texts(compiled)[0]
 
 
-def domain_path(encoding: str, granularity: str, switches: bool = False) -> Path:
-    return DOMAINS_DIR / f"{encoding}_{granularity}{'_switches' if switches else ''}.pddl"
+def domain_path(encoding: str, granularity: str, switches: bool = False) -> Traversable:
+    """The checked-in domain of one variant (package data built from ``domains/``)."""
+    from ..data import data_files
+
+    return data_files("domains") / f"{encoding}_{granularity}{'_switches' if switches else ''}.pddl"
 
 
 def read_pddl(domain: str | Path, problem: str | Path) -> Any:
@@ -86,5 +89,5 @@ def read_pddl(domain: str | Path, problem: str | Path) -> Any:
     return PDDLReader().parse_problem(str(domain), str(problem))
 
 
-__all__ = ["DOMAINS_DIR", "declare_numeric_fluents", "domain_path", "domain_text", "problem_texts", "read_pddl",
+__all__ = ["declare_numeric_fluents", "domain_path", "domain_text", "problem_texts", "read_pddl",
            "write_pddl"]

@@ -11,7 +11,7 @@ import os
 from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -25,6 +25,9 @@ from .codes import (
     WALKABLE,
     Cell,
 )
+
+if TYPE_CHECKING:
+    from importlib.resources.abc import Traversable
 
 #: canonical key -> accepted spellings (the paper's first).
 KEY_ALIASES: dict[str, tuple[str, ...]] = {
@@ -40,8 +43,6 @@ KEY_ALIASES: dict[str, tuple[str, ...]] = {
 }
 _SPELLING_TO_KEY = {s: k for k, spellings in KEY_ALIASES.items() for s in spellings}
 
-#: Folder of the shipped maps (top-level ``maps/``); ``OCPLUS_MAPS`` adds more folders.
-MAPS_DIR = Path(__file__).resolve().parents[2] / "maps"
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,16 +96,21 @@ class Layout:
         return {int(c): len(self.cells_of(c)) for c in SPAWN_TILES}
 
 
-def available_maps() -> dict[str, Path]:
-    """Registered map names -> files: the shipped ``maps/`` plus ``OCPLUS_MAPS`` folders."""
-    folders = [MAPS_DIR]
+def available_maps() -> dict[str, Traversable]:
+    """Registered map names -> files: the shipped maps (package data from ``maps/``) plus
+    the ``*.yaml`` files of the ``OCPLUS_MAPS`` folders."""
+    from ..data import data_files
+
+    folders: list[Traversable] = [data_files("maps")]
     extra = os.environ.get("OCPLUS_MAPS", "")
     folders += [Path(p) for p in extra.split(os.pathsep) if p]
-    found: dict[str, Path] = {}
+    found: dict[str, Traversable] = {}
     for folder in folders:
         if folder.is_dir():
-            for path in sorted(folder.glob("*.yaml")):
-                found.setdefault(path.stem, path)
+            files = sorted((f for f in folder.iterdir() if f.name.endswith(".yaml")),
+                           key=lambda f: f.name)
+            for file in files:
+                found.setdefault(file.name[: -len(".yaml")], file)
     return found
 
 
@@ -113,8 +119,8 @@ def load_map(spec: str | os.PathLike[str] | dict[str, Any], *, source: str | Non
     if isinstance(spec, dict):
         return _parse(spec, source or "<dict>")
     text_spec = os.fspath(spec)
-    path = Path(text_spec)
-    if not path.exists():
+    path: Traversable = Path(text_spec)
+    if not path.is_file():
         registry = available_maps()
         if text_spec in registry:
             path = registry[text_spec]
@@ -127,7 +133,7 @@ def load_map(spec: str | os.PathLike[str] | dict[str, Any], *, source: str | Non
     import yaml  # local: the core imports pyyaml only when a file is read
 
     try:
-        raw = yaml.safe_load(path.read_text())
+        raw = yaml.safe_load(path.read_text(encoding="utf-8"))
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
