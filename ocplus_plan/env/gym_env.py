@@ -107,7 +107,7 @@ class _Base(gym.Env):
                         f"which could not be imported ({exc}); install ocplus-plan[gui] or use "
                         "render_mode='rgb_array'"
                     ) from exc
-                self._window = Window("ocplus-plan")
+                self._window = Window("ocplus-plan", offscreen_ok=True)  # check_env tries it
             messages = []
             if self.core.comm is not None:
                 for a, row in enumerate(self.core.received.tolist()):

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import os
 import sys
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -249,16 +250,9 @@ class Window:
                  min_map_height: int = MIN_MAP_HEIGHT, tile: int | None = None,
                  headless_hint: str = "draw frames with render_mode='rgb_array' instead, or "
                                       "set SDL_VIDEODRIVER=dummy to run the window off-screen",
-                 ) -> None:
-        headless = headless_hint
-        require_display(headless)
+                 offscreen_ok: bool = False) -> None:
         self.pg = require_pygame()
-        self.pg.display.init()
-        driver = self.pg.display.get_driver()
-        if driver in OFFSCREEN_DRIVERS and not os.environ.get("SDL_VIDEODRIVER"):
-            self.pg.display.quit()
-            raise DisplayUnavailable(f"SDL found no display and fell back to its {driver!r} "
-                                     f"driver, so nobody would see the window; {headless}")
+        self._open_display(headless_hint, offscreen_ok)
         self.pg.font.init()
         self.title = title
         self.panel_width = panel_width
@@ -271,6 +265,31 @@ class Window:
         self._bold = self.pg.font.Font(None, 24)
         self._bold.set_bold(True)
         self.pg.display.set_caption(title)
+
+    def _open_display(self, headless_hint: str, offscreen_ok: bool) -> None:
+        """Start SDL's video. Without a display: raise :class:`DisplayUnavailable` naming
+        ``headless_hint``, or with ``offscreen_ok`` (an env's ``render_mode="human"``, as
+        Gymnasium's ``check_env`` tries it) draw off-screen with one warning instead of
+        letting SDL probe X11 / Wayland and print its errors."""
+        problem = display_problem()
+        if problem is not None and not offscreen_ok:
+            raise DisplayUnavailable(f"{problem}; {headless_hint}")
+        if problem is not None:
+            warnings.warn(f"{problem}: the window is drawn off-screen (SDL's dummy driver); "
+                          "use render_mode='rgb_array' for frames", stacklevel=3)
+            os.environ["SDL_VIDEODRIVER"] = "dummy"  # read by SDL at init only
+            try:
+                self.pg.display.init()
+            finally:
+                del os.environ["SDL_VIDEODRIVER"]
+            return
+        self.pg.display.init()
+        driver = self.pg.display.get_driver()
+        if (driver in OFFSCREEN_DRIVERS and not os.environ.get("SDL_VIDEODRIVER")
+                and not offscreen_ok):
+            self.pg.display.quit()
+            raise DisplayUnavailable(f"SDL found no display and fell back to its {driver!r} "
+                                     f"driver, so nobody would see the window; {headless_hint}")
 
     # -- drawing
     def frame_for(self, state: State) -> np.ndarray:
