@@ -26,20 +26,24 @@ def _writer(compiled: Compiled) -> Any:
 
 
 def problem_texts(compiled: Compiled) -> tuple[str, str]:
-    """(domain text, problem text) of a compiled state."""
+    """(domain text, problem text) of a compiled state.
+
+    Requirements: classical files declare ``:action-costs`` for the static functions that
+    feed the costs (distances, steps left), as the IPC action-cost domains do and as Fast
+    Downward requires (it rejects ``:numeric-fluents``). In temporal files the same
+    functions give the durations, which PDDL 2.1 calls numeric fluents: UP's writer does
+    not say so, and VAL's ``Parser`` warns ``Undeclared requirement :number-fluents`` at
+    every use, so they declare ``:numeric-fluents`` (Kairos, LPG and UP's reader take it).
+    """
     writer = _writer(compiled)
-    return writer.get_domain(), writer.get_problem()
+    domain = writer.get_domain()
+    if compiled.encoding == "temporal":
+        domain = declare_numeric_fluents(domain)
+    return domain, writer.get_problem()
 
 
 def declare_numeric_fluents(domain: str) -> str:
-    """The domain text with ``:numeric-fluents`` added when it declares functions.
-
-    The written files declare only ``:action-costs`` when static functions feed the
-    costs (distances, steps left), as the IPC action-cost domains do and as Fast
-    Downward requires (it rejects ``:numeric-fluents``). Stricter parsers (the
-    ``pddl`` package, VAL's ``Parser``) want the functions declared as numeric
-    fluents: the tests parse this variant with them.
-    """
+    """The domain text with ``:numeric-fluents`` added when it declares functions."""
     head, sep, rest = domain.partition("(:requirements")
     if not sep or "(:functions" not in rest:
         return domain
