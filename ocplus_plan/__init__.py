@@ -15,8 +15,8 @@ from __future__ import annotations
 
 __version__ = "0.1.0"
 
-from .env import register_envs  # noqa: E402  (registration needs gymnasium only)
-from .env.paper import create_env  # noqa: E402
+from .env import register_envs
+from .env.paper import create_env
 
 register_envs()
 

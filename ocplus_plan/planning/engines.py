@@ -437,7 +437,6 @@ def _solve_in_child(problem: Any, config: PlannerConfig, limit: float,
 __all__ = [
     "ENCODINGS",
     "GRACE_SECONDS",
-    "planners_dir",
     "STATUSES",
     "Availability",
     "PlanResult",
@@ -447,6 +446,7 @@ __all__ = [
     "get_planner",
     "load_registry",
     "planner_names",
+    "planners_dir",
     "solve",
     "without_quality_metrics",
 ]

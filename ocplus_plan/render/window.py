@@ -414,9 +414,9 @@ class Window:
 
 __all__ = [
     "ARROWS",
+    "HUMAN_MARK",
     "KEYSETS",
     "KEY_HELP",
-    "HUMAN_MARK",
     "WASD",
     "PanelLine",
     "Window",

@@ -232,8 +232,8 @@ def test_importing_the_env_loads_no_heavy_package():
     # gymnasium imports the package named before the colon: no import of ours first
     "import gymnasium as gym; e = gym.make('ocplus_plan:OvercookedPlus-v0')",
     # the package import alone registers every id, whatever the import order
-    "import ocplus_plan, gymnasium as gym; e = gym.make('OvercookedPlus-v0'); "
-    "gym.make('Overcooked-Plus'); gym.make('OvercookedPlusSingle-v0')",
+    ("import ocplus_plan, gymnasium as gym; e = gym.make('OvercookedPlus-v0'); "
+     "gym.make('Overcooked-Plus'); gym.make('OvercookedPlusSingle-v0')"),
     "import gymnasium as gym, ocplus_plan; e = gym.make('OvercookedPlus-v0')",
 ])
 def test_the_ids_are_registered_in_a_fresh_interpreter(code, tmp_path):
