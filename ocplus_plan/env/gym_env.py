@@ -197,8 +197,8 @@ class OvercookedPlusEnv(_Base):
 
     **Registered configurations.** ``OvercookedPlus-v0`` and ``Overcooked-Plus`` (this
     class, preset ``hard``, 2 cooks, MapC) and ``OvercookedPlusSingle-v0``
-    (:class:`OvercookedPlusSingleEnv`); ``import ocplus_plan.env`` registers them, or use
-    ``gymnasium.make("ocplus_plan.env:OvercookedPlus-v0")``.
+    (:class:`OvercookedPlusSingleEnv`); ``import ocplus_plan`` registers them, or use
+    ``gymnasium.make("ocplus_plan:OvercookedPlus-v0")`` with no import of ours first.
     """
 
     def __init__(self, preset: str = "hard", *, reward_scope: str = "team", **kwargs: Any) -> None:
