@@ -1,5 +1,5 @@
 (define (domain ocplus_temporal_cells-domain)
- (:requirements :strips :typing :durative-actions :duration-inequalities)
+ (:requirements :strips :typing :durative-actions :duration-inequalities :numeric-fluents)
  (:types agent spot item place content order kind)
  (:predicates 
              (agent_at ?x0 - agent ?x1 - spot)

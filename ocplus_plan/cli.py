@@ -34,16 +34,17 @@ COMMANDS: dict[str, str] = {
     "pddl": "pddl",
 }
 
-#: Printed by --help and replayed by tests/test_cli.py (each must exit 0, quickly).
+#: Printed by --help and replayed by tests/test_cli.py (each must exit 0, quickly) in a
+#: fresh directory with the checkout's ``maps/``: outputs go to relative paths (``runs/``).
 EXAMPLES: list[str] = [
     "ocplus check-map mapC",
     "ocplus check-map maps/hard_switch.yaml",
     "ocplus rollout --preset hard --n-agents 2 --steps 200 --seed 0 --json",
     "ocplus solve --list",
-    "ocplus pddl --preset medium --seed 0 --step 20 --encoding temporal --out /tmp/ocplus-pddl",
-    "ocplus pddl --preset hard --seed 0 --encoding temporal --anticipate-switches --out /tmp/ocplus-pddl-switches",
+    "ocplus pddl --preset medium --seed 0 --step 20 --encoding temporal --out runs/pddl",
+    "ocplus pddl --preset hard --seed 0 --encoding temporal --anticipate-switches --out runs/pddl-switches",
     "ocplus eval --presets easy --agents greedy,random --seeds 2 --horizon 50 --quiet "
-    "--out /tmp/ocplus-eval-example --resume",
+    "--out runs/eval-example --resume",
 ]
 
 EXIT_OK, EXIT_BUG, EXIT_INPUT, EXIT_DEPENDENCY, EXIT_INTERRUPTED = 0, 1, 2, 3, 130

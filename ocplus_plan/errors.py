@@ -33,3 +33,8 @@ class PlannerError(OcplusError):
 
 class DependencyNotInstalled(OcplusError):
     """An optional dependency is missing; the message names the extra to install."""
+
+
+class DisplayUnavailable(OcplusError):
+    """A window was asked for where none can be shown (no display); the message names the
+    headless alternative (``--gif``, ``--check``, ``render_mode='rgb_array'``)."""

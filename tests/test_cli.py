@@ -3,6 +3,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 from ocplus_plan.cli import main
 
@@ -49,12 +50,18 @@ def test_unknown_preset_is_exit_2(capsys):
     assert "unknown preset" in capsys.readouterr().err
 
 
-def test_every_help_example_runs(capsys):
+def test_every_help_example_runs(capsys, tmp_path, monkeypatch):
     import shlex
 
     from ocplus_plan.cli import EXAMPLES
+    from ocplus_plan.data import data_files
 
+    # a private directory that looks like a checkout: no shared /tmp path, two runs at once
+    # never write to the same place
+    (tmp_path / "maps").symlink_to(Path(str(data_files("maps"))), target_is_directory=True)
+    monkeypatch.chdir(tmp_path)
     for example in EXAMPLES:
+        assert "/tmp" not in example, example
         argv = shlex.split(example)
         assert argv[0] == "ocplus"
         assert main(argv[1:]) == 0, example

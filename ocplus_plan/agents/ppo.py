@@ -8,16 +8,17 @@ the episode seed), or taken greedily with ``ppo:PATH@greedy``. torch and
 stable-baselines3 are imported when the first controller is built; without them the
 error names the ``rl`` extra.
 
-``ppo`` without a path picks a shipped checkpoint from ``experiments/checkpoints/``
-(in a source checkout) by the kitchen's preset and agent count:
+``ppo`` without a path picks a shipped checkpoint (package data built from
+``experiments/checkpoints/``) by the kitchen's preset and agent count:
 ``{preset}_{n}agent.zip``, else ``{preset}_1agent.zip`` (the features policy is shared,
 so it drives any number of agents).
 """
 
 from __future__ import annotations
 
+from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -25,9 +26,10 @@ from ..errors import ConfigError
 from ..sim.state import State
 from .base import Controller
 
+if TYPE_CHECKING:
+    from importlib.resources.abc import Traversable
+
 _MODES = ("sample", "greedy")
-#: where the shipped checkpoints live in a source checkout
-SHIPPED_DIR = Path(__file__).resolve().parents[2] / "experiments" / "checkpoints"
 
 
 def parse_spec(arg: str | None) -> tuple[str | None, str | None]:
@@ -41,12 +43,19 @@ def parse_spec(arg: str | None) -> tuple[str | None, str | None]:
     return arg, None
 
 
-def shipped_checkpoint(preset: str, n_agents: int, directory: Path = SHIPPED_DIR) -> Path:
-    """The shipped checkpoint for a preset and agent count (``ConfigError`` if none)."""
+def shipped_checkpoint(preset: str, n_agents: int,
+                       directory: Traversable | None = None) -> Traversable:
+    """The shipped checkpoint for a preset and agent count (``ConfigError`` if none);
+    ``directory`` defaults to the package data ``checkpoints``."""
+    if directory is None:
+        from ..data import data_files
+
+        directory = data_files("checkpoints")
     for name in (f"{preset}_{n_agents}agent.zip", f"{preset}_1agent.zip"):
         if (directory / name).is_file():
             return directory / name
-    have = sorted(p.name for p in directory.glob("*.zip")) if directory.is_dir() else []
+    have = sorted(p.name for p in directory.iterdir() if p.name.endswith(".zip")) \
+        if directory.is_dir() else []
     raise ConfigError(
         f"no shipped PPO checkpoint for preset {preset!r} in {directory} (have: "
         f"{', '.join(have) or 'none'}); pass one explicitly as ppo:PATH"
@@ -92,10 +101,12 @@ class PPOAgent(Controller):
         from ..rl.obs import make_encoder
 
         if self.path is None:  # a shipped checkpoint, chosen per kitchen
-            chosen = str(shipped_checkpoint(state.rules.preset, state.n_agents))
-            if self.policy is None or self.policy.path != Path(chosen):
-                self.policy = self._load(chosen)
-                self._encoders = {}
+            shipped = shipped_checkpoint(state.rules.preset, state.n_agents)
+            with resources.as_file(shipped) as file:  # a real file for stable-baselines3
+                chosen = str(file)
+                if self.policy is None or self.policy.path != Path(chosen):
+                    self.policy = self._load(chosen)
+                    self._encoders = {}
         meta = self.policy.meta
         key = id(state.rules)
         enc = self._encoders.get(key)

@@ -21,7 +21,9 @@ def run(args: argparse.Namespace) -> int:
     print(f"map {layout.name}  ({layout.source})")
     if layout.description:
         print(f"  {layout.description.strip()}")
-    print(f"size: {rows} rows x {cols} cols; max agents {layout.max_agents}; "
+    capped = (f" (max_n_agent {layout.declared_max_agents}, capped at the spawn points)"
+              if layout.declared_max_agents > layout.max_agents else "")
+    print(f"size: {rows} rows x {cols} cols; max agents {layout.max_agents}{capped}; "
           f"spawn points {[list(p) for p in layout.spawn_points]}")
     for code, cells in sorted(layout.stations.items()):
         if code == Cell.COUNTER:

@@ -189,7 +189,7 @@ def run_loop(session: PlaySession, window: Any, *, turn_based: bool, fps: float 
             waiting = [labels[h] for h in session.humans if h not in session.pending]
             status = "waiting for " + ", ".join(waiting)
         window.show(session.state, scores=session.scores(), agent_labels=session.labels(),
-                    status=status, key_help=session.key_help)
+                    status=status, key_help=session.key_help, humans=session.humans)
 
     show("press a key to start" if turn_based and session.humans else "")
     if not turn_based:  # a held key keeps moving the cook in real time
@@ -266,11 +266,19 @@ def build_session(args: argparse.Namespace) -> PlaySession:
                        record=args.record is not None)
 
 
-def run(args: argparse.Namespace) -> int:
-    from ..render.window import Window
+#: what works without a display (named when there is none)
+HEADLESS_HINT = ("`ocplus play` needs a window. Without one: `ocplus rollout` runs an episode, "
+                 "`ocplus replay FILE --check` verifies a recording and `ocplus replay FILE "
+                 "--gif OUT` draws it; or set SDL_VIDEODRIVER=dummy to play off-screen")
 
+
+def run(args: argparse.Namespace) -> int:
+    from ..render.window import Window, require_display
+
+    require_display(HEADLESS_HINT)  # before anything slow: exit at once, never wait for keys
     session = build_session(args)
-    window = Window(f"ocplus play: {session.rules.preset} / {session.rules.layout.name}")
+    window = Window(f"ocplus play: {session.rules.preset} / {session.rules.layout.name}",
+                    headless_hint=HEADLESS_HINT)
     try:
         run_loop(session, window, turn_based=args.turn_based, fps=args.fps,
                  wait_at_end=not args.no_wait)

@@ -36,9 +36,18 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
+#: what works without a display (named when there is none)
+HEADLESS_HINT = ("playing a recording back needs a window; without one use --check (verify "
+                 "only) or --gif OUT (write an animation)")
+
+
 def run(args: argparse.Namespace) -> int:
     from ..render.replay import Recording, export_gif, verify
 
+    if not args.gif and not args.check:
+        from ..render.window import require_display
+
+        require_display(HEADLESS_HINT)  # at once, before replaying anything
     rec = Recording.load(args.file)
     check = verify(rec)
     summary = {
@@ -60,7 +69,8 @@ def _play_back(rec: Recording, fps: float, *, wait_at_end: bool) -> None:
     from ..render.replay import replay_states
     from ..render.window import Window
 
-    window = Window(f"ocplus replay: {rec.preset} / {rec.map_name}")
+    window = Window(f"ocplus replay: {rec.preset} / {rec.map_name}", headless_hint=HEADLESS_HINT)
+    humans = tuple(int(h) for h in rec.meta.get("humans", ()))  # a recorded play session's
     paused = False
     try:
         for state, events in replay_states(rec):
@@ -68,7 +78,7 @@ def _play_back(rec: Recording, fps: float, *, wait_at_end: bool) -> None:
                 break
             notes = [f"{e.kind} (agent {e.agent})" for e in events
                      if e.kind in ("delivery", "wrong_delivery", "burnt", "layout_switch")]
-            window.show(state, messages=notes, status=_PLAYBACK_HELP)
+            window.show(state, messages=notes, status=_PLAYBACK_HELP, humans=humans)
             while True:  # space pauses / resumes; right arrow steps while paused
                 keys = window.poll()
                 if "space" in keys:

@@ -1,8 +1,9 @@
 """What the Gymnasium and PettingZoo envs share: keyword parsing and the kitchen core.
 
 :func:`parse_env_kwargs` maps the paper's keyword names (``map_name``, ``dynamic_map``,
-``rewardList``, ``n_agent``, ``agent_communication``, ``GUI``) and ours onto
-:func:`ocplus_plan.sim.make_rules` plus an :class:`EnvConfig`. :class:`KitchenCore` owns
+``rewardList``, ``n_agent``, ``agent_communication``, ``GUI`` / ``GUI_enable``, ``obs_mode``
+and the others of :mod:`.paper`) and ours onto :func:`ocplus_plan.sim.make_rules` plus an
+:class:`EnvConfig`. :class:`KitchenCore` owns
 one episode: the simulator state, the encoder of the chosen mode and the message
 channel, and turns ``(moves, tokens)`` into observations. No gymnasium import here.
 """
@@ -10,7 +11,7 @@ channel, and turns ``(moves, tokens)`` into observations. No gymnasium import he
 from __future__ import annotations
 
 import operator
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -21,6 +22,7 @@ from ..sim import Rules, State, StepResult, make_rules, new_state, transition
 from ..sim.observe import VectorEncoder, snapshot
 from ..sim.observe_incremental import IncrementalEncoder
 from .comm import CommChannel, CommConfig
+from .paper import PAPER_ONLY_KEYWORDS, translate_paper_keywords
 
 MODES = ("vector", "rgb", "symbolic")
 #: accepted spellings of a mode (gym-macro-overcooked calls the picture mode "image")
@@ -30,7 +32,8 @@ RENDER_MODES = ("human", "rgb_array")
 ENV_KEYWORDS = (
     "preset", "map_name", "map", "dynamic_map", "dynamic", "rewardList", "rewards", "n_agent",
     "n_agents", "agent_communication", "comm_vocab", "comm_range", "comm_failure_rate",
-    "comm_delay", "obs_radius", "mode", "GUI", "render_mode",
+    "comm_delay", "obs_radius", "mode", "obs_mode", "GUI", "GUI_enable", "render_mode",
+    *PAPER_ONLY_KEYWORDS,
 )
 
 
@@ -42,6 +45,8 @@ class EnvConfig:
     obs_radius: int = 0
     comm: CommConfig | None = None
     render_mode: str | None = None
+    #: cooks a person plays (the paper's ``human_player``): the window marks them
+    human_cooks: tuple[int, ...] = ()
 
 
 def _alias(kwargs: dict[str, Any], ours: str, paper: str, default: Any) -> Any:
@@ -52,19 +57,6 @@ def _alias(kwargs: dict[str, Any], ours: str, paper: str, default: Any) -> Any:
     return default if a is None and b is None else (a if a is not None else b)
 
 
-def normalise_rewards(rewards: Mapping[str, float] | None) -> dict[str, float] | None:
-    """Accept the paper's ``rewardList`` keys (``"subtask finished"``) and ours."""
-    if rewards is None:
-        return None
-    if not isinstance(rewards, Mapping):
-        raise ConfigError(
-            f"rewards / rewardList must be a mapping such as {{'correct_delivery': 200}}, "
-            f"got {type(rewards).__name__}"
-        )
-    return {str(k).strip().lower().replace(" ", "_").replace("-", "_"): float(v)
-            for k, v in rewards.items()}
-
-
 def parse_env_kwargs(preset: str = "hard", **kwargs: Any) -> tuple[Rules, EnvConfig]:
     """Rules and env options from the env's keyword arguments (see the env docstring).
 
@@ -72,10 +64,10 @@ def parse_env_kwargs(preset: str = "hard", **kwargs: Any) -> tuple[Rules, EnvCon
     parameter, e.g. ``horizon`` or ``order_time_limit``, can be overridden); unknown
     names fail there with the list of known ones.
     """
-    kw = dict(kwargs)
+    kw, humans = translate_paper_keywords(kwargs)
     map_ = _alias(kw, "map", "map_name", None)
     dynamic = _alias(kw, "dynamic", "dynamic_map", None)
-    rewards = normalise_rewards(_alias(kw, "rewards", "rewardList", None))
+    rewards = _alias(kw, "rewards", "rewardList", None)  # the paper's keys: Rewards reads them
     n_agents = _alias(kw, "n_agents", "n_agent", None)
     comm_on = bool(kw.pop("agent_communication", False))
     comm_kw = {k: kw.pop(f"comm_{k}") for k in ("vocab", "range", "failure_rate", "delay")
@@ -84,7 +76,7 @@ def parse_env_kwargs(preset: str = "hard", **kwargs: Any) -> tuple[Rules, EnvCon
         raise ConfigError(
             f"{', '.join('comm_' + k for k in comm_kw)} given without agent_communication=True"
         )
-    gui = bool(kw.pop("GUI", False))
+    gui = bool(_alias(kw, "GUI", "GUI_enable", False))
     render_mode = kw.pop("render_mode", None)
     if gui:
         if render_mode not in (None, "human"):
@@ -92,7 +84,7 @@ def parse_env_kwargs(preset: str = "hard", **kwargs: Any) -> tuple[Rules, EnvCon
         render_mode = "human"
     if render_mode is not None and render_mode not in RENDER_MODES:
         raise ConfigError(f"render_mode must be None, 'human' or 'rgb_array', got {render_mode!r}")
-    mode = kw.pop("mode", "vector")
+    mode = _alias(kw, "mode", "obs_mode", "vector")
     if mode not in MODE_ALIASES:
         raise ConfigError(f"mode must be one of {', '.join(MODES)} ('image' = 'rgb'), got {mode!r}")
     obs_radius = kw.pop("obs_radius", 0)
@@ -117,7 +109,10 @@ def parse_env_kwargs(preset: str = "hard", **kwargs: Any) -> tuple[Rules, EnvCon
     comm = CommConfig(**comm_kw) if comm_on else None
     if comm is not None and rules.n_agents < 2:
         raise ConfigError("agent_communication needs at least two agents (n_agents >= 2)")
-    return rules, EnvConfig(MODE_ALIASES[mode], obs_radius, comm, render_mode)
+    if any(h >= rules.n_agents for h in humans):
+        raise ConfigError(f"human_player {list(humans)}: the kitchen has {rules.n_agents} "
+                          f"cooks (0..{rules.n_agents - 1})")
+    return rules, EnvConfig(MODE_ALIASES[mode], obs_radius, comm, render_mode, humans)
 
 
 class KitchenCore:
@@ -205,4 +200,4 @@ class KitchenCore:
         return pairs[:, 0].tolist(), pairs[:, 1].tolist()
 
 
-__all__ = ["MODES", "EnvConfig", "KitchenCore", "normalise_rewards", "parse_env_kwargs"]
+__all__ = ["MODES", "EnvConfig", "KitchenCore", "parse_env_kwargs"]

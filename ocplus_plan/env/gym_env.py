@@ -107,14 +107,15 @@ class _Base(gym.Env):
                         f"which could not be imported ({exc}); install ocplus-plan[gui] or use "
                         "render_mode='rgb_array'"
                     ) from exc
-                self._window = Window("ocplus-plan")
+                self._window = Window("ocplus-plan", offscreen_ok=True)  # check_env tries it
             messages = []
             if self.core.comm is not None:
                 for a, row in enumerate(self.core.received.tolist()):
                     got = [f"{(a + k + 1) % self.core.n_agents}:{t}" for k, t in enumerate(row)
                            if t >= 0]
                     messages.append(f"cook {a} heard " + (", ".join(got) or "nothing"))
-            self._window.show(self.core.state, messages=messages)
+            self._window.show(self.core.state, messages=messages,
+                              humans=self.config.human_cooks)
             self._window.poll()
             self._window.tick(self.metadata["render_fps"])
         return None
@@ -125,15 +126,17 @@ class _Base(gym.Env):
             self._window = None
 
     def _finish(
-        self, result: Any, reward: float
-    ) -> tuple[tuple[Any, ...], SupportsFloat, bool, bool, dict[str, Any]]:
+        self, result: Any, reward: float | np.ndarray
+    ) -> tuple[Any, Any, bool, bool, dict[str, Any]]:
         """The common end of ``step``: episode bookkeeping, rendering, the 5-tuple."""
         if result.terminated or result.truncated:
             self._needs_reset = True
         if self.render_mode == "human":
             self.render()
         info = {"rewards": list(result.rewards), "events": result.events, "t": self.core.state.t}
-        return self._obs(), float(reward), result.terminated, result.truncated, info
+        if not isinstance(reward, np.ndarray):
+            reward = float(reward)
+        return self._obs(), reward, result.terminated, result.truncated, info
 
     def _check_running(self) -> None:
         if self._needs_reset:
@@ -152,11 +155,14 @@ class OvercookedPlusEnv(_Base):
     ``medium`` | ``hard``), ``map_name`` / ``map`` (registered name, YAML path or dict),
     ``dynamic_map`` / ``dynamic``, ``rewardList`` / ``rewards`` (keys such as
     ``"correct delivery"`` or ``correct_delivery``), ``n_agent`` / ``n_agents``,
-    ``horizon``, ``obs_radius`` (0 = whole map), ``mode`` (``vector`` | ``rgb`` (alias
-    ``image``) | ``symbolic``), ``agent_communication`` with ``comm_vocab`` (8),
-    ``comm_range`` (0 = unlimited), ``comm_failure_rate`` (0.0), ``comm_delay`` (1),
-    ``GUI`` / ``render_mode`` (``None`` | ``"rgb_array"`` | ``"human"``), and any other
-    rule parameter of :func:`ocplus_plan.sim.make_rules`. The seed goes through
+    ``horizon``, ``obs_radius`` (0 = whole map), ``mode`` / ``obs_mode`` (``vector`` |
+    ``rgb`` (alias ``image``) | ``symbolic``), ``agent_communication`` with ``comm_vocab``
+    (8), ``comm_range`` (0 = unlimited), ``comm_failure_rate`` (0.0), ``comm_delay`` (1),
+    ``GUI`` / ``GUI_enable`` / ``render_mode`` (``None`` | ``"rgb_array"`` | ``"human"``),
+    ``reward_scope`` (``"team"`` | ``"per_agent"``), the paper's ``n_task``,
+    ``fixed_task``, ``task_idx``, ``min_ing``, ``max_ing``, ``human_player`` and ``debug``
+    (meanings in :mod:`ocplus_plan.env.paper`), and any other rule parameter of
+    :func:`ocplus_plan.sim.make_rules`. The seed goes through
     ``reset(seed=...)``; ``reset()`` without one draws the episode seed from the env's
     generator, so a seeded first reset makes the whole sequence reproducible.
 
@@ -179,19 +185,26 @@ class OvercookedPlusEnv(_Base):
     **Rewards.** The scalar reward is the team sum of the per-cook rewards (with
     ``reward_mode="shared"`` every cook already gets the team's total, which is returned
     once); ``info["rewards"]`` holds the per-cook list and ``info["events"]`` the step's
-    simulator events. Defaults: subtask +10, correct delivery +200, wrong delivery -5,
-    step -0.1 per cook, burnt steak -2, expired order -20.
+    simulator events. ``reward_scope="per_agent"`` returns the per-cook rewards instead,
+    as a float64 array (``reward[i]``, the paper's loop): that is not Gymnasium's scalar
+    reward, so make it with ``gymnasium.make(..., disable_env_checker=True)`` (the passive
+    checker tests the first reward as a scalar) or with :func:`~ocplus_plan.create_env`.
+    Defaults: subtask +10, correct delivery +200, wrong delivery -5, step -0.1 per cook,
+    burnt steak -2, expired order -20.
 
     **Termination.** ``truncated`` after ``horizon`` (200) steps; ``terminated`` only when
     ``stop_after_orders`` orders have been served (off by default).
 
     **Registered configurations.** ``OvercookedPlus-v0`` and ``Overcooked-Plus`` (this
     class, preset ``hard``, 2 cooks, MapC) and ``OvercookedPlusSingle-v0``
-    (:class:`OvercookedPlusSingleEnv`); ``import ocplus_plan.env`` registers them, or use
-    ``gymnasium.make("ocplus_plan.env:OvercookedPlus-v0")``.
+    (:class:`OvercookedPlusSingleEnv`); ``import ocplus_plan`` registers them, or use
+    ``gymnasium.make("ocplus_plan:OvercookedPlus-v0")`` with no import of ours first.
     """
 
-    def __init__(self, preset: str = "hard", **kwargs: Any) -> None:
+    def __init__(self, preset: str = "hard", *, reward_scope: str = "team", **kwargs: Any) -> None:
+        if reward_scope not in ("team", "per_agent"):
+            raise ConfigError(f"reward_scope must be 'team' or 'per_agent', got {reward_scope!r}")
+        self.reward_scope = reward_scope
         self._setup(preset, kwargs)
         n = self.core.n_agents
         agent_obs = agent_observation_space(self.core)
@@ -214,11 +227,13 @@ class OvercookedPlusEnv(_Base):
 
     def step(
         self, action: Any
-    ) -> tuple[tuple[Any, ...], SupportsFloat, bool, bool, dict[str, Any]]:
+    ) -> tuple[tuple[Any, ...], SupportsFloat | np.ndarray, bool, bool, dict[str, Any]]:
         self._check_running()
         moves, tokens = self.core.split_action(action)
         result = self.core.step(moves, tokens)
         rewards = result.rewards
+        if self.reward_scope == "per_agent":
+            return self._finish(result, np.array(rewards, dtype=np.float64))
         return self._finish(result, rewards[0] if self.rules.reward_mode == "shared" else sum(rewards))
 
 

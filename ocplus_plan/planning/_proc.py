@@ -62,6 +62,12 @@ def _child_main(conn: Any, log_path: str, parent_pid: int,
                 fn: Callable[..., Any], args: tuple[Any, ...]) -> None:
     os.setpgid(0, 0)
     threading.Thread(target=_watch_parent, args=(parent_pid,), daemon=True).start()
+    # Temporary files of the child and of the planners it starts (UP's PDDL folders, Aries'
+    # server log, which it never deletes) go to the private folder the parent removes,
+    # even when the group is killed at the time limit.
+    private = os.path.dirname(log_path)
+    tempfile.tempdir = private
+    os.environ["TMPDIR"] = private
     # Planners print a lot (and some print from native code): send fds 1 and 2 to a file.
     log_fd = os.open(log_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
     sys.stdout.flush()
@@ -143,11 +149,16 @@ def run_isolated(fn: Callable[..., Any], args: tuple[Any, ...], hard_limit: floa
     """
     if sys.platform == "win32":  # pragma: no cover - the project targets Linux
         raise OSError("isolated planner runs need fork and process groups (Linux/macOS)")
+    # one private folder for the child's log and temporary files, removed whatever happens
+    with tempfile.TemporaryDirectory(prefix="ocplus-planner-") as private:
+        return _run_child(fn, args, hard_limit, os.path.join(private, "child.log"))
+
+
+def _run_child(fn: Callable[..., Any], args: tuple[Any, ...], hard_limit: float,
+               log_path: str) -> Outcome:
     ctx = multiprocessing.get_context("fork")
     recv, send = ctx.Pipe(duplex=False)
-    with tempfile.NamedTemporaryFile(prefix="ocplus-planner-", suffix=".log", delete=False) as log:
-        pass
-    proc = ctx.Process(target=_child_main, args=(send, log.name, os.getpid(), fn, args),
+    proc = ctx.Process(target=_child_main, args=(send, log_path, os.getpid(), fn, args),
                        daemon=False)
     start = time.perf_counter()
     proc.start()
@@ -173,12 +184,7 @@ def run_isolated(fn: Callable[..., Any], args: tuple[Any, ...], hard_limit: floa
         kill_group(pgid)
         proc.join(2.0)
         recv.close()
-    tail = _read_tail(log.name)
-    try:
-        os.unlink(log.name)
-    except OSError:
-        pass
-    return Outcome(kind, value, wall, pgid, tail)
+    return Outcome(kind, value, wall, pgid, _read_tail(log_path))
 
 
 def _death_reason(exitcode: int | None) -> str:

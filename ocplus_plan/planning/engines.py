@@ -29,19 +29,19 @@ import warnings
 from dataclasses import asdict, dataclass, field
 from functools import cache, lru_cache
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..errors import DependencyNotInstalled, PlannerError
 from . import _proc
 from .adapt import adapt_for_engine, without_quality_metrics
 from .validate import plan_from_steps, plan_quality, plan_to_steps, validate_plan
 
+if TYPE_CHECKING:
+    from importlib.resources.abc import Traversable
+
 # up-lpg imports pkg_resources, which warns on every import (UP's factory imports it too);
 # the pin setuptools<81 is deliberate, so this one message is noise.
 warnings.filterwarnings("ignore", message="pkg_resources is deprecated", category=UserWarning)
-
-#: Where the planner configurations live (override with ``OCPLUS_PLANNERS_DIR``).
-PLANNERS_DIR = Path(__file__).resolve().parents[2] / "planners"
 
 ENCODINGS = ("classical", "temporal")
 
@@ -156,16 +156,28 @@ class PlanResult:
 
 # ---------------------------------------------------------------- registry
 
+def planners_dir() -> Traversable:
+    """Where the planner configurations are read from: ``OCPLUS_PLANNERS_DIR`` when set,
+    else the shipped ones (package data from the top-level ``planners/``)."""
+    override = os.environ.get("OCPLUS_PLANNERS_DIR")
+    if override:
+        return Path(override)
+    from ..data import data_files
+
+    return data_files("planners")
+
+
 def load_registry(directory: str | os.PathLike[str] | None = None) -> dict[str, PlannerConfig]:
-    """Read every ``*.yaml`` planner config in ``directory`` (default :data:`PLANNERS_DIR`)."""
+    """Read every ``*.yaml`` planner config in ``directory`` (default :func:`planners_dir`)."""
     import yaml
 
-    root = Path(directory or os.environ.get("OCPLUS_PLANNERS_DIR") or PLANNERS_DIR)
+    root = Path(directory) if directory else planners_dir()
     if not root.is_dir():
         raise PlannerError(f"planner configs not found: {root} is not a directory; "
-                           "run from a source checkout or set OCPLUS_PLANNERS_DIR")
+                           "point OCPLUS_PLANNERS_DIR at a folder of planner YAML files")
     registry: dict[str, PlannerConfig] = {}
-    for path in sorted(root.glob("*.yaml")):
+    for path in sorted((f for f in root.iterdir() if f.name.endswith(".yaml")),
+                       key=lambda f: f.name):
         try:
             data = yaml.safe_load(path.read_text(encoding="utf-8"))
         except yaml.YAMLError as exc:
@@ -425,7 +437,6 @@ def _solve_in_child(problem: Any, config: PlannerConfig, limit: float,
 __all__ = [
     "ENCODINGS",
     "GRACE_SECONDS",
-    "PLANNERS_DIR",
     "STATUSES",
     "Availability",
     "PlanResult",
@@ -435,6 +446,7 @@ __all__ = [
     "get_planner",
     "load_registry",
     "planner_names",
+    "planners_dir",
     "solve",
     "without_quality_metrics",
 ]

@@ -11,12 +11,12 @@ with UP's PDDLReader.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .compile import Compiled, compile
 
-#: Where the checked-in generated domains live.
-DOMAINS_DIR = Path(__file__).resolve().parents[2] / "domains"
+if TYPE_CHECKING:
+    from importlib.resources.abc import Traversable
 
 
 def _writer(compiled: Compiled) -> Any:
@@ -26,20 +26,24 @@ def _writer(compiled: Compiled) -> Any:
 
 
 def problem_texts(compiled: Compiled) -> tuple[str, str]:
-    """(domain text, problem text) of a compiled state."""
+    """(domain text, problem text) of a compiled state.
+
+    Requirements: classical files declare ``:action-costs`` for the static functions that
+    feed the costs (distances, steps left), as the IPC action-cost domains do and as Fast
+    Downward requires (it rejects ``:numeric-fluents``). In temporal files the same
+    functions give the durations, which PDDL 2.1 calls numeric fluents: UP's writer does
+    not say so, and VAL's ``Parser`` warns ``Undeclared requirement :number-fluents`` at
+    every use, so they declare ``:numeric-fluents`` (Kairos, LPG and UP's reader take it).
+    """
     writer = _writer(compiled)
-    return writer.get_domain(), writer.get_problem()
+    domain = writer.get_domain()
+    if compiled.encoding == "temporal":
+        domain = declare_numeric_fluents(domain)
+    return domain, writer.get_problem()
 
 
 def declare_numeric_fluents(domain: str) -> str:
-    """The domain text with ``:numeric-fluents`` added when it declares functions.
-
-    The written files declare only ``:action-costs`` when static functions feed the
-    costs (distances, steps left), as the IPC action-cost domains do and as Fast
-    Downward requires (it rejects ``:numeric-fluents``). Stricter parsers (the
-    ``pddl`` package, VAL's ``Parser``) want the functions declared as numeric
-    fluents: the tests parse this variant with them.
-    """
+    """The domain text with ``:numeric-fluents`` added when it declares functions."""
     head, sep, rest = domain.partition("(:requirements")
     if not sep or "(:functions" not in rest:
         return domain
@@ -75,8 +79,11 @@ def domain_text(encoding: str, granularity: str, switches: bool = False) -> str:
     return problem_texts(compiled)[0]
 
 
-def domain_path(encoding: str, granularity: str, switches: bool = False) -> Path:
-    return DOMAINS_DIR / f"{encoding}_{granularity}{'_switches' if switches else ''}.pddl"
+def domain_path(encoding: str, granularity: str, switches: bool = False) -> Traversable:
+    """The checked-in domain of one variant (package data built from ``domains/``)."""
+    from ..data import data_files
+
+    return data_files("domains") / f"{encoding}_{granularity}{'_switches' if switches else ''}.pddl"
 
 
 def read_pddl(domain: str | Path, problem: str | Path) -> Any:
@@ -86,5 +93,5 @@ def read_pddl(domain: str | Path, problem: str | Path) -> Any:
     return PDDLReader().parse_problem(str(domain), str(problem))
 
 
-__all__ = ["DOMAINS_DIR", "declare_numeric_fluents", "domain_path", "domain_text", "problem_texts", "read_pddl",
+__all__ = ["declare_numeric_fluents", "domain_path", "domain_text", "problem_texts", "read_pddl",
            "write_pddl"]

@@ -62,7 +62,7 @@ def rules_to_dict(rules: Rules) -> dict[str, Any]:
         if f.name in ("preset", "layout"):
             continue
         value = getattr(rules, f.name)
-        if f.name == "recipes":
+        if f.name == "recipes" or (f.name == "fixed_orders" and value is not None):
             value = [recipe_name(r) for r in value]
         elif f.name == "rewards":
             value = {g.name: getattr(value, g.name) for g in fields(Rewards)}

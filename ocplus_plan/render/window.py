@@ -18,6 +18,8 @@ space and the second the arrows + enter.
 from __future__ import annotations
 
 import os
+import sys
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -25,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ConfigError, DependencyNotInstalled
+from ..errors import ConfigError, DependencyNotInstalled, DisplayUnavailable
 from ..sim.codes import Action, Item, ItemState, Where
 from ..sim.rules import recipe_name
 from ..sim.state import State
@@ -38,6 +40,10 @@ DIM = (150, 155, 165)
 ACCENT = (255, 205, 90)
 BAR_BACK = (70, 74, 84)
 GOOD, WARN, BAD = (90, 200, 110), (240, 170, 60), (220, 70, 60)
+#: the outline and label that mark the cooks a person plays ("YOU", or "P1" / "P2")
+HUMAN_MARK = (255, 40, 200)
+#: SDL drivers that draw into memory only: a window opened with them is never seen
+OFFSCREEN_DRIVERS = ("offscreen", "dummy")
 
 #: key name (pygame.key.key_code spelling) -> action, per keyset
 WASD: dict[str, Action] = {
@@ -69,6 +75,27 @@ def require_pygame() -> Any:
             "(or use render_mode='rgb_array', which needs no window)"
         ) from exc
     return pygame
+
+
+def display_problem() -> str | None:
+    """Why no window can be seen here, or None. ``SDL_VIDEODRIVER`` set by the caller
+    (``dummy`` in tests) is taken as meant; on Linux and the BSDs a window needs ``DISPLAY``
+    (X11) or ``WAYLAND_DISPLAY`` (checked without starting SDL, which would fall back to an
+    invisible off-screen driver and leave the program waiting for keys nobody can press)."""
+    if os.environ.get("SDL_VIDEODRIVER"):
+        return None
+    if sys.platform.startswith(("linux", "freebsd", "openbsd", "netbsd")) and not (
+            os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        return "no display to open a window on (neither DISPLAY nor WAYLAND_DISPLAY is set)"
+    return None
+
+
+def require_display(alternatives: str) -> None:
+    """Raise :class:`DisplayUnavailable` at once when no window can be seen, naming the
+    ``alternatives`` that work without one."""
+    problem = display_problem()
+    if problem is not None:
+        raise DisplayUnavailable(f"{problem}; {alternatives}")
 
 
 def key_map(n_humans: int) -> dict[str, tuple[int, Action]]:
@@ -212,15 +239,20 @@ class Window:
     """A pygame window showing a frame and the side panel.
 
     ``show(state, ...)`` draws (the frame is rendered with ``render_frame`` unless one is
-    given), ``poll()`` returns the key names pressed since the last call and whether the
+    given; ``humans=`` marks the cooks people play), ``poll()`` returns the key names pressed since the last call and whether the
     window was closed, ``save(path)`` writes the window as PNG, ``close()`` closes it.
-    Under ``SDL_VIDEODRIVER=dummy`` everything works without a display (tests, CI).
+    Under ``SDL_VIDEODRIVER=dummy`` everything works without a display (tests, CI);
+    without a display and without that choice it raises :class:`DisplayUnavailable` (with
+    ``headless_hint``, what to do instead) rather than draw a window nobody sees.
     """
 
     def __init__(self, title: str = "ocplus-plan", *, panel_width: int = PANEL_WIDTH,
-                 min_map_height: int = MIN_MAP_HEIGHT, tile: int | None = None) -> None:
+                 min_map_height: int = MIN_MAP_HEIGHT, tile: int | None = None,
+                 headless_hint: str = "draw frames with render_mode='rgb_array' instead, or "
+                                      "set SDL_VIDEODRIVER=dummy to run the window off-screen",
+                 offscreen_ok: bool = False) -> None:
         self.pg = require_pygame()
-        self.pg.display.init()
+        self._open_display(headless_hint, offscreen_ok)
         self.pg.font.init()
         self.title = title
         self.panel_width = panel_width
@@ -234,14 +266,41 @@ class Window:
         self._bold.set_bold(True)
         self.pg.display.set_caption(title)
 
+    def _open_display(self, headless_hint: str, offscreen_ok: bool) -> None:
+        """Start SDL's video. Without a display: raise :class:`DisplayUnavailable` naming
+        ``headless_hint``, or with ``offscreen_ok`` (an env's ``render_mode="human"``, as
+        Gymnasium's ``check_env`` tries it) draw off-screen with one warning instead of
+        letting SDL probe X11 / Wayland and print its errors."""
+        problem = display_problem()
+        if problem is not None and not offscreen_ok:
+            raise DisplayUnavailable(f"{problem}; {headless_hint}")
+        if problem is not None:
+            warnings.warn(f"{problem}: the window is drawn off-screen (SDL's dummy driver); "
+                          "use render_mode='rgb_array' for frames", stacklevel=3)
+            os.environ["SDL_VIDEODRIVER"] = "dummy"  # read by SDL at init only
+            try:
+                self.pg.display.init()
+            finally:
+                del os.environ["SDL_VIDEODRIVER"]
+            return
+        self.pg.display.init()
+        driver = self.pg.display.get_driver()
+        if (driver in OFFSCREEN_DRIVERS and not os.environ.get("SDL_VIDEODRIVER")
+                and not offscreen_ok):
+            self.pg.display.quit()
+            raise DisplayUnavailable(f"SDL found no display and fell back to its {driver!r} "
+                                     f"driver, so nobody would see the window; {headless_hint}")
+
     # -- drawing
     def frame_for(self, state: State) -> np.ndarray:
         from .rgb import render_frame
 
         return render_frame(state) if self.tile is None else render_frame(state, tile=self.tile)
 
-    def compose(self, state: State, frame: np.ndarray | None = None, **panel: Any) -> Any:
-        """Draw frame + panel onto the window surface (opening or resizing it) and return it."""
+    def compose(self, state: State, frame: np.ndarray | None = None, *,
+                humans: Sequence[int] = (), **panel: Any) -> Any:
+        """Draw frame + panel onto the window surface (opening or resizing it) and return it.
+        ``humans``: the cooks a person plays, outlined and labelled on the map."""
         pg = self.pg
         if frame is None:
             frame = self.frame_for(state)
@@ -264,8 +323,26 @@ class Window:
         if scale > 1:
             image = pg.transform.scale(image, (map_w, map_h))
         self.screen.blit(image, (0, 0))
+        if humans and map_h % state.geo.rows == 0 and map_h // state.geo.rows * state.geo.cols == map_w:
+            self._mark_humans(state, humans, map_h // state.geo.rows)
         self._draw_panel(lines, map_w + 12, self.panel_width - 24)
         return self.screen
+
+    def _mark_humans(self, state: State, humans: Sequence[int], cell: int) -> None:
+        """Outline each human's cook and label it "YOU" (one human) or "P1", "P2" (the frame
+        is the whole map, ``cell`` pixels per cell)."""
+        pg = self.pg
+        for k, agent in enumerate(humans):
+            r, c = state.agent_rc(agent)
+            box = pg.Rect(c * cell, r * cell, cell, cell)
+            pg.draw.rect(self.screen, HUMAN_MARK, box, width=max(2, cell // 12))
+            label = self._bold.render("YOU" if len(humans) == 1 else f"P{k + 1}", True,
+                                      BACKGROUND, HUMAN_MARK)
+            # above the cook, or below it on the top row, kept inside the map
+            x = min(max(0, box.centerx - label.get_width() // 2),
+                    cell * state.geo.cols - label.get_width())
+            y = box.top - label.get_height() if r > 0 else box.bottom
+            self.screen.blit(label, (x, y))
 
     def _draw_panel(self, lines: list[PanelLine], x: int, width: int, draw: bool = True) -> int:
         """Draw the panel lines from the top at ``x``; return the height used (+ margin)."""
@@ -337,13 +414,16 @@ class Window:
 
 __all__ = [
     "ARROWS",
+    "HUMAN_MARK",
     "KEYSETS",
     "KEY_HELP",
     "WASD",
     "PanelLine",
     "Window",
     "describe_item",
+    "display_problem",
     "key_map",
     "panel_lines",
+    "require_display",
     "require_pygame",
 ]

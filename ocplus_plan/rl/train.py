@@ -127,6 +127,11 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         policy_kwargs={"net_arch": {"pi": list(config.hidden), "vf": list(config.hidden)}},
         seed=config.seed, device="cpu", verbose=0,
     )
+    # SB3's default logger makes an empty tempdir/SB3-<date> folder on every learn(): log
+    # nowhere, into the run's own folder (the monitor writes episodes.csv itself)
+    from stable_baselines3.common.logger import configure
+
+    model.set_logger(configure(str(out), []))
     if config.init:
         source = load_policy(config.init)
         if source.meta["obs"] != config.obs or source.meta["obs_size"] != venv.obs_size:

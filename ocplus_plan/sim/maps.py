@@ -11,7 +11,7 @@ import os
 from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -25,6 +25,9 @@ from .codes import (
     WALKABLE,
     Cell,
 )
+
+if TYPE_CHECKING:
+    from importlib.resources.abc import Traversable
 
 #: canonical key -> accepted spellings (the paper's first).
 KEY_ALIASES: dict[str, tuple[str, ...]] = {
@@ -40,8 +43,6 @@ KEY_ALIASES: dict[str, tuple[str, ...]] = {
 }
 _SPELLING_TO_KEY = {s: k for k, spellings in KEY_ALIASES.items() for s in spellings}
 
-#: Folder of the shipped maps (top-level ``maps/``); ``OCPLUS_MAPS`` adds more folders.
-MAPS_DIR = Path(__file__).resolve().parents[2] / "maps"
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,10 +59,13 @@ class Layout:
     spawn_points: tuple[tuple[int, int], ...]
     max_agents: int
     is_dynamic: bool
+    #: steps between switches; 0 is allowed on a static map (it never switches)
     map_switch_step: int
     description: str = ""
     #: cell code -> sorted (row, col) cells of that station / spawn tile kind
     stations: dict[int, tuple[tuple[int, int], ...]] = field(default_factory=dict)
+    #: ``max_n_agent`` as the file says it (``max_agents`` is capped at the spawn count)
+    declared_max_agents: int = 0
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -92,16 +96,21 @@ class Layout:
         return {int(c): len(self.cells_of(c)) for c in SPAWN_TILES}
 
 
-def available_maps() -> dict[str, Path]:
-    """Registered map names -> files: the shipped ``maps/`` plus ``OCPLUS_MAPS`` folders."""
-    folders = [MAPS_DIR]
+def available_maps() -> dict[str, Traversable]:
+    """Registered map names -> files: the shipped maps (package data from ``maps/``) plus
+    the ``*.yaml`` files of the ``OCPLUS_MAPS`` folders."""
+    from ..data import data_files
+
+    folders: list[Traversable] = [data_files("maps")]
     extra = os.environ.get("OCPLUS_MAPS", "")
     folders += [Path(p) for p in extra.split(os.pathsep) if p]
-    found: dict[str, Path] = {}
+    found: dict[str, Traversable] = {}
     for folder in folders:
         if folder.is_dir():
-            for path in sorted(folder.glob("*.yaml")):
-                found.setdefault(path.stem, path)
+            files = sorted((f for f in folder.iterdir() if f.name.endswith(".yaml")),
+                           key=lambda f: f.name)
+            for file in files:
+                found.setdefault(file.name[: -len(".yaml")], file)
     return found
 
 
@@ -110,8 +119,8 @@ def load_map(spec: str | os.PathLike[str] | dict[str, Any], *, source: str | Non
     if isinstance(spec, dict):
         return _parse(spec, source or "<dict>")
     text_spec = os.fspath(spec)
-    path = Path(text_spec)
-    if not path.exists():
+    path: Traversable = Path(text_spec)
+    if not path.is_file():
         registry = available_maps()
         if text_spec in registry:
             path = registry[text_spec]
@@ -124,7 +133,7 @@ def load_map(spec: str | os.PathLike[str] | dict[str, Any], *, source: str | Non
     import yaml  # local: the core imports pyyaml only when a file is read
 
     try:
-        raw = yaml.safe_load(path.read_text())
+        raw = yaml.safe_load(path.read_text(encoding="utf-8"))
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
@@ -222,9 +231,7 @@ def _parse(raw: dict[str, Any], src: str) -> Layout:
         raise MapFormatError(f"{src}: 'is_dynamic_map' must be true or false, got {is_dynamic!r}")
     if is_dynamic and switch_grid is None:
         raise MapFormatError(f"{src}: 'is_dynamic_map' is true but there is no 'switch_map'")
-    switch_step = d.get("map_switch_step", 15)
-    if isinstance(switch_step, bool) or not isinstance(switch_step, int) or switch_step < 1:
-        raise MapFormatError(f"{src}: 'map_switch_step' must be a positive integer, got {switch_step!r}")
+    switch_step = _switch_step(d, bool(is_dynamic), src)
 
     grids = [grid] if switch_grid is None else [grid, switch_grid]
     if "agent_spawn_points" in d:
@@ -258,14 +265,9 @@ def _parse(raw: dict[str, Any], src: str) -> Layout:
                 f"{src}: no spawn points: add 'agent_spawn_points' or cells with code 2"
             )
 
-    max_agents = d.get("max_n_agent", len(spawns))
-    if isinstance(max_agents, bool) or not isinstance(max_agents, int) or max_agents < 1:
-        raise MapFormatError(f"{src}: 'max_n_agent' must be a positive integer, got {max_agents!r}")
-    if max_agents > len(spawns):
-        raise MapFormatError(
-            f"{src}: 'max_n_agent' is {max_agents} but only {len(spawns)} spawn points are given; "
-            "add spawn points or lower max_n_agent"
-        )
+    declared = d.get("max_n_agent", len(spawns))
+    if isinstance(declared, bool) or not isinstance(declared, int) or declared < 1:
+        raise MapFormatError(f"{src}: 'max_n_agent' must be a positive integer, got {declared!r}")
 
     stations: dict[int, tuple[tuple[int, int], ...]] = {}
     for code in STATIONS | {Cell.COUNTER}:
@@ -280,12 +282,28 @@ def _parse(raw: dict[str, Any], src: str) -> Layout:
         grid=grid,
         switch_grid=switch_grid,
         spawn_points=tuple(spawns),
-        max_agents=max_agents,
+        # more cooks than spawn points cannot be placed: the paper's mapF says 3 for 2
+        max_agents=min(declared, len(spawns)),
         is_dynamic=bool(is_dynamic),
         map_switch_step=switch_step,
         description=str(d.get("description") or ""),
         stations=stations,
+        declared_max_agents=declared,
     )
+
+
+#: the switch period of a dynamic map that does not give one (SPEC section 2's MapC value)
+DEFAULT_SWITCH_STEP = 15
+
+
+def _switch_step(d: dict[str, Any], is_dynamic: bool, src: str) -> int:
+    """``map_switch_step``: a positive integer on a dynamic map. A static map never switches,
+    so any integer >= 0 is accepted there (the paper's static maps say 0)."""
+    step = d.get("map_switch_step", DEFAULT_SWITCH_STEP)
+    if isinstance(step, bool) or not isinstance(step, int) or step < (1 if is_dynamic else 0):
+        need = "a positive integer on a dynamic map" if is_dynamic else "an integer >= 0"
+        raise MapFormatError(f"{src}: 'map_switch_step' must be {need}, got {step!r}")
+    return step
 
 
 def reachable_floor(grid: np.ndarray, start: tuple[int, int]) -> set[tuple[int, int]]:

@@ -11,10 +11,19 @@ if TYPE_CHECKING:
     from .state import State
 
 
-def draw_order(state: State) -> None:
-    """Append one order drawn uniformly from the recipe pool with the episode's RNG."""
-    recipes = state.rules.recipes
-    recipe = recipes[int(state.rng.integers(len(recipes)))]
+def draw_order(state: State, replaces: Order | None = None) -> None:
+    """Append one order drawn uniformly from the recipe pool with the episode's RNG.
+
+    With fixed orders (``rules.fixed_orders``) nothing is drawn: the order that
+    ``replaces`` a served or expired one has its recipe, and otherwise the fixed
+    recipes come in turn."""
+    fixed = state.rules.fixed_orders
+    if fixed is not None:
+        recipe = replaces.recipe if replaces is not None else \
+            fixed[state.next_order_id % len(fixed)]
+    else:
+        recipes = state.rules.recipes
+        recipe = recipes[int(state.rng.integers(len(recipes)))]
     limit = state.rules.order_time_limit
     deadline = state.t + limit if limit is not None else -1
     state.orders.append(Order(state.next_order_id, recipe, state.t, deadline))
@@ -62,5 +71,5 @@ def expire_orders(state: State, rewards: list[float], events: list[Event]) -> No
         for a in range(n):
             rewards[a] += share
         events.append(Event("order_expired", -1, None, -1, order.order_id))
-        draw_order(state)
+        draw_order(state, order)
         events.append(Event("order_new", -1, None, -1, state.orders[-1].order_id))

@@ -8,8 +8,11 @@ about the rules of one episode lives in one frozen :class:`Rules` object made by
 from __future__ import annotations
 
 import itertools
+from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
+
+import numpy as np
 
 from ..errors import ConfigError, MapFormatError
 from .codes import ITEM_NAMES, PROCESS_STATION, VEGETABLES, Cell, Item
@@ -30,16 +33,30 @@ class Rewards:
     order_expired: float = -20.0
 
     @classmethod
-    def from_mapping(cls, values: dict[str, float] | Rewards | None) -> Rewards:
+    def from_mapping(cls, values: Mapping[str, float] | Rewards | None) -> Rewards:
+        """Rewards from a mapping keyed as here (``correct_delivery``) or as the paper's
+        ``rewardList`` (``"correct delivery"``); unlisted keys keep their defaults."""
         if values is None:
             return cls()
         if isinstance(values, Rewards):
             return values
+        if not isinstance(values, Mapping):
+            raise ConfigError(
+                "rewards / rewardList must be a mapping such as {'correct_delivery': 200} or "
+                f"{{'correct delivery': 200}}, got {type(values).__name__}"
+            )
+        given = {reward_key(k): v for k, v in values.items()}
         known = {f.name for f in fields(cls)}
-        bad = sorted(set(values) - known)
+        bad = sorted(set(given) - known)
         if bad:
-            raise ConfigError(f"unknown reward key(s) {bad}; known keys: {sorted(known)}")
-        return cls(**{k: float(v) for k, v in values.items()})
+            raise ConfigError(f"unknown reward key(s) {bad}; known keys: {sorted(known)} "
+                              "(the paper's spellings with spaces work too)")
+        return cls(**{k: float(v) for k, v in given.items()})
+
+
+def reward_key(key: object) -> str:
+    """``"Correct delivery"`` / ``"correct-delivery"`` -> ``"correct_delivery"``."""
+    return str(key).strip().lower().replace(" ", "_").replace("-", "_")
 
 
 @dataclass(frozen=True)
@@ -63,6 +80,9 @@ class Rules:
     map_switch_step: int = 15
     reward_mode: str = "individual"
     rewards: Rewards = field(default_factory=Rewards)
+    #: fixed orders (the paper's ``fixed_task``): exactly these are open in every episode,
+    #: and a served or expired order is replaced by one with the same recipe
+    fixed_orders: tuple[Recipe, ...] | None = None
 
     def recipe_name(self, recipe: Recipe) -> str:
         return recipe_name(recipe)
@@ -106,9 +126,12 @@ PRESETS: dict[str, Preset] = {
 }
 
 _RULE_FIELDS = {
-    f.name for f in fields(Rules) if f.name not in ("preset", "layout", "recipes", "rewards")
+    f.name for f in fields(Rules)
+    if f.name not in ("preset", "layout", "recipes", "rewards", "fixed_orders")
 }
-_OVERRIDES = _RULE_FIELDS | {"map", "rewards", "recipes", "recipe_sizes"}
+_OVERRIDES = _RULE_FIELDS | {"map", "rewards", "recipes", "recipe_sizes", "fixed_orders"}
+#: the generator seed of ``fixed_orders=True`` (a constant: the same orders in every episode)
+FIXED_ORDERS_SEED = 42
 
 
 def recipe_pool(
@@ -177,14 +200,13 @@ def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, 
     if not isinstance(n_agents, int) or n_agents < 1:
         raise ConfigError(f"n_agents must be a positive integer, got {n_agents!r}")
     if n_agents > layout.max_agents:
-        raise ConfigError(
-            f"n_agents={n_agents} but map {layout.name!r} allows at most {layout.max_agents} "
-            f"(max_n_agent); pick another map or fewer agents"
-        )
+        raise ConfigError(_too_many_agents(n_agents, layout))
     dynamic = overrides.pop("dynamic", p.dynamic)
     if dynamic and not layout.is_dynamic:
+        why = ("has no switch_map" if layout.switch_grid is None
+               else "is marked static (is_dynamic_map / dynamic_map: false)")
         raise ConfigError(
-            f"preset {preset!r} wants a dynamic layout but map {layout.name!r} has no switch_map; "
+            f"preset {preset!r} wants a dynamic layout but map {layout.name!r} {why}; "
             "use a dynamic map (e.g. mapC) or pass dynamic=False"
         )
     missing = [c.name.lower() for c in p.stations if not layout.cells_of(c)]
@@ -197,6 +219,7 @@ def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, 
             "choose a map that has them"
         )
 
+    overrides_given = set(overrides)
     recipe_sizes = tuple(overrides.pop("recipe_sizes", p.recipe_sizes))
     if "recipes" in overrides:
         recipes = tuple(parse_recipe(r) for r in overrides.pop("recipes"))
@@ -215,8 +238,16 @@ def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, 
             "it lacks the ingredients or stations the preset's recipes need"
         )
 
+    fixed = overrides.pop("fixed_orders", None)
+    if fixed is not None and fixed is not False:
+        recipes, fixed = _fixed_orders(fixed, recipes, layout, "recipes" in overrides_given,
+                                       overrides)
+    else:
+        fixed = None
     rewards = Rewards.from_mapping(overrides.pop("rewards", None))
-    params: dict[str, Any] = {"map_switch_step": layout.map_switch_step}
+    # a static map may say 0 (the paper's do): then the Rules default stands, unused
+    params: dict[str, Any] = (
+        {"map_switch_step": layout.map_switch_step} if layout.map_switch_step > 0 else {})
     params.update(overrides)
     rules = Rules(
         preset=preset,
@@ -226,10 +257,54 @@ def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, 
         dirty_plates=bool(dirty),
         dynamic=bool(dynamic),
         rewards=rewards,
+        fixed_orders=fixed,
         **params,
     )
     _check(rules)
     return rules
+
+
+def _fixed_orders(
+    spec: Any, recipes: tuple[Recipe, ...], layout: Layout, recipes_given: bool,
+    overrides: dict[str, Any],
+) -> tuple[tuple[Recipe, ...], tuple[Recipe, ...]]:
+    """(recipe pool, fixed orders) for ``fixed_orders``: ``True`` draws ``n_orders`` recipes
+    once from the pool with a constant seed; a list of recipes names them (and sets
+    ``n_orders`` to their number; the pool becomes them unless ``recipes`` is given)."""
+    if spec is True:
+        n = overrides.get("n_orders", Rules.n_orders)
+        if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+            raise ConfigError(f"n_orders must be a positive integer, got {n!r}")
+        rng = np.random.default_rng(FIXED_ORDERS_SEED)
+        return recipes, tuple(recipes[int(rng.integers(len(recipes)))] for _ in range(n))
+    if isinstance(spec, str) or not isinstance(spec, (list, tuple)):
+        raise ConfigError(f"fixed_orders must be True or a list of recipes such as "
+                          f"['tomato', 'steak+lettuce'], got {spec!r}")
+    if not spec:
+        raise ConfigError("fixed_orders needs at least one recipe")
+    fixed = tuple(parse_recipe(r) for r in spec)
+    can = set(recipe_pool(layout, tuple(sorted({len(r) for r in fixed})), "allowed"))
+    for r in fixed:
+        if r not in can:
+            raise ConfigError(f"fixed order {recipe_name(r)!r} cannot be made on map "
+                              f"{layout.name!r} (missing spawn tiles or stations)")
+        if recipes_given and r not in recipes:
+            raise ConfigError(f"fixed order {recipe_name(r)!r} is not among the recipes "
+                              f"{[recipe_name(x) for x in recipes]}; add it or drop 'recipes'")
+    n = overrides.setdefault("n_orders", len(fixed))
+    if n != len(fixed):
+        raise ConfigError(f"fixed_orders lists {len(fixed)} orders but n_orders={n!r}; "
+                          "give one of them, or make them agree")
+    return (recipes if recipes_given else tuple(dict.fromkeys(fixed))), fixed
+
+
+def _too_many_agents(n_agents: int, layout: Layout) -> str:
+    spawns = len(layout.spawn_points)
+    why = f"max_n_agent {layout.max_agents}"
+    if layout.declared_max_agents > spawns:
+        why = f"it has only {spawns} spawn points; max_n_agent {layout.declared_max_agents}"
+    return (f"n_agents={n_agents} but map {layout.name!r} allows at most {layout.max_agents} "
+            f"cooks ({why}); pick another map or fewer agents")
 
 
 def _check(rules: Rules) -> None:

@@ -330,7 +330,7 @@ def _deliver(
         _send_home(state, i, _FRESH, events)
     state.agent_hand[a] = -1
     _send_home(state, held, _DIRTY if state.rules.dirty_plates else _CLEAN, events)
-    draw_order(state)
+    draw_order(state, order)
     events.append(Event("order_new", -1, None, -1, state.orders[-1].order_id))
 
 

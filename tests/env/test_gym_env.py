@@ -226,3 +226,33 @@ def test_importing_the_env_loads_no_heavy_package():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     loaded = {m.split(".")[0] for m in out.stdout.split()}
     assert not loaded & {"unified_planning", "pygame", "torch", "matplotlib", "pettingzoo"}
+
+
+@pytest.mark.parametrize("code", [
+    # gymnasium imports the package named before the colon: no import of ours first
+    "import gymnasium as gym; e = gym.make('ocplus_plan:OvercookedPlus-v0')",
+    # the package import alone registers every id, whatever the import order
+    ("import ocplus_plan, gymnasium as gym; e = gym.make('OvercookedPlus-v0'); "
+     "gym.make('Overcooked-Plus'); gym.make('OvercookedPlusSingle-v0')"),
+    "import gymnasium as gym, ocplus_plan; e = gym.make('OvercookedPlus-v0')",
+])
+def test_the_ids_are_registered_in_a_fresh_interpreter(code, tmp_path):
+    code += "; obs, info = e.reset(seed=0); print(e.unwrapped.rules.preset, len(obs))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=tmp_path, check=False)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.split() == ["hard", "2"]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="display variables are X11/Wayland")
+def test_check_env_without_a_display_draws_off_screen_and_prints_no_sdl_errors(tmp_path):
+    code = ("import gymnasium as gym, ocplus_plan; "
+            "from gymnasium.utils.env_checker import check_env; "
+            "check_env(gym.make('OvercookedPlus-v0').unwrapped); print('checked')")
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER")}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=tmp_path, env=env, timeout=120, check=False)
+    assert out.returncode == 0 and out.stdout.split() == ["checked"], out.stderr[-2000:]
+    assert "XDG_RUNTIME_DIR" not in out.stderr and "error:" not in out.stderr, out.stderr
+    assert out.stderr.count("drawn off-screen") == 1  # one clear warning instead

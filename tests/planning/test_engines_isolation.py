@@ -91,8 +91,11 @@ def test_planner_group_dies_with_the_calling_process(tmp_path: Path) -> None:
         "from ocplus_plan.planning.engines import solve\n"
         "solve(mod.tiny_classical(), mod._test_config('test-sleepy', mod.SleepyEngine),"
         " timeout=120)\n")
+    # killed with -9, the caller cannot remove its temporary files: keep them in tmp_path
+    tmp = tmp_path / "tmp"
+    tmp.mkdir()
     caller = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.DEVNULL,
-                              stderr=subprocess.DEVNULL)
+                              stderr=subprocess.DEVNULL, env={**os.environ, "TMPDIR": str(tmp)})
     try:
         deadline, group, pgid = time.monotonic() + 60, [], -1
         while time.monotonic() < deadline and len(group) < 4:  # child, sh and two sleeps

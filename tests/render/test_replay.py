@@ -51,6 +51,14 @@ def test_rule_overrides_and_the_map_travel_with_the_recording(tmp_path):
     assert verify(loaded).ok
 
 
+def test_fixed_orders_travel_with_the_recording(tmp_path):
+    rec, state = record_episode("easy", steps=80, fixed_orders=["onion", "tomato"])
+    assert state.stats["dishes_served"] >= 1  # the served orders came back
+    rules = Recording.load(rec.save(tmp_path / "f.jsonl")).make_rules()
+    assert rules.fixed_orders == state.rules.fixed_orders
+    assert verify(Recording.load(tmp_path / "f.jsonl")).ok
+
+
 def test_a_recording_is_compact(tmp_path):
     rec, _ = record_episode(steps=200)
     size = rec.save(tmp_path / "r.jsonl.gz").stat().st_size

@@ -18,7 +18,7 @@ import pytest
 from ocplus_plan.commands.play import PlaySession, run_loop
 from ocplus_plan.errors import DependencyNotInstalled
 from ocplus_plan.render import render_frame
-from ocplus_plan.render.window import Window, panel_lines, require_pygame
+from ocplus_plan.render.window import HUMAN_MARK, Window, panel_lines, require_pygame
 from ocplus_plan.sim import make_rules
 
 from .scripted import serve_one_dish_keys
@@ -138,3 +138,54 @@ def test_play_command_records_an_episode_that_replays(tmp_path, capsys):
     assert main(["replay", str(record), "--check"]) == 0
     assert json.loads(capsys.readouterr().out)["state_hash"] == metrics["state_hash"]
     assert main(["replay", str(record), "--fps", "2000", "--no-wait"]) == 0  # in the window
+
+
+def _marked(pixels: np.ndarray) -> np.ndarray:
+    return (pixels == np.array(HUMAN_MARK, dtype=np.uint8)).all(axis=2)
+
+
+def test_the_players_cook_is_outlined_and_labelled_on_the_map(window):
+    session = PlaySession(make_rules("easy", map="easy_open", n_agents=2), 0, humans=(1,))
+    window.show(session.state, agent_labels=session.labels())
+    assert not _marked(window.pixels()).any()  # the mark's colour is nowhere else
+    window.show(session.state, agent_labels=session.labels(), humans=session.humans)
+    marked = _marked(window.pixels())
+    rows, cols = session.state.geo.rows, session.state.geo.cols
+    frame_h = render_frame(session.state).shape[0]
+    cell = frame_h // rows * -(-window.min_map_height // frame_h)  # as the window scales it
+    r, c = session.state.agent_rc(1)
+    outline = marked[r * cell:(r + 1) * cell, c * cell:(c + 1) * cell]
+    assert outline[0].all() and outline[-1].all() and outline[:, 0].all()  # a full frame
+    r0, c0 = session.state.agent_rc(0)
+    assert not marked[r0 * cell + 4:(r0 + 1) * cell - 4, c0 * cell + 4:(c0 + 1) * cell - 4].any()
+    label = marked[max(0, (r - 1) * cell):r * cell, :cols * cell]  # "YOU" above the cook
+    assert label.sum() > cell  # the label's background box
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="display variables are X11/Wayland")
+@pytest.mark.parametrize("argv, hint", [
+    (["play", "--preset", "easy"], "--gif"),
+    (["replay", "{rec}"], "--check"),
+])
+def test_play_and_a_windowed_replay_exit_at_once_without_a_display(tmp_path, argv, hint):
+    import subprocess
+    import time
+
+    from ocplus_plan.render.replay import Recorder
+    from ocplus_plan.sim import new_state
+
+    rules = make_rules("easy", horizon=3)
+    recorder = Recorder(rules, 0)
+    rec = recorder.save(tmp_path / "r.jsonl", new_state(rules, 0))
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER")}
+    for display in (None, ":ocplus-no-such-display"):  # unset, and set but unreachable
+        if display is not None:
+            env["DISPLAY"] = display
+        start = time.monotonic()
+        proc = subprocess.run([sys.executable, "-m", "ocplus_plan.cli",
+                               *[a.format(rec=rec) for a in argv]], env=env, cwd=tmp_path,
+                              capture_output=True, text=True, timeout=60, check=False)
+        assert proc.returncode == 2, (display, proc.stdout, proc.stderr)
+        assert hint in proc.stderr and "display" in proc.stderr, proc.stderr
+        assert time.monotonic() - start < 30

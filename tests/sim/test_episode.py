@@ -66,3 +66,50 @@ def test_orders_expire_with_a_penalty_and_are_replaced():
     assert not set(first) & {o.order_id for o in s.orders} and len(s.orders) == 2
     expected = rules.rewards.step_penalty + rules.rewards.order_expired  # 2 orders / 2 agents
     assert rw[-1] == [pytest.approx(expected)] * 2
+
+
+def _serve_first_order(s) -> None:
+    """Put the first order's (single-vegetable) dish in cook 0's hand above easy_open's window
+    and serve it."""
+    kind = s.orders[0].recipe[0]
+    veg, plate = item_of(s, kind), item_of(s, Item.PLATE)
+    s.item_state[veg] = 1
+    on_plate(s, veg, plate)
+    give(s, 0, plate)
+    set_pos(s, 0, (3, 2))
+    res = transition(s, [int(Action.DOWN)] + [S] * (s.n_agents - 1))
+    assert "delivery" in kinds(res.events)
+
+
+def test_fixed_orders_are_the_same_every_episode_and_come_back_once_served():
+    rules = make_rules("easy", fixed_orders=["onion", "tomato"])
+    assert rules.n_orders == 2 and set(rules.recipes) == {(Item.ONION,), (Item.TOMATO,)}
+    for seed in (0, 1, 7):
+        assert [o.recipe for o in new_state(rules, seed).orders] == [(Item.ONION,), (Item.TOMATO,)]
+    s = new_state(rules, 3)
+    _serve_first_order(s)  # the onion order is served and an onion order replaces it
+    assert sorted(o.recipe for o in s.orders) == sorted([(Item.ONION,), (Item.TOMATO,)])
+    assert s.orders[0].order_id != 0
+
+
+def test_fixed_orders_true_draws_once_from_the_pool_independent_of_the_episode_seed():
+    rules = make_rules("hard", fixed_orders=True)
+    assert rules.fixed_orders is not None and len(rules.fixed_orders) == rules.n_orders
+    assert set(rules.fixed_orders) <= set(rules.recipes)
+    assert make_rules("hard", fixed_orders=True).fixed_orders == rules.fixed_orders
+    assert {tuple(o.recipe for o in new_state(rules, s).orders) for s in range(10)} == {
+        rules.fixed_orders}
+
+
+@pytest.mark.parametrize("kw, words", [
+    ({"fixed_orders": ["steak"]}, "cannot be made"),
+    ({"fixed_orders": []}, "at least one"),
+    ({"fixed_orders": ["tomato"], "n_orders": 3}, "n_orders=3"),
+    ({"fixed_orders": ["tomato"], "recipes": ["onion"]}, "not among the recipes"),
+    ({"fixed_orders": "yes"}, "True or a list"),
+])
+def test_bad_fixed_orders_are_clear_errors(kw, words):
+    from ocplus_plan.errors import ConfigError
+
+    with pytest.raises(ConfigError, match=words):
+        make_rules("easy", **kw)

@@ -61,3 +61,14 @@ def test_any_parameter_can_be_overridden():
 def test_impossible_configurations_are_clear_errors(args, kw, words):
     with pytest.raises(ConfigError, match=words):
         make_rules(*args, **kw)
+
+
+def test_reward_keys_accept_the_papers_rewardlist_spelling():
+    paper = {"subtask finished": 7, "correct delivery": 100, "wrong delivery": -1,
+             "step penalty": 0.0, "burned penalty": -3}
+    rules = make_rules("easy", rewards=paper)
+    r = rules.rewards
+    assert (r.subtask_finished, r.correct_delivery, r.wrong_delivery, r.step_penalty,
+            r.burned_penalty) == (7, 100, -1, 0.0, -3)
+    with pytest.raises(ConfigError, match="mapping"):
+        make_rules("easy", rewards=[("step penalty", 1)])

@@ -1,0 +1,2 @@
+"""This folder is also the data package ``ocplus_plan.data.maps``: pyproject.toml maps it there, so a
+wheel ships it; read it with ``ocplus_plan.data.data_files("maps")``."""
