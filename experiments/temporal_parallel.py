@@ -30,7 +30,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ocplus_plan.planning.compile import compile as compile_state  # noqa: E402
-from ocplus_plan.planning.engines import availability, solve  # noqa: E402
+from ocplus_plan.planning.engines import availability, get_planner, solve  # noqa: E402
 from ocplus_plan.sim import make_rules, new_state  # noqa: E402
 
 
@@ -49,7 +49,9 @@ def run_one(preset: str, cooks: int, planner: str, seed: int, orders: int,
         if left <= 0.5:
             row.update(status="timeout", anticipate=anticipate)
             break
-        res = solve(compiled.problem, planner, timeout=left, validate=True)
+        # an anytime engine runs for its whole limit: its own (smaller) limit is its budget
+        res = solve(compiled.problem, planner, timeout=min(left, get_planner(planner).timeout),
+                    validate=True)
         row.update(status=res.status, anticipate=anticipate,
                    planning_time=round(res.planning_time, 3), makespan=res.makespan,
                    validated=res.validated, reason=res.reason[:200])
