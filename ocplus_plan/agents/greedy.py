@@ -15,7 +15,7 @@ Movement: breadth-first paths on the current layout with the other agents' cells
 and the cells already claimed this step as obstacles (so the controller itself
 never causes a swap or a contested move); an agent whose way is blocked steps
 aside at random after waiting, and an idle agent steps off a busy agent's path.
-Nothing here re-implements a rule: plateability comes from ``sim.step.is_plateable``.
+Nothing here re-implements a rule: plateability comes from ``sim.queries.is_plateable``.
 """
 
 from __future__ import annotations
@@ -26,8 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..sim.codes import COUNTERS, VEGETABLES, Cell, Item, ItemState, Where
+from ..sim.queries import is_plateable
 from ..sim.state import State
-from ..sim.step import is_plateable
 from .base import Controller
 from .greedy_view import KitchenView
 

@@ -32,8 +32,8 @@ from dataclasses import dataclass
 from ..errors import ConfigError
 from ..sim.codes import Cell, Item, ItemState
 from ..sim.orders import plate_recipe
+from ..sim.queries import is_plateable
 from ..sim.state import Event, State
-from ..sim.step import is_plateable
 
 _SUBTASK_EVENTS = frozenset({"chop_done", "cook_done", "wash_done"})
 _BOARD, _PAN, _SINK = int(Cell.BOARD), int(Cell.PAN), int(Cell.SINK)

@@ -13,19 +13,23 @@ from collections.abc import Sequence
 from typing import NamedTuple
 
 from ..errors import InvalidActionError
-from .codes import COUNTERS, VEGETABLES, Cell, Item, ItemState, Where
+from .codes import Action, Item, ItemState, Where
 from .dynamics import maybe_switch
 from .orders import draw_order, expire_orders, matching_order, plate_recipe
+from .queries import (
+    Bump,
+    bump_effect,
+    bumps_needed,
+    ticks_until_burnt,
+    ticks_until_cooked,
+)
 from .state import Event, State
 
 _CELL, _HAND, _PLATE, _WAITING = int(Where.CELL), int(Where.HAND), int(Where.PLATE), int(Where.WAITING)
 _FRESH, _CHOPPED, _COOKED = int(ItemState.FRESH), int(ItemState.CHOPPED), int(ItemState.COOKED)
 _BURNT, _CLEAN, _DIRTY = int(ItemState.BURNT), int(ItemState.CLEAN), int(ItemState.DIRTY)
-_PLATE_KIND, _STEAK = int(Item.PLATE), int(Item.STEAK)
-_VEG = frozenset(int(v) for v in VEGETABLES)
-_COUNTERS = frozenset(int(c) for c in COUNTERS)
-_BOARD, _PAN, _SINK = int(Cell.BOARD), int(Cell.PAN), int(Cell.SINK)
-_DELIVERY, _TRASH = int(Cell.DELIVERY), int(Cell.TRASH)
+_PLATE_KIND = int(Item.PLATE)
+_STAY = int(Action.STAY)
 
 
 class StepResult(NamedTuple):
@@ -33,13 +37,6 @@ class StepResult(NamedTuple):
     rewards: list[float]
     terminated: bool
     truncated: bool
-
-
-def is_plateable(state: State, item: int) -> bool:
-    """A chopped vegetable or a cooked steak (the only things a plate takes)."""
-    kind = state.geo.item_kind[item]
-    st = state.item_state[item]
-    return (kind in _VEG and st == _CHOPPED) or (kind == _STEAK and st == _COOKED)
 
 
 def transition(state: State, joint_action: Sequence[int]) -> StepResult:
@@ -60,7 +57,7 @@ def transition(state: State, joint_action: Sequence[int]) -> StepResult:
     moving = False
     for a in range(n):
         act = int(joint_action[a])
-        if act == 4:
+        if act == _STAY:
             continue
         if not 0 <= act < 4:
             raise InvalidActionError(
@@ -138,58 +135,37 @@ def _resolve_moves(state: State, targets: list[int], events: list[Event]) -> Non
 
 # ---------------------------------------------------------------- interactions
 def _interact(state: State, a: int, cell: int, rewards: list[float], events: list[Event]) -> None:
-    code = state.geo.terrains[state.layout_index][cell]
+    """Agent ``a`` bumps the non-walkable ``cell``: do what :func:`bump_effect` says."""
     held = state.agent_hand[a]
+    effect = bump_effect(state, held, cell)
+    if effect == Bump.NOTHING:
+        return
     here = state.cell_item[cell]
-    if code in _COUNTERS:
-        if held < 0:
-            if here >= 0:
-                _pick(state, a, cell, here, events)
-        elif here < 0:
-            _put(state, a, cell, held, events)
-        else:
-            _plate_exchange(state, a, cell, held, here, events)
-    elif code == _BOARD:
-        kinds = state.geo.item_kind
-        if held < 0:
-            if here < 0:
-                return
-            if kinds[here] in _VEG and state.item_state[here] == _FRESH:
-                _advance(state, a, cell, here, "chop", state.rules.chop_steps, _CHOPPED,
-                         "chops", rewards, events)
-            else:
-                _pick(state, a, cell, here, events)
-        elif here < 0:
-            if kinds[held] in _VEG and state.item_state[held] == _FRESH:
-                _put(state, a, cell, held, events)
-        else:
-            _plate_exchange(state, a, cell, held, here, events)
-    elif code == _PAN:
-        if held < 0:
-            if here >= 0:
-                _pick(state, a, cell, here, events)
-        elif here < 0:
-            if state.geo.item_kind[held] == _STEAK and state.item_state[held] in (_FRESH, _COOKED):
-                _put(state, a, cell, held, events)
-        else:
-            _plate_exchange(state, a, cell, held, here, events)
-    elif code == _SINK:
-        if held < 0:
-            if here < 0:
-                return
-            if state.item_state[here] == _DIRTY:
-                _advance(state, a, cell, here, "wash", state.rules.wash_steps, _CLEAN,
-                         "washes", rewards, events)
-            else:
-                _pick(state, a, cell, here, events)
-        elif here < 0 and state.item_state[held] == _DIRTY:
-            _put(state, a, cell, held, events)
-    elif code == _DELIVERY:
-        if held >= 0:
-            _deliver(state, a, cell, held, rewards, events)
-    elif code == _TRASH:
-        if held >= 0:
-            _trash(state, a, cell, held, events)
+    if effect == Bump.PICK_UP:
+        _pick(state, a, cell, here, events)
+    elif effect == Bump.PUT_DOWN:
+        _put(state, a, cell, held, events)
+    elif effect == Bump.ONTO_PLATE:
+        state.agent_hand[a] = -1
+        state.item_where[held] = _PLATE
+        state.item_loc[held] = here
+        events.append(Event("plate_add", a, state.geo.rc(cell), held, here))
+    elif effect == Bump.TAKE_ONTO_PLATE:
+        state.cell_item[cell] = -1
+        state.item_where[here] = _PLATE
+        state.item_loc[here] = held
+        state.item_agent[here] = a
+        events.append(Event("plate_add", a, state.geo.rc(cell), here, held))
+    elif effect == Bump.CHOP:
+        _advance(state, a, cell, here, "chop", bumps_needed(state.rules, effect), _CHOPPED,
+                 "chops", rewards, events)
+    elif effect == Bump.WASH:
+        _advance(state, a, cell, here, "wash", bumps_needed(state.rules, effect), _CLEAN,
+                 "washes", rewards, events)
+    elif effect == Bump.DELIVER:
+        _deliver(state, a, cell, held, rewards, events)
+    elif effect == Bump.TRASH:
+        _trash(state, a, cell, held, events)
 
 
 def _pick(state: State, a: int, cell: int, item: int, events: list[Event]) -> None:
@@ -207,25 +183,6 @@ def _put(state: State, a: int, cell: int, item: int, events: list[Event]) -> Non
     state.item_where[item] = _CELL
     state.item_loc[item] = cell
     events.append(Event("putdown", a, state.geo.rc(cell), item))
-
-
-def _plate_exchange(
-    state: State, a: int, cell: int, held: int, here: int, events: list[Event]
-) -> None:
-    """Held ingredient onto a clean plate lying here, or the ingredient lying here
-    onto the held clean plate. Anything else does nothing."""
-    kinds = state.geo.item_kind
-    if kinds[here] == _PLATE_KIND and state.item_state[here] == _CLEAN and is_plateable(state, held):
-        state.agent_hand[a] = -1
-        state.item_where[held] = _PLATE
-        state.item_loc[held] = here
-        events.append(Event("plate_add", a, state.geo.rc(cell), held, here))
-    elif kinds[held] == _PLATE_KIND and state.item_state[held] == _CLEAN and is_plateable(state, here):
-        state.cell_item[cell] = -1
-        state.item_where[here] = _PLATE
-        state.item_loc[here] = held
-        state.item_agent[here] = a
-        events.append(Event("plate_add", a, state.geo.rc(cell), here, held))
 
 
 def _advance(
@@ -253,14 +210,14 @@ def _tick_pan(
     state.item_progress[item] = ticks
     st = state.item_state[item]
     owner = state.item_agent[item]
-    if st == _FRESH and ticks >= rules.cook_time:
+    if st == _FRESH and ticks_until_cooked(rules, ticks) == 0:
         state.item_state[item] = _COOKED
         state.stats["cooks"] += 1
         if owner >= 0:
             rewards[owner] += rules.rewards.subtask_finished
         events.append(Event("cook_done", owner, state.geo.rc(cell), item))
         st = _COOKED
-    if st != _BURNT and ticks > rules.burn_time:
+    if st != _BURNT and ticks_until_burnt(rules, ticks) == 0:
         state.item_state[item] = _BURNT
         state.stats["burns"] += 1
         if owner >= 0:
@@ -295,11 +252,10 @@ def _respawn_waiting(state: State, events: list[Event]) -> None:
 
 
 def _trash(state: State, a: int, cell: int, held: int, events: list[Event]) -> None:
-    """A held ingredient goes back fresh to its spawn tile; a held plate is emptied."""
+    """A held ingredient goes back fresh to its spawn tile; a held plate is emptied (an
+    empty one is never trashed: :func:`bump_effect`)."""
     if state.geo.item_kind[held] == _PLATE_KIND:
         contents = state.plate_contents(held)
-        if not contents:
-            return
         for i in contents:
             _send_home(state, i, _FRESH, events)
         events.append(Event("trash", a, state.geo.rc(cell), held, len(contents)))
@@ -334,4 +290,4 @@ def _deliver(
     events.append(Event("order_new", -1, None, -1, state.orders[-1].order_id))
 
 
-__all__ = ["StepResult", "is_plateable", "transition"]
+__all__ = ["StepResult", "transition"]

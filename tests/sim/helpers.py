@@ -56,3 +56,28 @@ def run(state: State, *joint_actions):
 
 def kinds(events) -> list[str]:
     return [e.kind for e in events]
+
+
+def sampled_states(preset: str, n_agents: int, count: int, seed: int = 0,
+                   max_steps: int = 150) -> list[State]:
+    """Reachable states with things in hands, on plates and in the sink: greedy cooks, with a
+    random joint action now and then, stopped after a random number of steps (seeded)."""
+    import numpy as np
+
+    from ocplus_plan.agents.greedy import GreedyAgent
+    from ocplus_plan.sim import make_rules, new_state
+
+    rules = make_rules(preset, n_agents=n_agents)
+    out = []
+    for k in range(count):
+        rng = np.random.default_rng([seed, k])
+        state = new_state(rules, seed * 1000 + k)
+        cooks = GreedyAgent(k)
+        cooks.reset(state)
+        for _ in range(int(rng.integers(0, max_steps + 1))):
+            joint = cooks.act(state)
+            if rng.random() < 0.2:
+                joint = [int(a) for a in rng.integers(0, 5, size=n_agents)]
+            transition(state, joint)
+        out.append(state)
+    return out

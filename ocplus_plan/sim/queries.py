@@ -1,0 +1,287 @@
+"""The kitchen's questions, answered once: every layer asks these instead of re-deriving them.
+
+- walking: :func:`walks` (shortest walks from some cells: steps, the cell each one is
+  entered from, the first action, the order of discovery), :func:`distances`,
+  :func:`walk_actions`, :func:`interaction_spots`, :func:`walkable_in_any_layout`,
+  :func:`direction` (the action that moves into, or bumps, a neighbouring cell);
+- bumps: :func:`bump_effect` (what bumping a cell does, given what the agent holds) and
+  :func:`bumps_needed` (how many chops or washes finish the job); the transition itself
+  dispatches on them, so they are the rule and not a description of it;
+- the pan: :func:`ticks_until_cooked`, :func:`ticks_until_burnt` (the transition uses them);
+- plates: :func:`is_plateable`, :func:`plate_fits` (can a plate still become a recipe).
+
+Cells are flat indices (``row * cols + col``). ``neighbors[c]`` holds the cells in the
+directions RIGHT, DOWN, LEFT, UP (-1 off the grid): a neighbour's position in that tuple
+is the action index that moves into it, which :func:`direction` relies on.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Iterable, Sequence
+from enum import IntEnum
+from functools import lru_cache
+from typing import TYPE_CHECKING, NamedTuple
+
+from ..errors import ConfigError
+from .codes import COUNTERS, VEGETABLES, Action, Cell, Item, ItemState, Where
+
+if TYPE_CHECKING:
+    from .rules import Rules
+    from .state import Geometry, State
+
+Neighbors = Sequence[Sequence[int]]
+
+_STAY = int(Action.STAY)
+_VEG = frozenset(int(v) for v in VEGETABLES)
+_COUNTERS = frozenset(int(c) for c in COUNTERS)
+_BOARD, _PAN, _SINK = int(Cell.BOARD), int(Cell.PAN), int(Cell.SINK)
+_DELIVERY, _TRASH = int(Cell.DELIVERY), int(Cell.TRASH)
+_PLATE, _STEAK = int(Item.PLATE), int(Item.STEAK)
+_FRESH, _CHOPPED, _COOKED = int(ItemState.FRESH), int(ItemState.CHOPPED), int(ItemState.COOKED)
+_CLEAN, _DIRTY = int(ItemState.CLEAN), int(ItemState.DIRTY)
+_ON_PLATE = int(Where.PLATE)
+
+
+# ---------------------------------------------------------------- walking
+def grid_neighbors(rows: int, cols: int) -> tuple[tuple[int, int, int, int], ...]:
+    """Per flat cell: the neighbour in direction RIGHT, DOWN, LEFT, UP, or -1 off the grid."""
+    out = []
+    for r in range(rows):
+        for c in range(cols):
+            out.append((
+                r * cols + c + 1 if c + 1 < cols else -1,
+                (r + 1) * cols + c if r + 1 < rows else -1,
+                r * cols + c - 1 if c > 0 else -1,
+                (r - 1) * cols + c if r > 0 else -1,
+            ))
+    return tuple(out)
+
+
+class Walks(NamedTuple):
+    """Shortest walks from a set of source cells (breadth-first, neighbours in action order).
+
+    Per cell: ``dist`` steps (-1: unreachable), ``parent`` the cell it is entered from on
+    one shortest walk, ``first`` the action of that walk's first step (both -1 for the
+    sources and for unreachable cells); ``order`` lists the reached cells as they were
+    found, sources first (among equally near cells, the one found first wins a tie)."""
+
+    dist: list[int]
+    parent: list[int]
+    first: list[int]
+    order: list[int]
+
+
+def walks(neighbors: Neighbors, walkable: Sequence[bool], sources: Iterable[int],
+          blocked: Iterable[int] = ()) -> Walks:
+    """Shortest walks over ``walkable`` cells that are not ``blocked``. Sources count as
+    reached (distance 0) whatever they are, so a walk may start on any cell."""
+    n = len(neighbors)
+    dist, parent, first = [-1] * n, [-1] * n, [-1] * n
+    wall = blocked if isinstance(blocked, (set, frozenset)) else set(blocked)
+    order: list[int] = []
+    for s in sources:
+        if not 0 <= s < n:
+            raise ConfigError(f"cell {s} is outside the grid of {n} cells")
+        if dist[s] < 0:
+            dist[s] = 0
+            order.append(s)
+    n_sources = len(order)
+    i = 0
+    while i < len(order):  # ``order`` doubles as the queue: it is the discovery order
+        cur = order[i]
+        i += 1
+        d = dist[cur] + 1
+        for action, nxt in enumerate(neighbors[cur]):
+            if nxt >= 0 and dist[nxt] < 0 and walkable[nxt] and nxt not in wall:
+                dist[nxt] = d
+                parent[nxt] = cur
+                first[nxt] = action if i <= n_sources else first[cur]
+                order.append(nxt)
+    return Walks(dist, parent, first, order)
+
+
+def distances(neighbors: Neighbors, walkable: Sequence[bool], sources: Iterable[int],
+              blocked: Iterable[int] = ()) -> list[int]:
+    """Steps from the nearest source to every cell (-1: unreachable); see :func:`walks`."""
+    return walks(neighbors, walkable, sources, blocked).dist
+
+
+def walk_to(found: Walks, goal: int) -> list[int] | None:
+    """The cells of the shortest walk to ``goal``, after the source and ending at ``goal``
+    (empty when ``goal`` is a source, None when it is unreachable)."""
+    if found.dist[goal] < 0:
+        return None
+    cells = []
+    while found.parent[goal] >= 0:
+        cells.append(goal)
+        goal = found.parent[goal]
+    cells.reverse()
+    return cells
+
+
+def walk_actions(neighbors: Neighbors, walkable: Sequence[bool], start: int, goal: int,
+                 blocked: Iterable[int] = ()) -> list[int] | None:
+    """The actions of a shortest walk from ``start`` to ``goal`` around ``blocked`` cells
+    (empty when they are the same cell, None when there is no walk)."""
+    found = walks(neighbors, walkable, [start], blocked)
+    cells = walk_to(found, goal)
+    if cells is None:
+        return None
+    return [list(neighbors[found.parent[c]]).index(c) for c in cells]
+
+
+def interaction_spots(neighbors: Neighbors, walkable: Sequence[bool], cell: int) -> list[int]:
+    """The walkable neighbours of ``cell``: where an agent stands to bump it."""
+    return [nb for nb in neighbors[cell] if nb >= 0 and walkable[nb]]
+
+
+@lru_cache(maxsize=64)
+def walkable_in_any_layout(geo: Geometry) -> tuple[bool, ...]:
+    """Per cell: walkable in at least one of the map's layouts (the floor a walk across
+    layout switches may use, waiting for each switch)."""
+    return tuple(any(flags) for flags in zip(*geo.walkables))
+
+
+def direction(geo: Geometry, src: int, dst: int) -> int:
+    """The action that moves from ``src`` into the neighbouring ``dst`` (or bumps it);
+    STAY when they are the same cell. Cells that are not neighbours are a ConfigError."""
+    if src == dst:
+        return _STAY
+    for action, nb in enumerate(geo.neighbors[src]):
+        if nb == dst:
+            return action
+    raise ConfigError(f"cells {geo.rc(src)} and {geo.rc(dst)} are not adjacent")
+
+
+# ---------------------------------------------------------------- bumps
+class Bump(IntEnum):
+    """What bumping a non-walkable cell does (SPEC section 3)."""
+
+    NOTHING = 0
+    PICK_UP = 1  # the item lying there goes into the empty hand
+    PUT_DOWN = 2  # the held item goes onto the empty cell
+    ONTO_PLATE = 3  # the held ingredient goes onto the clean plate lying there
+    TAKE_ONTO_PLATE = 4  # the ingredient lying there goes onto the held clean plate
+    CHOP = 5  # one chop of the fresh vegetable on the board
+    WASH = 6  # one wash of the dirty plate in the sink
+    DELIVER = 7  # the held thing is served (or refused: see sim.orders.matching_order)
+    TRASH = 8  # the held ingredient, or the held plate's contents, go back to their spawn
+
+
+_NOTHING, _PICK_UP, _PUT_DOWN = Bump.NOTHING, Bump.PICK_UP, Bump.PUT_DOWN
+
+
+def is_plateable(state: State, item: int) -> bool:
+    """A chopped vegetable or a cooked steak (the only things a plate takes)."""
+    kind = state.geo.item_kind[item]
+    st = state.item_state[item]
+    return (kind in _VEG and st == _CHOPPED) or (kind == _STEAK and st == _COOKED)
+
+
+def bump_effect(state: State, held: int, cell: int) -> Bump:
+    """What an agent holding ``held`` (an item id, -1 for empty hands) does by bumping
+    ``cell`` in the current layout. It does not depend on where the agent stands."""
+    code = state.geo.terrains[state.layout_index][cell]
+    here = state.cell_item[cell]
+    if code in _COUNTERS:
+        if held < 0:
+            return _PICK_UP if here >= 0 else _NOTHING
+        return _PUT_DOWN if here < 0 else _plate_exchange(state, held, here)
+    if code == _BOARD:
+        kinds = state.geo.item_kind
+        if held < 0:
+            if here < 0:
+                return _NOTHING
+            fresh_veg = kinds[here] in _VEG and state.item_state[here] == _FRESH
+            return Bump.CHOP if fresh_veg else _PICK_UP  # half-chopped never leaves the board
+        if here < 0:
+            fresh_veg = kinds[held] in _VEG and state.item_state[held] == _FRESH
+            return _PUT_DOWN if fresh_veg else _NOTHING
+        return _plate_exchange(state, held, here)
+    if code == _PAN:
+        if held < 0:
+            return _PICK_UP if here >= 0 else _NOTHING
+        if here < 0:
+            steak = state.geo.item_kind[held] == _STEAK and state.item_state[held] in (_FRESH, _COOKED)
+            return _PUT_DOWN if steak else _NOTHING
+        return _plate_exchange(state, held, here)
+    if code == _SINK:
+        if held < 0:
+            if here < 0:
+                return _NOTHING
+            return Bump.WASH if state.item_state[here] == _DIRTY else _PICK_UP
+        return _PUT_DOWN if here < 0 and state.item_state[held] == _DIRTY else _NOTHING
+    if code == _DELIVERY:
+        return Bump.DELIVER if held >= 0 else _NOTHING
+    if code == _TRASH and held >= 0:
+        if state.geo.item_kind[held] == _PLATE and not _holds_anything(state, held):
+            return _NOTHING  # an empty plate: nothing to throw away
+        return Bump.TRASH
+    return _NOTHING
+
+
+def _holds_anything(state: State, plate: int) -> bool:
+    where, loc = state.item_where, state.item_loc
+    return any(where[i] == _ON_PLATE and loc[i] == plate for i in range(len(where)))
+
+
+def _plate_exchange(state: State, held: int, here: int) -> Bump:
+    """Held ingredient onto a clean plate lying here, or the ingredient lying here onto the
+    held clean plate; anything else does nothing."""
+    kinds, states = state.geo.item_kind, state.item_state
+    if kinds[here] == _PLATE and states[here] == _CLEAN and is_plateable(state, held):
+        return Bump.ONTO_PLATE
+    if kinds[held] == _PLATE and states[held] == _CLEAN and is_plateable(state, here):
+        return Bump.TAKE_ONTO_PLATE
+    return _NOTHING
+
+
+def bumps_needed(rules: Rules, effect: Bump) -> int:
+    """How many bumps of this kind finish the job: ``chop_steps`` chops, ``wash_steps``
+    washes, one of anything else."""
+    if effect == Bump.CHOP:
+        return rules.chop_steps
+    if effect == Bump.WASH:
+        return rules.wash_steps
+    return 1
+
+
+# ---------------------------------------------------------------- the pan
+def ticks_until_cooked(rules: Rules, ticks: int) -> int:
+    """Pan ticks still needed, after ``ticks`` on the pan, before a raw steak is cooked
+    (0: it is)."""
+    return max(0, rules.cook_time - ticks)
+
+
+def ticks_until_burnt(rules: Rules, ticks: int) -> int:
+    """Pan ticks, after ``ticks`` on the pan, until the steak burns (0: it has): it burns
+    on the tick that takes it past ``burn_time``."""
+    return max(0, rules.burn_time + 1 - ticks)
+
+
+# ---------------------------------------------------------------- plates
+def plate_fits(contents: Counter[int], recipe: Counter[int]) -> bool:
+    """Can a plate holding ``contents`` still become ``recipe`` by adding ingredients?
+    (Multiset inclusion; both count ingredient kinds.)"""
+    return not (contents - recipe)
+
+
+__all__ = [
+    "Bump",
+    "Walks",
+    "bump_effect",
+    "bumps_needed",
+    "direction",
+    "distances",
+    "grid_neighbors",
+    "interaction_spots",
+    "is_plateable",
+    "plate_fits",
+    "ticks_until_burnt",
+    "ticks_until_cooked",
+    "walk_actions",
+    "walk_to",
+    "walkable_in_any_layout",
+    "walks",
+]
