@@ -15,23 +15,33 @@ Movement: breadth-first paths on the current layout with the other agents' cells
 and the cells already claimed this step as obstacles (so the controller itself
 never causes a swap or a contested move); an agent whose way is blocked steps
 aside at random after waiting, and an idle agent steps off a busy agent's path.
-Nothing here re-implements a rule: plateability comes from ``sim.queries.is_plateable``.
+Nothing here re-implements a rule: where a held item can go is what
+``sim.queries.bump_effect`` says a bump there does; plateability is ``is_plateable``.
 """
 
 from __future__ import annotations
 
-from collections import Counter, deque
+from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..sim.codes import COUNTERS, VEGETABLES, Cell, Item, ItemState, Where
-from ..sim.queries import is_plateable
+from ..sim.codes import COUNTERS, VEGETABLES, Action, Cell, Item, ItemState, Where
+from ..sim.queries import (
+    Bump,
+    bump_effect,
+    direction,
+    interaction_spots,
+    is_plateable,
+    ticks_until_burnt,
+    walk_to,
+    walks,
+)
 from ..sim.state import State
 from .base import Controller
 from .greedy_view import KitchenView
 
-_STAY = 4
+_STAY = int(Action.STAY)
 _COUNTER_CODES = frozenset(int(c) for c in COUNTERS)
 _VEG = frozenset(int(v) for v in VEGETABLES)
 _STEAK, _PLATE = int(Item.STEAK), int(Item.PLATE)
@@ -44,8 +54,8 @@ _MARGIN = 4  # spare steps a cook keeps between reaching a cooked steak and its 
 
 
 @dataclass(frozen=True)
-class Task:
-    """A subtask for an empty-handed agent: bump ``cell`` (to pick up or work ``item``)."""
+class Subtask:
+    """A job for an empty-handed agent: bump ``cell`` (to pick up or work ``item``)."""
 
     kind: str
     cell: int
@@ -66,7 +76,7 @@ class GreedyAgent(Controller):
 
     def _reset(self, state: State) -> None:
         self.rng = np.random.default_rng([self.seed, state.seed or 0])
-        self.tasks: dict[int, Task | None] = {a: None for a in self.agent_ids}
+        self.tasks: dict[int, Subtask | None] = {a: None for a in self.agent_ids}
         self.waited: dict[int, int] = {a: 0 for a in self.agent_ids}
         self.stuck: dict[int, int] = {a: 0 for a in self.agent_ids}
         #: item -> (agent, step): an agent that relayed an item leaves it alone until then
@@ -133,23 +143,24 @@ class GreedyAgent(Controller):
                 dests, label = v.stations(Cell.TRASH), "empty_plate"
             else:
                 dests = [f for f in range(len(s.cell_item)) if s.cell_item[f] >= 0
-                         and is_plateable(s, s.cell_item[f])
+                         and bump_effect(s, item, f) == Bump.TAKE_ONTO_PLATE
                          and v.plate_wants(item, v.kind[s.cell_item[f]])]
                 label = "collect"
         elif k == _PLATE:
-            dests = [f for f in v.stations(Cell.SINK) if s.cell_item[f] < 0]
+            dests = [f for f in v.stations(Cell.SINK) if bump_effect(s, item, f) == Bump.PUT_DOWN]
             label = "to_sink"
         elif st == _BURNT:
             dests, label = v.stations(Cell.TRASH), "trash"
         elif k in _VEG and st == _FRESH:
-            dests = [f for f in v.stations(Cell.BOARD) if s.cell_item[f] < 0]
+            dests = [f for f in v.stations(Cell.BOARD) if bump_effect(s, item, f) == Bump.PUT_DOWN]
             label = "to_board"
         elif k == _STEAK and st == _FRESH:
-            dests = [f for f in v.stations(Cell.PAN) if s.cell_item[f] < 0]
+            dests = [f for f in v.stations(Cell.PAN) if bump_effect(s, item, f) == Bump.PUT_DOWN]
             label = "to_pan"
         elif is_plateable(s, item):
             plates = [p for p in v.plate_contents if s.item_where[p] == Where.CELL
-                      and v.terrain[s.item_loc[p]] in _COUNTER_CODES and v.plate_wants(p, k)]
+                      and bump_effect(s, item, s.item_loc[p]) == Bump.ONTO_PLATE
+                      and v.plate_wants(p, k)]
             plates.sort(key=lambda p: (p not in v.plate_missing
                                        or not v.plate_missing[p][k], -len(v.plate_contents[p])))
             dests = [s.item_loc[p] for p in plates]
@@ -208,7 +219,7 @@ class GreedyAgent(Controller):
             it = s.cell_item[p]
             if it < 0 or s.item_state[it] != _COOKED:
                 continue
-            left = s.rules.burn_time - s.item_progress[it]
+            left = ticks_until_burnt(s.rules, s.item_progress[it]) - 1  # the last tick burns it
             d = v.reach(a, p)
             if d == float("inf") or left > d + _MARGIN:
                 continue
@@ -245,41 +256,41 @@ class GreedyAgent(Controller):
         return best
 
     # ---------------------------------------------------------------- free agents
-    def _candidates(self, v: KitchenView, budget: Counter) -> list[Task]:
+    def _candidates(self, v: KitchenView, budget: Counter) -> list[Subtask]:
         s = v.s
-        out: list[Task] = []
+        out: list[Subtask] = []
         for f, it in enumerate(s.cell_item):
             if it < 0:
                 continue
             code, k, st = v.terrain[f], v.kind[it], s.item_state[it]
             if k == _PLATE:
                 if st == _CLEAN and v.exact_match(it) and code in _COUNTER_CODES:
-                    out.append(Task("serve", f, it, 0))
+                    out.append(Subtask("serve", f, it, 0))
                 elif st == _DIRTY and code == Cell.SINK:
-                    out.append(Task("wash", f, it, 3 if self._plates_short(v) else 6))
+                    out.append(Subtask("wash", f, it, 3 if self._plates_short(v) else 6))
                 elif st == _DIRTY and v.stations(Cell.SINK):
-                    out.append(Task("dirty_to_sink", f, it, 4))
+                    out.append(Subtask("dirty_to_sink", f, it, 4))
                 elif st == _CLEAN and code == Cell.SINK:
-                    out.append(Task("unsink", f, it, 3))
+                    out.append(Subtask("unsink", f, it, 3))
                 elif it in v.bad_plates and v.stations(Cell.TRASH):
-                    out.append(Task("clear_plate", f, it, 6))
+                    out.append(Subtask("clear_plate", f, it, 6))
             elif code == Cell.PAN and st in (_COOKED, _BURNT):
-                out.append(Task("rescue", f, it, 1))
+                out.append(Subtask("rescue", f, it, 1))
             elif code == Cell.BOARD and st == _FRESH:
-                out.append(Task("chop", f, it, 2))
+                out.append(Subtask("chop", f, it, 2))
             elif code == Cell.BOARD and budget[("plate", k)] <= 0:
                 # a chopped vegetable nobody can plate now: free the board for the next one
-                out.append(Task("clear_board", f, it, 7))
+                out.append(Subtask("clear_board", f, it, 7))
             elif st == _BURNT and v.stations(Cell.TRASH):
-                out.append(Task("trash", f, it, 6))
+                out.append(Subtask("trash", f, it, 6))
             elif is_plateable(s, it):
                 if any(v.plate_wants(p, k) for p in v.plate_contents):
-                    out.append(Task("gather", f, it, 3, ("plate", k)))
+                    out.append(Subtask("gather", f, it, 3, ("plate", k)))
             elif st == _FRESH and code in _COUNTER_CODES:
                 station = ("pan", 0) if k == _STEAK else ("board", 0)
                 prio = 5 + 0.1 * min(v.first_need.get(k, 9), 9)
-                out.append(Task("fetch", f, it, prio, ("need", k)))
-                out.append(Task("fetch", f, it, prio, station))
+                out.append(Subtask("fetch", f, it, prio, ("need", k)))
+                out.append(Subtask("fetch", f, it, prio, station))
         return out
 
     def _plates_short(self, v: KitchenView) -> bool:
@@ -288,7 +299,7 @@ class GreedyAgent(Controller):
     def _assign(self, v: KitchenView, free: list[int], claimed: set[int], budget: Counter,
                 goals: dict[int, tuple[int, str]]) -> None:
         """Match free agents to subtasks: priority first, then distance (kept tasks win ties)."""
-        by_cell: dict[int, list[Task]] = {}
+        by_cell: dict[int, list[Subtask]] = {}
         for t in self._candidates(v, budget):
             by_cell.setdefault(t.cell, []).append(t)
         for a, pan in list(self.pan_duty.items()):
@@ -333,7 +344,7 @@ class GreedyAgent(Controller):
                 self.tasks[a] = None
                 self.counts["idle_steps"] += 1
 
-    def _useful_for(self, v: KitchenView, a: int, task: Task) -> bool:
+    def _useful_for(self, v: KitchenView, a: int, task: Subtask) -> bool:
         """Whether ``a`` should pick this up: it can finish the job, or it is the hand-over
         side (nobody who can finish can reach the item where it lies)."""
         s = v.s
@@ -372,9 +383,8 @@ class GreedyAgent(Controller):
         for a in busy:
             cell, label = goals[a]
             pos = s.agent_pos[a]
-            bump = self._direction(v, pos, cell)
-            if bump is not None:
-                actions[a] = bump
+            if cell in v.nbrs[pos]:
+                actions[a] = direction(s.geo, pos, cell)
                 self.waited[a] = self.stuck[a] = 0
                 if label in ("handover", "relay"):
                     self.counts[label + "s"] += 1
@@ -397,7 +407,7 @@ class GreedyAgent(Controller):
             if step is None:
                 actions[a] = _STAY
             else:
-                actions[a] = self._direction(v, pos, step)
+                actions[a] = direction(s.geo, pos, step)
                 reserved.add(step)
         for a in self.agent_ids:
             if a in actions:
@@ -411,16 +421,10 @@ class GreedyAgent(Controller):
                 if step is None:
                     step = self._retreat(v, a, others, [s.agent_pos[b] for b in busy])
                 if step is not None:
-                    actions[a] = self._direction(v, pos, step)
+                    actions[a] = direction(s.geo, pos, step)
                     reserved.add(step)
                     self.counts["yields"] += 1
         return [int(actions[a]) for a in self.agent_ids]
-
-    def _direction(self, v: KitchenView, pos: int, target: int) -> int | None:
-        for d, n in enumerate(v.nbrs[pos]):
-            if n == target:
-                return d
-        return None
 
     def _step_towards(self, v: KitchenView, pos: int, cell: int, blocked: frozenset[int],
                       walk: tuple[bool, ...] | None = None) -> tuple[int | None, list[int]]:
@@ -429,20 +433,12 @@ class GreedyAgent(Controller):
         When the current layout has no path but a switch would open one, head along the
         path over both layouts' floors as far as the current layout allows."""
         walkable = v.walk if walk is None else walk
-        goals = {n for n in v.nbrs[cell] if n >= 0 and walkable[n]}
-        parent = {pos: -1}
-        queue = deque([pos])
-        while queue:
-            f = queue.popleft()
-            if f in goals:
-                path = [f]
-                while parent[path[-1]] != pos:
-                    path.append(parent[path[-1]])
-                return path[-1], path
-            for n in v.nbrs[f]:
-                if n >= 0 and n not in parent and walkable[n] and n not in blocked:
-                    parent[n] = f
-                    queue.append(n)
+        goals = set(interaction_spots(v.nbrs, walkable, cell))
+        found = walks(v.nbrs, walkable, [pos], blocked)
+        goal = next((f for f in found.order if f in goals), None)  # the nearest, first found
+        path = walk_to(found, goal) if goal is not None else None
+        if path:
+            return path[0], path
         if walk is None and v.dynamic:
             step, path = self._step_towards(v, pos, cell, blocked, v.walk_any)
             if step is not None and v.walk[step]:
@@ -459,16 +455,16 @@ class GreedyAgent(Controller):
                        default=0)
 
         pos = v.s.agent_pos[a]
-        opts = [n for n in v.nbrs[pos] if n >= 0 and v.walk[n] and n not in blocked]
+        opts = [n for n in interaction_spots(v.nbrs, v.walk, pos) if n not in blocked]
         best = max(opts, key=gap, default=None)
         return best if best is not None and gap(best) > gap(pos) else None
 
     def _sidestep(self, v: KitchenView, a: int, blocked: frozenset[int] | set[int]) -> int | None:
         pos = v.s.agent_pos[a]
-        opts = [n for n in v.nbrs[pos] if n >= 0 and v.walk[n] and n not in blocked]
+        opts = [n for n in interaction_spots(v.nbrs, v.walk, pos) if n not in blocked]
         if not opts:
             return None
         return int(opts[int(self.rng.integers(len(opts)))])
 
 
-__all__ = ["GreedyAgent", "Task"]
+__all__ = ["GreedyAgent", "Subtask"]

@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections import Counter
 
 from ..sim.codes import COUNTERS, READY_STATE, Cell, Item, ItemState, Where
+from ..sim.queries import distances, interaction_spots, plate_fits, walkable_in_any_layout
 from ..sim.state import State
 
 _COUNTER_CODES = frozenset(int(c) for c in COUNTERS)
@@ -34,7 +35,7 @@ class KitchenView:
         # cook plans over the union of the layouts' floors, at a price for the wait (with
         # partners, hand-overs through counters are faster than waiting for switches)
         self.dynamic = state.rules.dynamic and len(geo.walkables) > 1 and state.n_agents == 1
-        self.walk_any = tuple(any(w) for w in zip(*geo.walkables)) if self.dynamic else self.walk
+        self.walk_any = walkable_in_any_layout(geo) if self.dynamic else self.walk
         self.dist_any = ([self.bfs(p, walk=self.walk_any) for p in state.agent_pos]
                          if self.dynamic else self.dist)
         self.wait_cost = state.rules.map_switch_step / 2
@@ -54,9 +55,8 @@ class KitchenView:
             if cooking:
                 self.pan_region = set()
                 for p in cooking:
-                    for n in self.nbrs[p]:
-                        if n >= 0 and self.walk[n]:
-                            self.pan_region |= set(self.bfs(n))
+                    for n in interaction_spots(self.nbrs, self.walk, p):
+                        self.pan_region.update(c for c, d in enumerate(self.bfs(n)) if d >= 0)
 
     def near_pan(self, cell: int) -> bool:
         """Can ``cell`` be worked from where a cooking steak stays reachable (always True
@@ -67,8 +67,9 @@ class KitchenView:
 
     # ---------------------------------------------------------------- geometry
     def bfs(self, start: int, blocked: frozenset[int] = frozenset(),
-             walk: tuple[bool, ...] | None = None) -> dict[int, int]:
-        return self.s.geo.distances_from(start, self.walk if walk is None else walk, blocked)
+             walk: tuple[bool, ...] | None = None) -> list[int]:
+        """Steps from ``start`` to every cell (-1: unreachable), around ``blocked`` cells."""
+        return distances(self.nbrs, self.walk if walk is None else walk, [start], blocked)
 
     def reach(self, agent: int, cell: int) -> float:
         """Steps for ``agent`` to stand next to ``cell`` (inf when it cannot)."""
@@ -81,10 +82,10 @@ class KitchenView:
         """Like :meth:`reach` but around the other cooks where they stand now."""
         return self.reach_in(self.dist_now[agent], cell)
 
-    def reach_in(self, d: dict[int, int], cell: int) -> float:
+    def reach_in(self, d: list[int], cell: int) -> float:
         best = float("inf")
         for n in self.nbrs[cell]:
-            if n >= 0 and n in d and d[n] < best:
+            if n >= 0 and 0 <= d[n] < best:
                 best = d[n]
         return best
 
@@ -120,7 +121,7 @@ class KitchenView:
             best, best_n = -1, -1
             for p in clean:
                 c = self.plate_contents[p]
-                if p not in used and not (c - rec) and sum(c.values()) > best_n:
+                if p not in used and plate_fits(c, rec) and sum(c.values()) > best_n:
                     best, best_n = p, sum(c.values())
             if best >= 0:
                 used.add(best)
@@ -143,7 +144,7 @@ class KitchenView:
                 self.first_need.setdefault(k, oi)
         self.bad_plates = [p for p in clean if p not in self.plate_order
                            and self.plate_contents[p]
-                           and not any(not (self.plate_contents[p] - r) for r in recipes)]
+                           and not any(plate_fits(self.plate_contents[p], r) for r in recipes)]
         supply: Counter = Counter()
         for i in range(s.n_items):
             k, st, w = self.kind[i], s.item_state[i], s.item_where[i]
@@ -164,7 +165,7 @@ class KitchenView:
         if c is None:
             return False
         c = c + Counter({kind: 1})
-        return any(not (c - r) for r in self.recipes)
+        return any(plate_fits(c, r) for r in self.recipes)
 
 
 

@@ -208,11 +208,12 @@ def relaxed_state(state: State) -> State:
     from dataclasses import replace
 
     from ..sim.codes import Cell
+    from ..sim.queries import walkable_in_any_layout
 
     geo = state.geo
     key = id(geo)
     if key not in _RELAXED or _RELAXED[key][0] is not geo:
-        floor = [any(w[c] for w in geo.walkables) for c in range(len(geo.neighbors))]
+        floor = walkable_in_any_layout(geo)
         terrain = tuple(int(Cell.FLOOR) if floor[c] else geo.terrains[0][c]
                         for c in range(len(floor)))
         walk = tuple(floor)

@@ -38,6 +38,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 from ..sim.codes import VEGETABLES, Cell, Item
+from ..sim.queries import distances, interaction_spots, walkable_in_any_layout
 from ..sim.rules import Recipe, Rules
 from ..sim.state import Geometry, geometry_for
 
@@ -81,20 +82,19 @@ class _Tours:
 
     def __init__(self, geo: Geometry) -> None:
         self.geo = geo
-        n = len(geo.neighbors)
-        self.walk = [any(w[c] for w in geo.walkables) for c in range(n)]
-        self._from: dict[int, dict[int, int]] = {}
+        self.walk = walkable_in_any_layout(geo)
+        self._from: dict[int, list[int]] = {}
         self._between: dict[tuple[int, int], float] = {}
 
     def spots(self, cell: int) -> list[int]:
-        return [nb for nb in self.geo.neighbors[cell] if nb >= 0 and self.walk[nb]]
+        return interaction_spots(self.geo.neighbors, self.walk, cell)
 
     def dist(self, src: int, tile: int) -> float:
         """Fewest steps from the floor cell ``src`` to a spot next to ``tile``."""
         if src not in self._from:
-            self._from[src] = self.geo.distances_from(src, self.walk)
+            self._from[src] = distances(self.geo.neighbors, self.walk, [src])
         d = self._from[src]
-        return min((d[s] for s in self.spots(tile) if s in d), default=_INF)
+        return min((d[s] for s in self.spots(tile) if d[s] >= 0), default=_INF)
 
     def between(self, a: int, b: int) -> float:
         """Fewest steps from a spot next to tile ``a`` to a spot next to tile ``b``."""

@@ -25,17 +25,15 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from ..errors import ConfigError
-from ..sim.codes import VEGETABLES, Cell, ItemState
+from ..sim.codes import VEGETABLES, Action, Cell, ItemState
+from ..sim.queries import direction, distances, interaction_spots, walkable_in_any_layout
 from ..sim.state import State
 from .paths import (
-    STAY,
     DistanceOracle,
     PathRequest,
     hub_cells,
-    interaction_spots,
     layout_schedule,
     plan_paths,
-    step_action,
 )
 from .plans import (
     STEP_KINDS,
@@ -105,8 +103,7 @@ class Executive:
         #: where idle agents wait on a switching map (empty: they just keep out of the way)
         self.hubs = hub_cells(state.geo) if dynamic else frozenset()
         #: cells walkable in some layout (where a walk across switches may go)
-        self.any_layout = [any(w[c] for w in state.geo.walkables)
-                           for c in range(len(state.geo.neighbors))]
+        self.any_layout = walkable_in_any_layout(state.geo)
         self.failures_in_row = 0
         self.no_progress = 0
         self.queues: dict[int, deque[Task]] = {a: deque() for a in self.agent_ids}
@@ -282,8 +279,8 @@ class Executive:
         if not self.anticipate:
             return self.oracle.to_station(state.layout_index, target)[pos] < 0
         geo = state.geo
-        reach = geo.distances_from(pos, self.any_layout)
-        return not any(nb >= 0 and nb in reach for nb in geo.neighbors[target])
+        reach = distances(geo.neighbors, self.any_layout, [pos])
+        return not any(nb >= 0 and reach[nb] >= 0 for nb in geo.neighbors[target])
 
     def install(self, steps: Sequence[PlanStep]) -> None:
         """Replace the task queues with a new plan (agents the plan does not reach keep theirs)."""
@@ -315,7 +312,7 @@ class Executive:
         return q[0] if q else None
 
     def _spots(self, state: State, cell: int) -> list[int]:
-        return interaction_spots(state.geo, state.geo.walkables[state.layout_index], cell)
+        return interaction_spots(state.geo.neighbors, state.geo.walkables[state.layout_index], cell)
 
     def _finish(self, agent: int) -> None:
         task = self.queues[agent].popleft()
@@ -469,7 +466,7 @@ class Executive:
                 requests.append(((3, 0, a), PathRequest(a, pos, frozenset())))
                 continue
             if pos in spots and self._ready(state, a, task):
-                actions[a] = step_action(geo, pos, task.step.target)
+                actions[a] = direction(geo, pos, task.step.target)
                 self.pending[a] = self._snapshot(state, task, a)
                 task.bumps += 1
                 task.waited = 0
@@ -497,7 +494,7 @@ class Executive:
                                horizon=self.path_horizon, walk_at=walk_at)
             for a, res in paths.items():
                 actions[a] = res.next_action(geo)
-        return {a: actions.get(a, STAY) for a in self.agent_ids}
+        return {a: actions.get(a, int(Action.STAY)) for a in self.agent_ids}
 
     def _needed_by_other(self, state: State, agent: int, cell: int) -> bool:
         """Does another driven agent's ready task have ``cell`` as its only way in?"""

@@ -20,11 +20,11 @@ from typing import Any
 import numpy as np
 
 from ..errors import ConfigError
-from ..sim.codes import Item
+from ..sim.codes import Action, Item
 from ..sim.dynamics import maybe_switch
 from ..sim.state import Event, State
 from ..sim.step import transition
-from .paths import STAY, PathRequest, plan_paths
+from .paths import PathRequest, plan_paths
 
 
 def force_burn(state: State, pan: int | None = None) -> list[Event]:
@@ -88,7 +88,7 @@ class BlockingAgent:
         goal = state.geo.flat(*self.cell)
         for a in self.agent_ids:
             if not self.start <= state.t < self.start + self.duration:
-                out.append(STAY)
+                out.append(int(Action.STAY))
                 continue
             others = {b: state.agent_pos[b] for b in range(state.n_agents) if b != a}
             res = plan_paths(state.geo, [PathRequest(a, state.agent_pos[a], frozenset({goal}))],
@@ -146,7 +146,7 @@ def run_episode(
     limit = state.rules.horizon if steps is None else steps
     while state.t < limit:
         fault_events = faults.before_step(state) if faults else []
-        joint = [STAY] * n
+        joint = [int(Action.STAY)] * n
         for ctrl, ids in controllers:
             for a, act in zip(ids, ctrl.act(state)):
                 joint[a] = int(act)

@@ -1,4 +1,4 @@
-"""Grid paths for the executive: BFS distances and multi-agent space-time reservations.
+"""Grid paths for the executive: memoised distances and multi-agent space-time reservations.
 
 Agents interact by bumping a non-walkable cell from a walkable neighbour (its
 *interaction spot*), so every task of the executive is "get to a spot next to
@@ -24,68 +24,19 @@ around a layout switch that is known to come.
 from __future__ import annotations
 
 import heapq
-from collections import deque
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 from ..errors import ConfigError
 from ..sim.codes import Action
+from ..sim.queries import direction, distances, interaction_spots
 from ..sim.state import Geometry, State
 
 #: walkable flags per cell for the layout in force at a relative time step
 WalkAt = Callable[[int], Sequence[bool]]
 
-_DIRS = (int(Action.RIGHT), int(Action.DOWN), int(Action.LEFT), int(Action.UP))
-STAY = int(Action.STAY)
-
 
 # ------------------------------------------------------------------ static geometry
-def bfs_distances(
-    geo: Geometry, walkable: Sequence[bool], sources: Iterable[int],
-    blocked: Iterable[int] = (),
-) -> list[int]:
-    """Steps from the nearest of ``sources`` to every cell over walkable cells (-1: unreachable).
-
-    Sources themselves get distance 0 even when they are not walkable (so the
-    distance from a station's spot set can be asked directly); ``blocked`` cells
-    are treated as walls.
-    """
-    n = geo.rows * geo.cols
-    dist = [-1] * n
-    wall = set(blocked)
-    queue: deque[int] = deque()
-    for s in sources:
-        if not 0 <= s < n:
-            raise ConfigError(f"cell {s} is outside the {geo.rows}x{geo.cols} grid")
-        if dist[s] < 0:
-            dist[s] = 0
-            queue.append(s)
-    nbrs = geo.neighbors
-    while queue:
-        c = queue.popleft()
-        d = dist[c] + 1
-        for nb in nbrs[c]:
-            if nb >= 0 and dist[nb] < 0 and walkable[nb] and nb not in wall:
-                dist[nb] = d
-                queue.append(nb)
-    return dist
-
-
-def interaction_spots(geo: Geometry, walkable: Sequence[bool], cell: int) -> list[int]:
-    """Walkable neighbours of ``cell`` from which an agent can bump it."""
-    return [nb for nb in geo.neighbors[cell] if nb >= 0 and walkable[nb]]
-
-
-def step_action(geo: Geometry, src: int, dst: int) -> int:
-    """The action that moves from ``src`` to the adjacent ``dst`` (or bumps ``dst``); STAY if equal."""
-    if src == dst:
-        return STAY
-    for act, nb in zip(_DIRS, geo.neighbors[src]):
-        if nb == dst:
-            return act
-    raise ConfigError(f"cells {geo.rc(src)} and {geo.rc(dst)} are not adjacent")
-
-
 class DistanceOracle:
     """Memoised BFS distances per (layout, goal set): the executive asks the same ones a lot."""
 
@@ -97,13 +48,13 @@ class DistanceOracle:
         key = (layout_index, frozenset(goals))
         d = self._cache.get(key)
         if d is None:
-            d = bfs_distances(self.geo, self.geo.walkables[layout_index], key[1])
+            d = distances(self.geo.neighbors, self.geo.walkables[layout_index], key[1])
             self._cache[key] = d
         return d
 
     def to_station(self, layout_index: int, cell: int) -> list[int]:
         """Distance of every cell to the nearest interaction spot of ``cell`` (-1: none)."""
-        spots = interaction_spots(self.geo, self.geo.walkables[layout_index], cell)
+        spots = interaction_spots(self.geo.neighbors, self.geo.walkables[layout_index], cell)
         return self.to_goals(layout_index, spots) if spots else [-1] * len(self.geo.neighbors)
 
 
@@ -118,10 +69,10 @@ def hub_cells(geo: Geometry) -> frozenset[int]:
     score = [0] * n
     for walk in geo.walkables:
         for st in stations:
-            spots = interaction_spots(geo, walk, st)
+            spots = interaction_spots(geo.neighbors, walk, st)
             if not spots:
                 continue
-            for c, d in enumerate(bfs_distances(geo, walk, spots)):
+            for c, d in enumerate(distances(geo.neighbors, walk, spots)):
                 if d >= 0:
                     score[c] += 1
     floor = [c for c in range(n) if all(w[c] for w in geo.walkables)]
@@ -210,12 +161,12 @@ class PathResult:
 
     def next_action(self, geo: Geometry) -> int:
         if len(self.path) < 2:
-            return STAY
-        return step_action(geo, self.path[0], self.path[1])
+            return int(Action.STAY)
+        return direction(geo, self.path[0], self.path[1])
 
 
 def _heuristic(geo: Geometry, walk: Sequence[bool], goals: frozenset[int]) -> list[int]:
-    d = bfs_distances(geo, walk, goals)
+    d = distances(geo.neighbors, walk, goals)
     big = geo.rows * geo.cols
     return [big if v < 0 else v for v in d]
 
@@ -402,7 +353,7 @@ def _plan_in_order(
 
 def _pockets(geo: Geometry, walk: Sequence[bool], start: int, avoid: set[int]) -> frozenset[int]:
     """Walkable cells reachable from ``start`` that are off the cells in ``avoid``."""
-    dist = bfs_distances(geo, walk, [start])
+    dist = distances(geo.neighbors, walk, [start])
     return frozenset(c for c, d in enumerate(dist) if d >= 0 and c not in avoid and c != start)
 
 
@@ -439,13 +390,10 @@ __all__ = [
     "PathRequest",
     "PathResult",
     "Reservations",
-    "bfs_distances",
     "check_paths",
     "evasion_path",
     "hub_cells",
-    "interaction_spots",
     "layout_schedule",
     "plan_paths",
     "space_time_astar",
-    "step_action",
 ]

@@ -14,23 +14,21 @@ by :mod:`.fidelity_temporal`, which shares the comparison (:class:`_ModelView`).
 
 from __future__ import annotations
 
-from collections import deque
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from ..sim import make_rules, new_state, transition
-from ..sim.codes import ItemState, Where
+from ..sim.codes import Action, ItemState, Where
+from ..sim.queries import direction, walk_actions
 from ..sim.state import State
 from .compile import Compiled
 from .names import PlanStep
-from .spots import bump_action
 
 _STATE_FLAG = {ItemState.FRESH: "fresh", ItemState.CHOPPED: "ready", ItemState.COOKED: "ready",
                ItemState.BURNT: "burnt", ItemState.CLEAN: "clean", ItemState.DIRTY: "dirty"}
 _FLAGS = ("fresh", "ready", "burnt", "clean", "dirty")
-_STAY = 4
 
 
 def sample_states(preset: str, n: int, seed: int = 0, max_steps: int = 120,
@@ -61,29 +59,6 @@ class Replay:
     outlasted: bool = False
 
 
-def walk_actions(state: State, start: int, goal: int,
-                 avoid: frozenset[int] = frozenset()) -> list[int] | None:
-    """Actions of a shortest walk from ``start`` to ``goal`` in the current layout that
-    avoids the ``avoid`` cells (None when there is none)."""
-    geo = state.geo
-    walk = geo.walkables[state.layout_index]
-    prev: dict[int, tuple[int, int]] = {start: (-1, -1)}
-    queue = deque([start])
-    while queue and goal not in prev:
-        cur = queue.popleft()
-        for action, nxt in enumerate(geo.neighbors[cur]):
-            if nxt >= 0 and walk[nxt] and nxt not in avoid and nxt not in prev:
-                prev[nxt] = (cur, action)
-                queue.append(nxt)
-    if goal not in prev:
-        return None
-    actions, cur = [], goal
-    while cur != start:
-        cur, action = prev[cur]
-        actions.append(action)
-    return actions[::-1]
-
-
 class _World:
     """The simulator side of a replay: runs plan steps, collects events."""
 
@@ -92,7 +67,7 @@ class _World:
         self.events: list[Any] = []
 
     def act(self, agent: int, action: int) -> None:
-        joint = [_STAY] * self.state.n_agents
+        joint = [int(Action.STAY)] * self.state.n_agents
         joint[agent] = action
         self.events.extend(transition(self.state, joint).events)
 
@@ -107,7 +82,8 @@ class _World:
         taken = 0
         if step.kind in ("move", "rescue") and spot is not None:
             others = frozenset(p for a, p in enumerate(st.agent_pos) if a != agent)
-            path = walk_actions(st, st.agent_pos[agent], spot, others)
+            path = walk_actions(geo.neighbors, geo.walkables[st.layout_index],
+                                st.agent_pos[agent], spot, others)
             if path is None:
                 return 0, f"agent {agent} has no free path to {step.spot}"
             for action in path:
@@ -117,7 +93,7 @@ class _World:
                 return taken, ""
         if spot is not None and st.agent_pos[agent] != spot:
             return taken, f"agent {agent} is at {st.agent_rc(agent)}, not at {step.spot}"
-        bump = bump_action(geo, spot, geo.flat(*step.place))
+        bump = direction(geo, spot, geo.flat(*step.place))
         if step.kind in ("chop", "wash"):
             bumps, waits = step.duration, 0
         elif step.kind == "cook":
@@ -129,7 +105,7 @@ class _World:
         else:
             bumps, waits = 1, 0
         for _ in range(waits):
-            self.act(agent, _STAY)
+            self.act(agent, int(Action.STAY))
             taken += 1
         for _ in range(bumps):
             self.act(agent, bump)

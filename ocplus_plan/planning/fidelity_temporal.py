@@ -60,12 +60,12 @@ from fractions import Fraction
 from typing import Any, NamedTuple
 
 from ..sim import transition
+from ..sim.codes import Action
+from ..sim.queries import direction, walk_actions
 from ..sim.state import State
 from .compile import Compiled
-from .fidelity import Replay, _fail, _ModelView, walk_actions
-from .spots import bump_action
+from .fidelity import Replay, _fail, _ModelView
 
-_STAY = 4
 #: happenings at one time: ends, then timed initial literals, then starts
 _END, _TIL, _START = 0, 1, 2
 #: map-back kinds the simulator has nothing to do for
@@ -301,7 +301,8 @@ class _TimedWorld:
         if k in self.schedule.clash:
             raise _Mismatch(self.schedule.clash[k], "timing")
         st, geo = self.state, self.state.geo
-        joint = [_STAY] * st.n_agents
+        joint = [int(Action.STAY)] * st.n_agents
+        walkable = geo.walkables[st.layout_index]
         for a in range(st.n_agents):
             act = self.schedule.by_step[a].get(k)
             if act is None:
@@ -310,9 +311,9 @@ class _TimedWorld:
             if act.walk:
                 if k == act.first:
                     others = frozenset(p for b, p in enumerate(st.agent_pos) if b != a)
-                    path = walk_actions(st, here, act.spot, others)
+                    path = walk_actions(geo.neighbors, walkable, here, act.spot, others)
                     if path is None or len(path) != act.steps:
-                        path = walk_actions(st, here, act.spot)
+                        path = walk_actions(geo.neighbors, walkable, here, act.spot)
                     if path is None or len(path) != act.steps:
                         raise _Mismatch(
                             f"{act.label}: the walk from {geo.rc(here)} to {geo.rc(act.spot)} "
@@ -324,7 +325,7 @@ class _TimedWorld:
                 if here != act.spot:
                     raise _Mismatch(f"{act.label}: agent {a} is at {geo.rc(here)}, not at "
                                     f"{geo.rc(act.spot)} (step {k})", self._category("effect"))
-                joint[a] = bump_action(geo, act.spot, act.place)
+                joint[a] = direction(geo, act.spot, act.place)
         events = transition(st, joint).events
         self.events.extend(events)
         kinds = {e.kind for e in events}

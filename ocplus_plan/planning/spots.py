@@ -31,6 +31,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 from ..sim.codes import COUNTERS, Cell
+from ..sim.queries import distances, interaction_spots, walkable_in_any_layout
 from ..sim.state import Geometry, State
 
 #: Cell codes that are places whatever they hold (counters are chosen, see the module doc).
@@ -68,17 +69,13 @@ def layout_info(geo: Geometry, layout_index: int, extra_counters: int = 2) -> La
     dist: dict[int, dict[int, int]] = {}
     rid = 0
     for f in range(n):
-        if walk[f] and region[f] < 0:
-            reach = geo.distances_from(f, walk)
-            for g in reach:
-                region[g] = rid
-            rid += 1
         if walk[f]:
-            dist[f] = geo.distances_from(f, walk)
-    floor_around = {
-        f: tuple(g for g in nbrs[f] if g >= 0 and walk[g])
-        for f in range(n) if not walk[f]
-    }
+            dist[f] = {g: d for g, d in enumerate(distances(nbrs, walk, [f])) if d >= 0}
+            if region[f] < 0:
+                for g in dist[f]:
+                    region[g] = rid
+                rid += 1
+    floor_around = {f: tuple(interaction_spots(nbrs, walk, f)) for f in range(n) if not walk[f]}
     stations = tuple(f for f in range(n) if terrain[f] in STATION_CODES and floor_around[f])
     counters = [f for f in range(n) if terrain[f] == Cell.COUNTER and floor_around[f]]
     handovers = tuple(
@@ -139,15 +136,16 @@ def build_spots(state: State, granularity: str = "stations", extra_counters: int
     region = info.region
     agent_regions = {region[p] for p in state.agent_pos}
     if every_layout:
-        union = tuple(any(w[f] for w in geo.walkables) for f in range(len(terrain)))
+        union = walkable_in_any_layout(geo)
         reach: set[int] = set()
         for start in state.agent_pos:
             if start not in reach:
-                reach.update(geo.distances_from(start, union))
+                reach.update(f for f, d in enumerate(distances(geo.neighbors, union, [start]))
+                             if d >= 0)
         region = tuple(0 if f in reach else -1 for f in range(len(terrain)))
         agent_regions = {0}
         info = LayoutInfo(region, info.dist, {
-            f: tuple(g for g in geo.neighbors[f] if g >= 0 and union[g])
+            f: tuple(interaction_spots(geo.neighbors, union, f))
             for f in info.floor_around}, info.stations, info.handovers, info.extras)
     chosen = set(info.stations) | set(info.handovers)
     for r in agent_regions:
@@ -194,17 +192,8 @@ def build_spots(state: State, granularity: str = "stations", extra_counters: int
                      tuple(state.agent_pos), info, tuple(layout_links))
 
 
-def bump_action(geo: Geometry, spot: int, place: int) -> int:
-    """The action index (0 right, 1 down, 2 left, 3 up) that bumps from ``spot`` into ``place``."""
-    for action, nbr in enumerate(geo.neighbors[spot]):
-        if nbr == place:
-            return action
-    raise ValueError(f"cell {geo.rc(place)} is not adjacent to {geo.rc(spot)}")
-
-
 def walk_distance(state: State, start: int, goal: int, blocked: frozenset[int]) -> int | None:
     """Steps of a shortest walk in the current layout that avoids ``blocked`` cells."""
     geo = state.geo
-    walk = geo.walkables[state.layout_index]
-    free = tuple(w and f not in blocked for f, w in enumerate(walk))
-    return geo.distances_from(start, free).get(goal)
+    d = distances(geo.neighbors, geo.walkables[state.layout_index], [start], blocked)[goal]
+    return d if d >= 0 else None

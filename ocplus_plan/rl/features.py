@@ -38,12 +38,13 @@ costs a scan over the map's interaction cells.
 
 from __future__ import annotations
 
-from collections import deque
+from collections import Counter
 
 import numpy as np
 
-from ..sim.codes import COUNTERS, Cell, Item, ItemState, Where
+from ..sim.codes import COUNTERS, Cell, Item, ItemState
 from ..sim.orders import plate_recipe
+from ..sim.queries import direction, plate_fits, ticks_until_burnt, walks
 from ..sim.rules import Rules
 from ..sim.state import State, geometry_for
 
@@ -169,48 +170,31 @@ class FeatureEncoder:
 
     def _bfs(self, layout: int, pos: int, others: tuple[int, ...]) -> list[tuple[int, int]]:
         geo = self.geo
-        walk = list(geo.walkables[layout])
-        for o in others:
-            walk[o] = False
         nbrs = geo.neighbors
-        dist = [-1] * len(walk)
-        first = [-1] * len(walk)
-        dist[pos] = 0
-        queue = deque([pos])
-        while queue:
-            u = queue.popleft()
-            for a, v in enumerate(nbrs[u]):
-                if v >= 0 and walk[v] and dist[v] < 0:
-                    dist[v] = dist[u] + 1
-                    first[v] = a if u == pos else first[u]
-                    queue.append(v)
+        dist, _parent, first, _order = walks(nbrs, geo.walkables[layout], [pos], others)
         out = []
         for c in self._interact[layout]:
             best, act = _NO_PATH, -1
-            for a, v in enumerate(nbrs[c]):
-                # v is the standing cell; from v the agent bumps c in the opposite direction
-                if v >= 0 and walk[v] and 0 <= dist[v] < best:
+            for v in nbrs[c]:
+                # v is the standing cell (reached: walkable and not another agent's)
+                if v >= 0 and 0 <= dist[v] < best:
                     best = dist[v]
-                    act = (a + 2) % 4 if v == pos else first[v]
+                    act = direction(geo, v, c) if v == pos else first[v]
             out.append((best + 1 if act >= 0 else _NO_PATH, act))
         return out
 
     def _plate_summary(self, state: State, plate: int) -> list[float]:
-        counts = [0.0] * 4
-        where, loc, kinds = state.item_where, state.item_loc, state.geo.item_kind
-        for i in range(len(where)):
-            if where[i] == Where.PLATE and loc[i] == plate:
-                counts[_ING_INDEX[kinds[i]]] += 1
+        kinds = state.geo.item_kind
+        contents = Counter(kinds[i] for i in state.plate_contents(plate))
+        counts = [contents[int(k)] for k in INGREDIENTS]
         recipe = plate_recipe(state, plate)
         fits = complete = 0.0
         missing = [0.0] * 4
         best = None
         for order in state.orders:
-            need = [0.0] * 4
-            for k in order.recipe:
-                need[_ING_INDEX[int(k)]] += 1
-            if all(c <= n for c, n in zip(counts, need)):
-                gap = [n - c for c, n in zip(counts, need)]
+            need = Counter(int(k) for k in order.recipe)
+            if plate_fits(contents, need):
+                gap = [need[int(k)] - contents[int(k)] for k in INGREDIENTS]
                 if best is None or sum(gap) < sum(best):
                     best = gap
         clean = state.item_state[plate] == _CLEAN
@@ -348,7 +332,7 @@ class FeatureEncoder:
         cooked = best_cell[_T["cooked_steak"]]
         burn_in = 0.0
         if cooked >= 0 and terrain[cooked] == _PAN:
-            left = rules.burn_time + 1 - progress[cell_item[cooked]]
+            left = ticks_until_burnt(rules, progress[cell_item[cooked]])
             burn_in = max(0.0, 1.0 - left / (rules.burn_time + 1 - rules.cook_time))
         f += [state.t / rules.horizon, float(layout), switch_in, min(cook_prog, 1.0), burn_in]
         return f

@@ -8,7 +8,6 @@ the source, and the row / column / value or key at fault.
 from __future__ import annotations
 
 import os
-from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -25,6 +24,7 @@ from .codes import (
     WALKABLE,
     Cell,
 )
+from .queries import distances, grid_neighbors
 
 if TYPE_CHECKING:
     from importlib.resources.abc import Traversable
@@ -309,17 +309,9 @@ def _switch_step(d: dict[str, Any], is_dynamic: bool, src: str) -> int:
 def reachable_floor(grid: np.ndarray, start: tuple[int, int]) -> set[tuple[int, int]]:
     """Floor cells reachable from ``start`` by 4-connected walking in ``grid``."""
     rows, cols = grid.shape
-    seen = {start}
-    queue = deque([start])
-    while queue:
-        r, c = queue.popleft()
-        for dr, dc in ((0, 1), (1, 0), (0, -1), (-1, 0)):
-            nr, nc = r + dr, c + dc
-            if 0 <= nr < rows and 0 <= nc < cols and (nr, nc) not in seen:
-                if int(grid[nr, nc]) in WALKABLE:
-                    seen.add((nr, nc))
-                    queue.append((nr, nc))
-    return seen
+    walkable = [int(v) in WALKABLE for v in grid.ravel()]
+    dist = distances(grid_neighbors(rows, cols), walkable, [start[0] * cols + start[1]])
+    return {divmod(f, cols) for f, d in enumerate(dist) if d >= 0}
 
 
 def station_reachability(layout: Layout) -> list[dict[str, Any]]:

@@ -12,8 +12,6 @@ from __future__ import annotations
 
 import hashlib
 import struct
-from collections import deque
-from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, NamedTuple
@@ -21,6 +19,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from .codes import ITEM_NAMES, SPAWN_TILES, WALKABLE, Cell, Item, ItemState, Where
+from .queries import grid_neighbors
 from .rules import Recipe, Rules, recipe_name
 
 
@@ -65,14 +64,6 @@ class Geometry:
         rows, cols = layout.shape
         terrains = tuple(tuple(int(v) for v in g.ravel()) for g in layout.grids())
         walk = tuple(tuple(v in WALKABLE for v in t) for t in terrains)
-        nbrs = []
-        for r in range(rows):
-            for c in range(cols):
-                row = []
-                for dr, dc in ((0, 1), (1, 0), (0, -1), (-1, 0)):
-                    nr, nc = r + dr, c + dc
-                    row.append(nr * cols + nc if 0 <= nr < rows and 0 <= nc < cols else -1)
-                nbrs.append(tuple(row))
         kinds, homes, names = [], [], []
         counts: dict[int, int] = {}
         for flat, code in enumerate(terrains[0]):
@@ -86,28 +77,11 @@ class Geometry:
         switch = ()
         if len(terrains) > 1:
             switch = tuple(i for i, (a, b) in enumerate(zip(*terrains)) if a != b)
-        return cls(rows, cols, terrains, walk, tuple(nbrs), pans, switch,
+        return cls(rows, cols, terrains, walk, grid_neighbors(rows, cols), pans, switch,
                    tuple(kinds), tuple(homes), tuple(names))
 
     def rc(self, flat: int) -> tuple[int, int]:
         return divmod(flat, self.cols)
-
-    def distances_from(
-        self, start: int, walkable: Sequence[bool], blocked: Collection[int] = (),
-    ) -> dict[int, int]:
-        """Walking steps from ``start`` to every cell reachable over ``walkable`` cells that
-        are not ``blocked`` (breadth-first; ``start`` itself is 0 whatever it is)."""
-        dist = {start: 0}
-        queue = deque([start])
-        nbrs = self.neighbors
-        while queue:
-            cur = queue.popleft()
-            d = dist[cur] + 1
-            for nxt in nbrs[cur]:
-                if nxt >= 0 and nxt not in dist and walkable[nxt] and nxt not in blocked:
-                    dist[nxt] = d
-                    queue.append(nxt)
-        return dist
 
     def flat(self, row: int, col: int) -> int:
         return row * self.cols + col

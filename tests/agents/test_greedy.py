@@ -106,3 +106,45 @@ def test_relays_items_down_a_one_lane_corridor():
     state, _ = _episode(rules, 0, g)
     assert g.info().get("greedy_relays", 0) >= 1
     assert state.stats["dishes_served"] >= 2
+
+
+def test_where_a_cook_carries_things_is_what_the_bump_there_does():
+    """On sampled states, every destination the greedy cook picks for what it holds gets the
+    interaction its label promises when the cook bumps it (the step decides, not a copy of
+    the rules in the controller)."""
+    from ocplus_plan.agents.greedy_view import KitchenView
+    from ocplus_plan.sim.queries import direction, interaction_spots
+
+    from ..sim.helpers import run, sampled_states
+
+    promised = {"to_board": "putdown", "to_pan": "putdown", "to_sink": "putdown",
+                "put_down": "putdown", "handover": "putdown", "relay": "putdown",
+                "deliver": "delivery", "trash": "trash", "empty_plate": "trash",
+                "to_plate": "plate_add", "collect": "plate_add"}
+    checked = set()
+    for preset in ("easy", "medium", "hard"):
+        for state in sampled_states(preset, 2, 30, seed=3, max_steps=199):
+            cook = GreedyAgent(0)
+            cook.reset(state)
+            view = KitchenView(state)
+            for a in range(state.n_agents):
+                if state.agent_hand[a] < 0:
+                    continue
+                goal = cook._carry(view, a, set(), cook._budgets(view))
+                if goal is None or goal[1] not in promised:
+                    continue  # nothing to do, or waiting by a busy station (a harmless bump)
+                cell, label = goal
+                walk = state.geo.walkables[state.layout_index]
+                spots = [p for p in interaction_spots(state.geo.neighbors, walk, cell)
+                         if p not in state.agent_pos or p == state.agent_pos[a]]
+                if not spots:
+                    continue
+                copy = state.copy()
+                copy.agent_pos[a] = spots[0]
+                joint = [4] * copy.n_agents
+                joint[a] = direction(state.geo, spots[0], cell)
+                ev, _ = run(copy, joint)
+                assert promised[label] in {e.kind for e in ev if e.agent == a}, \
+                    (preset, state.t, a, label, state.geo.rc(cell))
+                checked.add(label)
+    assert {"to_board", "to_pan", "to_plate", "deliver", "to_sink", "put_down"} <= checked, checked

@@ -11,16 +11,14 @@ from ocplus_plan.execution.paths import (
     DistanceOracle,
     PathRequest,
     Reservations,
-    bfs_distances,
     check_paths,
-    interaction_spots,
     layout_schedule,
     plan_paths,
     space_time_astar,
-    step_action,
 )
 from ocplus_plan.sim import make_rules, new_state, transition
 from ocplus_plan.sim.codes import Action
+from ocplus_plan.sim.queries import direction, distances, interaction_spots
 
 
 def kitchen(grid, spawns, preset="easy", **kw):
@@ -42,18 +40,18 @@ def test_bfs_distances_and_spots():
     s = kitchen(CORRIDOR, [[1, 1]])
     geo = s.geo
     walk = geo.walkables[0]
-    d = bfs_distances(geo, walk, [geo.flat(1, 1)])
+    d = distances(geo.neighbors, walk, [geo.flat(1, 1)])
     assert d[geo.flat(1, 5)] == 4
     assert d[geo.flat(0, 0)] == -1  # a wall is never reached
     board = geo.flat(0, 3)
-    assert interaction_spots(geo, walk, board) == [geo.flat(1, 3)]
-    d = bfs_distances(geo, walk, [geo.flat(1, 1)], blocked=[geo.flat(1, 3)])
+    assert interaction_spots(geo.neighbors, walk, board) == [geo.flat(1, 3)]
+    d = distances(geo.neighbors, walk, [geo.flat(1, 1)], blocked=[geo.flat(1, 3)])
     assert d[geo.flat(1, 4)] == -1
     oracle = DistanceOracle(geo)
     assert oracle.to_station(0, board)[geo.flat(1, 1)] == 2
     assert oracle.to_station(0, board) is oracle.to_station(0, board)  # memoised
     with pytest.raises(ConfigError, match="outside"):
-        bfs_distances(geo, walk, [999])
+        distances(geo.neighbors, walk, [999])
 
 
 def test_step_action_matches_simulator_moves():
@@ -61,12 +59,12 @@ def test_step_action_matches_simulator_moves():
     geo = s.geo
     start = s.agent_pos[0]
     right = geo.flat(1, 3)
-    assert step_action(geo, start, right) == Action.RIGHT
-    assert step_action(geo, start, start) == Action.STAY
-    transition(s, [step_action(geo, start, right)])
+    assert direction(geo, start, right) == Action.RIGHT
+    assert direction(geo, start, start) == Action.STAY
+    transition(s, [direction(geo, start, right)])
     assert s.agent_pos[0] == right
     with pytest.raises(ConfigError, match="not adjacent"):
-        step_action(geo, start, geo.flat(1, 5))
+        direction(geo, start, geo.flat(1, 5))
 
 
 def test_single_agent_shortest_path():
@@ -92,7 +90,7 @@ def test_head_on_in_corridor_with_pocket_lets_one_pass():
     paths = {k: v.path for k, v in out.items()}
     length = max(len(p) for p in paths.values())
     for t in range(length - 1):
-        acts = [step_action(geo, paths[k][min(t, len(paths[k]) - 1)],
+        acts = [direction(geo, paths[k][min(t, len(paths[k]) - 1)],
                             paths[k][min(t + 1, len(paths[k]) - 1)]) for k in (0, 1)]
         ev = transition(s, acts).events
         assert not [e for e in ev if e.kind == "move_blocked"]
@@ -205,7 +203,7 @@ def test_corridor3_three_agents_shift_without_conflict():
     assert check_paths(paths) == []
     length = max(len(p) for p in paths.values())
     for t in range(length - 1):
-        acts = [step_action(geo, paths[k][min(t, len(paths[k]) - 1)],
+        acts = [direction(geo, paths[k][min(t, len(paths[k]) - 1)],
                             paths[k][min(t + 1, len(paths[k]) - 1)]) for k in range(3)]
         ev = transition(s, acts).events
         assert not [e for e in ev if e.kind == "move_blocked"], (t, s.describe())
