@@ -25,8 +25,18 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from ..errors import ConfigError
-from ..sim.codes import VEGETABLES, Action, Cell, ItemState
-from ..sim.queries import direction, distances, interaction_spots, walkable_in_any_layout
+from ..sim.codes import Action, Cell, ItemState
+from ..sim.queries import (
+    Bump,
+    bump_effect,
+    bumps_needed,
+    direction,
+    distances,
+    interaction_spots,
+    is_plateable,
+    ticks_until_burnt,
+    walkable_in_any_layout,
+)
 from ..sim.state import State
 from .paths import (
     DistanceOracle,
@@ -44,11 +54,10 @@ from .plans import (
     causal_dependencies,
 )
 
-_VEG = frozenset(int(v) for v in VEGETABLES)
 _PAN = int(Cell.PAN)
-_RAW, _CHOPPED, _CLEAN, _DIRTY = (int(ItemState.FRESH), int(ItemState.CHOPPED),
-                                  int(ItemState.CLEAN), int(ItemState.DIRTY))
-_COOKED = int(ItemState.COOKED)
+_RAW, _CHOPPED, _CLEAN = int(ItemState.FRESH), int(ItemState.CHOPPED), int(ItemState.CLEAN)
+#: the bump that processes the item of a chop / wash step (several of them finish it)
+_PROCESS = {"chop": Bump.CHOP, "wash": Bump.WASH}
 
 
 @dataclass
@@ -323,30 +332,32 @@ class Executive:
         self.boosted.pop(agent, None)
 
     def _already_done(self, state: State, task: Task) -> bool:
-        """Chop/wash of an item that is already processed (e.g. per-level chop steps)."""
-        kind, here = task.step.kind, state.cell_item[task.step.target]
+        """Chop/wash of an item that is already processed (e.g. per-level chop steps): an
+        empty hand's bump there would no longer chop or wash."""
+        kind = task.step.kind
         if kind == "goto":
             return state.agent_pos[task.step.agent] == task.step.target
-        if kind == "chop":
-            return here < 0 or state.item_state[here] == _CHOPPED
-        if kind == "wash":
-            return here < 0 or state.item_state[here] == _CLEAN
+        if kind in _PROCESS:
+            return bump_effect(state, -1, task.step.target) != _PROCESS[kind]
         return False
 
     def _ready(self, state: State, agent: int, task: Task) -> bool:
+        """Time to bump for this step? A chop or a wash once the bump would chop or wash
+        (``bump_effect``); at a pan once the steak may be taken (never raw) or plated
+        (cooked); any other step as soon as the hand holds what the step needs and, for a
+        step that takes something, something lies there: a bump that then changes nothing
+        tells the executive that the plan and the world disagree (``action_failed``)."""
         if not task.deps <= self.done_steps:
             return False
         s = task.step
         held, here = state.agent_hand[agent], state.cell_item[s.target]
+        if s.kind in _PROCESS:
+            return bump_effect(state, held, s.target) == _PROCESS[s.kind]
         code = state.geo.terrains[state.layout_index][s.target]
-        if s.kind == "chop":
-            return held < 0 and here >= 0 and state.geo.item_kind[here] in _VEG
-        if s.kind == "wash":
-            return held < 0 and here >= 0 and state.item_state[here] == _DIRTY
         if code == _PAN and here >= 0 and s.kind != "putdown":
             # never take a raw steak off the pan; only a cooked one goes on a plate
             if s.kind == "plate" or held >= 0:
-                return state.item_state[here] == _COOKED
+                return is_plateable(state, here)
             return state.item_state[here] != _RAW
         if s.kind == "pickup":
             return held < 0 and here >= 0
@@ -407,7 +418,8 @@ class Executive:
             steak = state.cell_item[pan]
             if steak < 0 or state.item_state[steak] not in (_RAW, int(ItemState.COOKED)):
                 continue
-            left = rules.burn_time - state.item_progress[steak]  # steps in which it can be taken
+            # steps in which it can still be taken (the last tick burns it)
+            left = ticks_until_burnt(rules, state.item_progress[steak]) - 1
             eta = self._eta(state, pan)
             key = (f"burn{self.plan_id}", steak)
             if key in self.warned:
@@ -431,8 +443,8 @@ class Executive:
                 if task.step.target == pan and task.step.kind != "putdown":
                     best = total if best is None else min(best, total)
                     break
-                if task.step.kind in ("chop", "wash"):
-                    total += state.rules.chop_steps - 1
+                if task.step.kind in _PROCESS:
+                    total += bumps_needed(state.rules, _PROCESS[task.step.kind]) - 1
                 pos = min(spots, key=lambda c: self.oracle.to_goals(layout, [pos])[c]) if spots else pos
         return best
 

@@ -199,3 +199,96 @@ def test_anticipated_switches_on_schedule_are_not_surprises():
     assert "unreachable" not in ahead["replans_by_reason"]
     assert stats_a["max_agents_per_cell"] == 1
     assert stats_a["dishes_served"] >= stats["dishes_served"] >= 1
+
+
+# a 3x7 kitchen with a pan (0, 3) and a sink (2, 3) (map G of tests/sim/test_items.py)
+G = [[1, 10, 1, 9, 1, 3, 1], [5, 0, 0, 0, 0, 0, 7], [1, 12, 6, 11, 1, 1, 1]]
+
+
+def test_burn_eta_waits_wash_steps_for_a_wash_not_chop_steps():
+    """A wash before taking a steak off the pan delays it by ``wash_steps`` bumps; the ETA used
+    to count ``chop_steps`` (hidden while both were 3)."""
+    from collections import deque
+
+    from ocplus_plan.execution.executive import Task
+    from ocplus_plan.sim.codes import Item
+
+    from ..sim.helpers import item_of, place
+
+    etas = {}
+    for wash_steps in (3, 7):
+        spec = {"name": "g", "game_map": G, "agent_spawn_points": [[1, 1]]}
+        rules = make_rules("medium", map=spec, n_agents=1, recipes=["tomato+steak"],
+                           chop_steps=2, wash_steps=wash_steps)
+        state = new_state(rules, 0)
+        geo = state.geo
+        plate, steak = item_of(state, Item.PLATE), item_of(state, Item.STEAK)
+        place(state, plate, (2, 3))
+        state.item_state[plate] = int(ItemState.DIRTY)
+        place(state, steak, (0, 3))
+        sink, pan = geo.flat(2, 3), geo.flat(0, 3)
+        ex = Executive(toy_planner)
+        ex.reset(state)
+        ex.queues[0] = deque([Task(PlanStep(0, 0, "wash", sink, (plate,)), frozenset()),
+                              Task(PlanStep(1, 0, "pickup", pan, (steak,)), frozenset())])
+        etas[wash_steps] = ex._eta(state, pan)
+    # walk to the sink's spot (2) + wash_steps bumps + step over to the pan's spot (0) + bump
+    assert etas == {3: 2 + 3 + 0 + 1, 7: 2 + 7 + 0 + 1}
+
+
+def test_ready_steps_are_what_the_step_then_does_on_sampled_states():
+    """On sampled states the executive's expectations agree with the step: a chop / wash
+    step is ready exactly when the agent's bump chops / washes, and done exactly when an
+    empty hand's bump would no longer; at a pan, a ready step takes a steak that is not raw
+    or plates a cooked one. (Other steps are tried as soon as the hand fits them: a bump that
+    changes nothing is how the executive learns that the plan is stale.)"""
+    from ocplus_plan.execution.executive import Task
+    from ocplus_plan.sim.codes import Cell
+    from ocplus_plan.sim.queries import Bump, bump_effect, direction, interaction_spots
+
+    from ..sim.helpers import run, sampled_states
+
+    def bump(state, a, spot, cell):
+        copy = state.copy()
+        copy.agent_pos[a] = spot
+        joint = [4] * copy.n_agents
+        joint[a] = direction(state.geo, spot, cell)
+        ev, _ = run(copy, joint)
+        return {e.kind for e in ev if e.agent == a}
+
+    checked = 0
+    for preset in ("easy", "medium", "hard"):
+        for state in sampled_states(preset, 2, 25, seed=5, max_steps=199):
+            geo = state.geo
+            walk = geo.walkables[state.layout_index]
+            ex = Executive(toy_planner)
+            ex.reset(state)
+            for a in range(state.n_agents):
+                for cell in range(len(walk)):
+                    spots = [p for p in interaction_spots(geo.neighbors, walk, cell)
+                             if p not in state.agent_pos or p == state.agent_pos[a]]
+                    if walk[cell] or not spots:
+                        continue
+                    code = geo.terrains[state.layout_index][cell]
+                    for kind, done_by in (("chop", {"chop", "chop_done"}),
+                                          ("wash", {"wash", "wash_done"})):
+                        task = Task(PlanStep(0, a, kind, cell), frozenset())
+                        effect = bump_effect(state, -1, cell)
+                        assert ex._already_done(state, task) == (effect != Bump[kind.upper()])
+                        if ex._already_done(state, task):
+                            continue
+                        ready = ex._ready(state, a, task)
+                        done = bump(state, a, spots[0], cell)
+                        assert ready == bool(done & done_by), (preset, state.t, a, kind, done)
+                        checked += 1
+                    if code != Cell.PAN or state.cell_item[cell] < 0:
+                        continue
+                    steak, held = state.cell_item[cell], state.agent_hand[a]
+                    for kind in ("pickup", "plate"):
+                        if not ex._ready(state, a, Task(PlanStep(0, a, kind, cell), frozenset())):
+                            continue
+                        assert state.item_state[steak] != ItemState.FRESH  # never a raw steak
+                        if held >= 0 and bump_effect(state, held, cell) == Bump.TAKE_ONTO_PLATE:
+                            assert "plate_add" in bump(state, a, spots[0], cell)
+                        checked += 1
+    assert checked >= 20
