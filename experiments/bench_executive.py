@@ -37,9 +37,10 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from ocplus_plan.agents import run_episode
 from ocplus_plan.agents.planner import PlannerAgent
 from ocplus_plan.eval.bounds import dish_bound
-from ocplus_plan.execution.faults import FaultSchedule, run_episode
+from ocplus_plan.execution.faults import FaultSchedule
 from ocplus_plan.sim import make_rules, new_state
 
 

@@ -14,7 +14,7 @@ import json
 import statistics
 
 from ocplus_plan.errors import ConfigError
-from ocplus_plan.eval.runner import EpisodeSpec, run_episode
+from ocplus_plan.eval.runner import EpisodeSpec, evaluate_episode
 from ocplus_plan.sim import available_maps, make_rules
 
 
@@ -34,7 +34,7 @@ def main() -> None:
                     make_rules(preset, map=name, n_agents=n)
                 except ConfigError:
                     continue
-                rows = [run_episode(EpisodeSpec(preset, name, name, n, args.agent, seed,
+                rows = [evaluate_episode(EpisodeSpec(preset, name, name, n, args.agent, seed,
                                                 args.horizon)) for seed in range(args.seeds)]
                 dishes = [r["metrics"]["dishes_served"] for r in rows]
                 burns = sum(r["metrics"]["burns"] for r in rows)

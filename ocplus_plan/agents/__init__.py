@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from ..errors import ConfigError
-from .base import Controller, RandomAgent, StayAgent, Team
+from .base import Controller, Episode, RandomAgent, StayAgent, Team, run_episode
 
 #: agent kind -> factory(argument after ':' or None, seed) -> Controller
 FACTORIES: dict[str, Callable[[str | None, int], Controller]] = {
@@ -32,4 +32,5 @@ def make_controller(spec: str, seed: int = 0) -> Controller:
     return FACTORIES[kind](arg or None, seed)
 
 
-__all__ = ["FACTORIES", "Controller", "RandomAgent", "StayAgent", "Team", "make_controller"]
+__all__ = ["FACTORIES", "Controller", "Episode", "RandomAgent", "StayAgent", "Team", "make_controller",
+           "run_episode"]

@@ -21,8 +21,9 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from ..agents.base import Controller
 from ..errors import ConfigError
-from ..sim import PRESETS, Rules, StepResult, make_rules, new_state, transition
+from ..sim import PRESETS, Action, Rules, State, StepResult, make_rules, new_state
 
 MODES = ("coop", "adversarial")
 #: event kinds counted per side in the metrics
@@ -47,6 +48,18 @@ def parse_humans(text: str | None) -> tuple[int, ...]:
     return humans
 
 
+class _Keyboard(Controller):
+    """The humans as a controller: each plays the key it pressed last, or stays."""
+
+    name = "keyboard"
+
+    def __init__(self, pending: dict[int, int]) -> None:
+        self.pending = pending  # the session's: agent -> action, cleared after each step
+
+    def act(self, state: State) -> list[int]:
+        return [self.pending.get(h, int(Action.STAY)) for h in self.agent_ids]
+
+
 class PlaySession:
     """One episode with keyboard humans and AI controllers (no pygame here: testable).
 
@@ -57,7 +70,7 @@ class PlaySession:
 
     def __init__(self, rules: Rules, seed: int = 0, *, humans: Sequence[int] = (0,),
                  agents: str = "greedy", mode: str = "coop", record: bool = True) -> None:
-        from ..agents import make_controller
+        from ..agents import Episode, Team, make_controller
         from ..render.replay import Recorder
         from ..render.window import KEY_HELP, key_map
 
@@ -76,15 +89,14 @@ class PlaySession:
         self.ai = tuple(a for a in range(n) if a not in self.humans)
         self.state = new_state(rules, seed)
         self.controller = make_controller(agents, seed) if self.ai else None
-        if self.controller is not None:
-            self.controller.reset(self.state, self.ai)
         self.keys = key_map(len(self.humans)) if self.humans else {}
         self.key_help = KEY_HELP.get(len(self.humans), ())
         self.pending: dict[int, int] = {}
-        self.rewards = [0.0] * n
+        drivers = [(c, ids) for c, ids in ((self.controller, self.ai),
+                                           (_Keyboard(self.pending), self.humans)) if ids]
+        self.episode = Episode(self.state, Team([c for c, _ in drivers], [i for _, i in drivers]))
         self.events_by_agent: list[Counter[str]] = [Counter() for _ in range(n)]
         self.agents_spec = agents
-        self.finished = False
         meta = {"humans": list(self.humans), "agents": agents, "mode": mode}
         self.recorder = Recorder(rules, seed, meta) if record else None
 
@@ -104,32 +116,25 @@ class PlaySession:
         return not turn_based or all(h in self.pending for h in self.humans)
 
     # -- stepping
-    def joint_action(self) -> list[int]:
-        joint = [4] * self.rules.n_agents
-        if self.controller is not None:
-            for a, act in zip(self.ai, self.controller.act(self.state)):
-                joint[a] = int(act)
-        for h in self.humans:
-            joint[h] = self.pending.get(h, 4)
-        return joint
+    @property
+    def finished(self) -> bool:
+        return self.episode.finished
+
+    @property
+    def rewards(self) -> list[float]:
+        return self.episode.rewards
 
     def step(self) -> StepResult:
         """Advance one step with the pending human actions (stay if none) and the AI's."""
         if self.finished:
             raise ConfigError("the episode is over; start a new session")
-        joint = self.joint_action()
-        result = transition(self.state, joint)
-        if self.controller is not None:
-            self.controller.observe(self.state, result.events)
+        result = self.episode.step()
         if self.recorder is not None:
-            self.recorder.record(joint, result.events)
-        for a, r in enumerate(result.rewards):
-            self.rewards[a] += r
+            self.recorder.record(self.episode.joint, result.events)
         for e in result.events:
             if 0 <= e.agent < len(self.events_by_agent) and e.kind in _COUNTED:
                 self.events_by_agent[e.agent][e.kind] += 1
         self.pending.clear()
-        self.finished = result.terminated or result.truncated
         return result
 
     # -- scoring

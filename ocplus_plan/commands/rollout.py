@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import time
 
-from ..sim import conservation_problems, make_rules, new_state, transition
+from ..sim import conservation_problems, make_rules, new_state
 from ._common import add_kitchen_args, emit
 
 
@@ -22,7 +22,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..agents import make_controller
+    from ..agents import Episode, make_controller
 
     kw = {} if args.n_agents is None else {"n_agents": args.n_agents}
     if args.steps is not None:
@@ -30,23 +30,20 @@ def run(args: argparse.Namespace) -> int:
     rules = make_rules(args.preset, map=args.map, **kw)
     state = new_state(rules, args.seed)
     controller = make_controller(args.agents, args.seed)
-    controller.reset(state)
-    reward = [0.0] * rules.n_agents
-    conserved = True
+    broken: list[str] = []
+
+    def check(episode: Episode, _result: object) -> None:
+        broken.extend(conservation_problems(episode.state))
+
     t0 = time.perf_counter()
-    while not state.done:
-        result = transition(state, controller.act(state))
-        controller.observe(state, result.events)
-        reward = [a + b for a, b in zip(reward, result.rewards)]
-        conserved = conserved and not conservation_problems(state)
-        if result.terminated or result.truncated:
-            break
+    episode = Episode(state, controller).run(on_step=check)
     out = {
         "preset": rules.preset, "map": rules.layout.name, "n_agents": rules.n_agents,
         "agents": args.agents, "seed": args.seed, "steps": state.t,
         **state.stats,
-        "reward": round(sum(reward), 6), "reward_per_agent": [round(r, 6) for r in reward],
-        "items_conserved": conserved, "state_hash": state.state_hash(),
+        "reward": round(sum(episode.rewards), 6),
+        "reward_per_agent": [round(r, 6) for r in episode.rewards],
+        "items_conserved": not broken, "state_hash": state.state_hash(),
         "wall_time_s": round(time.perf_counter() - t0, 4),
         **{f"controller_{k}": v for k, v in controller.info().items()},
     }

@@ -26,7 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ConfigError, DependencyNotInstalled, OcplusError
-from ..sim import make_rules, new_state, transition
+from ..sim import make_rules, new_state
 from .metrics import EpisodeLog, compute_metrics, controller_metrics
 from .progress import progress_bar
 from .results import (
@@ -177,9 +177,9 @@ def _planner_unavailable(name: str) -> str | None:
 
 
 # ---------------------------------------------------------------- one episode
-def run_episode(spec: EpisodeSpec) -> dict[str, Any]:
+def evaluate_episode(spec: EpisodeSpec) -> dict[str, Any]:
     """Run one episode and return its results row (never raises for controller failures)."""
-    from ..agents import make_controller
+    from ..agents import Episode, make_controller
 
     row = spec.row_base()
     t_start = time.perf_counter()
@@ -196,22 +196,18 @@ def run_episode(spec: EpisodeSpec) -> dict[str, Any]:
 
         recorder = Recorder(rules, spec.seed, meta={"agent": spec.agent, "key": row["key"]})
     status, reason = "ok", ""
+
+    def record(episode: Episode, result: Any) -> None:
+        if recorder is not None:
+            recorder.record(episode.joint, result.events)
+        log.record(episode.joint, state.agent_pos, result.rewards, result.events,
+                   episode.decision_time)
+        for o in state.orders:
+            log.order_created.setdefault(o.order_id, o.created)
+
     try:
         controller = make_controller(spec.agent, spec.seed)
-        controller.reset(state)
-        while not state.done:
-            t0 = time.perf_counter()
-            joint = controller.act(state)
-            dt = time.perf_counter() - t0
-            result = transition(state, joint)
-            controller.observe(state, result.events)
-            if recorder is not None:
-                recorder.record(joint, result.events)
-            log.record(joint, state.agent_pos, result.rewards, result.events, dt)
-            for o in state.orders:
-                log.order_created.setdefault(o.order_id, o.created)
-            if result.terminated or result.truncated:
-                break
+        Episode(state, controller).run(on_step=record)
     except DependencyNotInstalled as exc:
         status, reason = "skipped", str(exc)
     except Exception as exc:  # the controller (or its planner process) failed: keep going
@@ -241,7 +237,7 @@ def _worker(conn: Any, spec: EpisodeSpec) -> None:
     except OSError:  # pragma: no cover
         pass
     try:
-        row = run_episode(spec)
+        row = evaluate_episode(spec)
     except BaseException as exc:  # pragma: no cover - reported by the parent
         row = {**spec.row_base(), "status": "error", "reason": f"{type(exc).__name__}: {exc}"}
     conn.send(row)
@@ -362,7 +358,7 @@ def run_eval(cfg: EvalConfig, echo: Any = print) -> EvalOutcome:
 def _run_all(todo: list[EpisodeSpec], cfg: EvalConfig):  # -> Iterator[dict]
     if cfg.jobs <= 1 and cfg.episode_timeout is None:
         for spec in todo:
-            yield run_episode(spec)
+            yield evaluate_episode(spec)
         return
     methods = mp.get_all_start_methods()
     ctx = mp.get_context("fork" if "fork" in methods else "spawn")
@@ -413,10 +409,10 @@ __all__ = [
     "EvalOutcome",
     "PENDING_KINDS",
     "check_agent",
+    "evaluate_episode",
     "parse_list",
     "parse_seeds",
     "plan_episodes",
     "prepare_out_dir",
-    "run_episode",
     "run_eval",
 ]

@@ -5,7 +5,8 @@
 - :class:`BlockingAgent`: a controller for an agent the planner does not drive, which
   walks to a cell in everybody's way and stands there for a while (a human in the way).
 - :class:`MessageLoss`: an executive hook that drops an agent's new task list.
-- :class:`FaultSchedule` + :func:`run_episode`: apply faults at given steps of an episode.
+- :class:`FaultSchedule`: faults at given steps of an episode (pass it to
+  ``agents.run_episode`` / ``agents.Episode``, which apply it before each step).
 
 These mutate the state on purpose (that is the fault); every other layer treats the
 simulator as the only source of truth.
@@ -15,7 +16,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
@@ -23,7 +23,6 @@ from ..errors import ConfigError
 from ..sim.codes import Action, Item
 from ..sim.dynamics import maybe_switch
 from ..sim.state import Event, State
-from ..sim.step import transition
 from .paths import PathRequest, plan_paths
 
 
@@ -131,43 +130,10 @@ class FaultSchedule:
         return events
 
 
-def run_episode(
-    state: State, controllers: Sequence[tuple[Any, Sequence[int]]],
-    faults: FaultSchedule | None = None, steps: int | None = None,
-) -> dict[str, Any]:
-    """Play ``state`` to its horizon (or ``steps``) with controllers driving disjoint agent
-    sets, applying ``faults`` before each step. Returns the final stats plus what
-    collided: ``blocked_moves`` and ``max_agents_per_cell`` (always 1 in a valid run)."""
-    for ctrl, ids in controllers:
-        ctrl.reset(state, list(ids))
-    n = state.n_agents
-    blocked = 0
-    crowd = 1
-    limit = state.rules.horizon if steps is None else steps
-    while state.t < limit:
-        fault_events = faults.before_step(state) if faults else []
-        joint = [int(Action.STAY)] * n
-        for ctrl, ids in controllers:
-            for a, act in zip(ids, ctrl.act(state)):
-                joint[a] = int(act)
-        result = transition(state, joint)
-        events = fault_events + result.events
-        blocked += sum(1 for e in result.events if e.kind == "move_blocked")
-        crowd = max(crowd, max(state.agent_pos.count(p) for p in state.agent_pos))
-        for ctrl, _ in controllers:
-            if hasattr(ctrl, "observe"):
-                ctrl.observe(state, events)
-        if result.terminated or result.truncated:
-            break
-    return {**state.stats, "t": state.t, "blocked_moves": blocked, "max_agents_per_cell": crowd,
-            "faults": list(faults.applied) if faults else []}
-
-
 __all__ = [
     "BlockingAgent",
     "FaultSchedule",
     "MessageLoss",
     "force_burn",
     "force_switch",
-    "run_episode",
 ]

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
+from ocplus_plan.agents import run_episode
 from ocplus_plan.agents.greedy import GreedyAgent
 from ocplus_plan.eval.bounds import bumps_per_dish, dish_bound
-from ocplus_plan.execution.faults import run_episode
 from ocplus_plan.sim import make_rules, new_state
 from ocplus_plan.sim.codes import Item
 

@@ -102,9 +102,9 @@ def test_summary_groups_and_ignores_failed_rows():
 
 
 def test_metrics_from_events_agree_with_simulator_stats():
-    from ocplus_plan.eval.runner import EpisodeSpec, run_episode
+    from ocplus_plan.eval.runner import EpisodeSpec, evaluate_episode
 
-    row = run_episode(EpisodeSpec("medium", "medium_kitchen", None, 2, "greedy", 1, 120))
+    row = evaluate_episode(EpisodeSpec("medium", "medium_kitchen", None, 2, "greedy", 1, 120))
     m, stats = row["metrics"], row["stats"]
     assert row["status"] == "ok" and m["steps"] == 120
     for key in ("dishes_served", "orders_completed", "burns", "wrong_deliveries", "chops",

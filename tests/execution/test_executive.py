@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pytest
 
+from ocplus_plan.agents import run_episode
 from ocplus_plan.errors import ConfigError
 from ocplus_plan.execution.executive import (
     Executive,
@@ -18,7 +19,6 @@ from ocplus_plan.execution.faults import (
     MessageLoss,
     force_burn,
     force_switch,
-    run_episode,
 )
 from ocplus_plan.sim import make_rules, new_state
 from ocplus_plan.sim.codes import ItemState

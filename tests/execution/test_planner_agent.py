@@ -11,10 +11,10 @@ import warnings
 
 import pytest
 
-from ocplus_plan.agents import make_controller
+from ocplus_plan.agents import make_controller, run_episode
 from ocplus_plan.agents.planner import PlannerAgent, orders_to_plan, steps_from_record
 from ocplus_plan.errors import ConfigError
-from ocplus_plan.execution.faults import FaultSchedule, force_switch, run_episode
+from ocplus_plan.execution.faults import FaultSchedule, force_switch
 from ocplus_plan.sim import make_rules, new_state, transition
 
 warnings.simplefilter("ignore", UserWarning)
