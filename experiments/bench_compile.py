@@ -18,7 +18,7 @@ import platform
 import statistics
 import time
 
-from ocplus_plan.planning import compile
+from ocplus_plan.planning import ENCODINGS, compile
 from ocplus_plan.planning.fidelity import sample_states
 from ocplus_plan.sim import make_rules, new_state
 
@@ -34,7 +34,7 @@ def main() -> None:
     print(json.dumps({"bench": "compile_first_call", "seconds": round(time.perf_counter() - t0, 3)}))
     for preset in ("easy", "medium", "hard"):
         states = [new_state(make_rules(preset), 0)] + sample_states(preset, args.states, seed=1)
-        for encoding in ("classical", "temporal"):
+        for encoding in ENCODINGS:
             for granularity in ("stations", "cells"):
                 compile(states[0], encoding=encoding, granularity=granularity)  # warm
                 times = []

@@ -24,7 +24,7 @@ from ..execution.schedule import KEEP, RELEASE, TAKE, schedule
 from ..sim.state import State
 from .base import Controller
 
-#: map-back kinds (``planning.names.PlanStep.kind``) -> the executive's step kinds
+#: map-back kinds (``planning.names.MappedAction.kind``) -> the executive's step kinds
 _KINDS = {
     "pick": "pickup", "rescue": "pickup", "take_off": "pickup",
     "put": "putdown", "chop": "chop", "wash": "wash",
@@ -44,7 +44,7 @@ def _flat(state: State, rc: Any) -> int | None:
 
 def steps_from_record(record: Any, state: State, index: int,
                       follow_moves: bool = False) -> list[PlanStep]:
-    """One map-back record (``planning.names.PlanStep``) -> executive steps (none for a move).
+    """One map-back record (``planning.names.MappedAction``) -> executive steps (none for a move).
 
     A classical ``cook`` (put the steak on the pan, wait, take it off) becomes two steps
     of its agent; a temporal cook envelope becomes a put by ``agent`` at its start and a
@@ -302,10 +302,12 @@ class PlannerAgent(Controller):
         orders_per_plan: int | str | None = "auto", schedule_cooks: bool = True,
         plan_cooks: str = "all", chain_orders: int = 1, **executive_options: Any,
     ) -> None:
-        if encoding not in ("classical", "temporal"):
-            raise ConfigError(f"encoding must be 'classical' or 'temporal', got {encoding!r}")
-        if granularity not in ("stations", "cells"):
-            raise ConfigError(f"granularity must be 'stations' or 'cells', got {granularity!r}")
+        from ..planning.model import ENCODINGS, GRANULARITIES
+
+        if encoding not in ENCODINGS:
+            raise ConfigError(f"encoding must be one of {ENCODINGS}, got {encoding!r}")
+        if granularity not in GRANULARITIES:
+            raise ConfigError(f"granularity must be one of {GRANULARITIES}, got {granularity!r}")
         self.planner_name = planner if isinstance(planner, str) else getattr(planner, "__name__", "custom")
         fn = planner if callable(planner) else compile_and_solve(
             planner, encoding, granularity, anticipate_switches, timeout,

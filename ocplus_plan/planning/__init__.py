@@ -7,14 +7,14 @@ never import it. Typical use::
     from ocplus_plan.planning import compile
     compiled = compile(state, encoding="classical", granularity="stations")
     compiled.problem          # a unified_planning Problem
-    compiled.map_back(ai)     # PlanStep(agent, kind, items, place, spot, duration, ...)
+    compiled.map_back(ai)     # MappedAction(agent, kind, items, place, spot, duration, ...)
 """
 
 from __future__ import annotations
 
 from .compile import Compiled, compile
 from .model import ENCODINGS, GRANULARITIES, build_domain
-from .names import Names, PlanStep
+from .names import MappedAction, Names
 
-__all__ = ["ENCODINGS", "GRANULARITIES", "Compiled", "Names", "PlanStep", "build_domain",
+__all__ = ["ENCODINGS", "GRANULARITIES", "Compiled", "MappedAction", "Names", "build_domain",
            "compile"]

@@ -5,7 +5,7 @@ state (agents, spots, places, items, kinds, contents, orders), its initial facts
 the rule numbers (read from ``state.rules``), the goal (serve every selected
 order) and, for the temporal encoding, the timed initial literals of a steak that
 is already on a pan. :class:`Compiled` also maps every plan action back to a
-:class:`~.names.PlanStep`.
+:class:`~.names.MappedAction`.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from ..sim.state import Order, State
 from ._build import Builder as _Builder
 from ._build import new_problem as _new_problem
 from .model import BUMP_DONE_KINDS, build_domain
-from .names import Names, PlanStep
+from .names import MappedAction, Names
 from .spots import SpotGraph, build_spots, walk_distance
 
 _HOLDERS = frozenset(int(c) for c in COUNTERS)
@@ -60,8 +60,8 @@ class Compiled:
     switches: bool = False
 
     def map_back(self, action_instance: Any, start: float | None = None,
-                 duration: float | None = None) -> PlanStep:
-        """The :class:`PlanStep` of one plan action (a UP ``ActionInstance``)."""
+                 duration: float | None = None) -> MappedAction:
+        """The :class:`MappedAction` of one plan action (a UP ``ActionInstance``)."""
         action = action_instance.action
         values = [str(p.object()) if p.is_object_exp() else str(p)
                   for p in action_instance.actual_parameters]
@@ -82,15 +82,16 @@ class Compiled:
             dur = round(float(duration)) if duration is not None else self._number(
                 "cook_lo_full" if action.name == "cook" else "cook_lo",
                 () if action.name == "cook" else (args["i"],))
-            return PlanStep(action.name, "cook", n.agents[args["a1"]], items, cell("p"),
-                            cell("s1"), None, dur, None, start, n.agents[args["a2"]], cell("s2"))
+            return MappedAction(action.name, "cook", n.agents[args["a1"]], items, cell("p"),
+                                cell("s1"), None, dur, None, start, n.agents[args["a2"]],
+                                cell("s2"))
         if sch is None or isinstance(sch.cost, int):
             dur = sch.cost if sch is not None else 1
         else:
             dur = self._number(sch.cost[0], tuple(args[x] for x in sch.cost[1:]))
         spot_key = "s2" if action.name == "move" else "s"
         from_key = "s1" if action.name in ("move", "rescue") else None
-        return PlanStep(
+        return MappedAction(
             action.name, kind, n.agents[args[agent_key]] if agent_key else None, items,
             cell("p"), cell(spot_key), cell(from_key) if from_key else None, int(dur),
             n.orders[args["o"]] if "o" in args else None, start,

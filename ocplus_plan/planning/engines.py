@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, Any
 from ..errors import DependencyNotInstalled, PlannerError
 from . import _proc
 from .adapt import adapt_for_engine, without_quality_metrics
+from .model import ENCODINGS
 from .validate import plan_from_steps, plan_quality, plan_to_steps, validate_plan
 
 if TYPE_CHECKING:
@@ -43,7 +44,6 @@ if TYPE_CHECKING:
 # the pin setuptools<81 is deliberate, so this one message is noise.
 warnings.filterwarnings("ignore", message="pkg_resources is deprecated", category=UserWarning)
 
-ENCODINGS = ("classical", "temporal")
 
 #: Every status a :class:`PlanResult` can have.
 STATUSES = ("solved", "unsolvable", "timeout", "memout", "error", "crashed", "unsupported",

@@ -24,7 +24,7 @@ from ..sim.codes import Action, ItemState, Where
 from ..sim.queries import direction, walk_actions
 from ..sim.state import State
 from .compile import Compiled
-from .names import PlanStep
+from .names import MappedAction
 
 _STATE_FLAG = {ItemState.FRESH: "fresh", ItemState.CHOPPED: "ready", ItemState.COOKED: "ready",
                ItemState.BURNT: "burnt", ItemState.CLEAN: "clean", ItemState.DIRTY: "dirty"}
@@ -71,7 +71,7 @@ class _World:
         joint[agent] = action
         self.events.extend(transition(self.state, joint).events)
 
-    def run(self, step: PlanStep) -> tuple[int, str]:
+    def run(self, step: MappedAction) -> tuple[int, str]:
         """Execute one plan step; returns (simulator steps taken, problem or '')."""
         st, geo = self.state, self.state.geo
         if step.kind == "abandon":

@@ -2,7 +2,7 @@
 
 ``Names`` turns every object name of a compiled problem back into what it stands
 for (an agent index, an item id, a cell, an order id, a content multiset) and the
-other way round. ``PlanStep`` is what a plan action means in the simulator: who,
+other way round. ``MappedAction`` is what a plan action means in the simulator: who,
 what kind of interaction, which items, standing where, bumping into which cell,
 and for how many steps. An executive turns plan steps into simulator actions
 without parsing strings.
@@ -19,7 +19,7 @@ Cell_ = tuple[int, int]
 
 
 @dataclass(frozen=True)
-class PlanStep:
+class MappedAction:
     """One plan action in simulator terms.
 
     ``spot`` is the floor cell the agent stands on while it acts (for a move, the

@@ -55,7 +55,7 @@ def test_factory_builds_a_planner_agent():
 
 
 def test_map_back_records_become_executive_steps():
-    from ocplus_plan.planning.names import PlanStep as Record
+    from ocplus_plan.planning.names import MappedAction as Record
 
     state = new_state(make_rules("medium"), 0)
     pan = (3, 0)
