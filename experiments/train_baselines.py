@@ -99,7 +99,7 @@ def train_one(name: str, python: str) -> dict:
     if out.exists():
         shutil.rmtree(out)
     cmd = [python, "-m", "ocplus_plan.cli", "train", *RUNS[name],
-           "--out", str(out.relative_to(ROOT)), "--no-progress"]
+           "--out", str(out.relative_to(ROOT)), "--quiet"]
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     subprocess.run(cmd, cwd=ROOT, check=True)

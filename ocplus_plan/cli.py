@@ -39,11 +39,12 @@ COMMANDS: dict[str, str] = {
 EXAMPLES: list[str] = [
     "ocplus check-map mapC",
     "ocplus check-map maps/hard_switch.yaml",
-    "ocplus rollout --preset hard --n-agents 2 --steps 200 --seed 0 --json",
+    "ocplus check-map mapC --json",
+    "ocplus rollout --preset hard --n-agents 2 --horizon 200 --seed 0 --json",
     "ocplus solve --list",
     "ocplus pddl --preset medium --seed 0 --step 20 --encoding temporal --out runs/pddl",
     "ocplus pddl --preset hard --seed 0 --encoding temporal --anticipate-switches --out runs/pddl-switches",
-    "ocplus eval --presets easy --agents greedy,random --seeds 2 --horizon 50 --quiet "
+    "ocplus eval --preset easy --agents greedy,random --seeds 2 --horizon 50 --quiet "
     "--out runs/eval-example --resume",
 ]
 

@@ -66,3 +66,61 @@ def test_every_help_example_runs(capsys, tmp_path, monkeypatch):
         assert argv[0] == "ocplus"
         assert main(argv[1:]) == 0, example
     capsys.readouterr()
+
+
+def _subparsers():
+    import argparse
+
+    from ocplus_plan.cli import build_parser
+
+    parser = build_parser()
+    action = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return action.choices
+
+
+def _options(sub):
+    return {s: a for a in sub._actions for s in a.option_strings}
+
+
+def test_every_command_shares_the_output_flags_and_the_kitchen_flags_from_one_place():
+    subs = _subparsers()
+    kitchen = ("--preset", "--map", "--n-agents", "--seed")
+    for name, sub in subs.items():
+        opts = _options(sub)
+        assert "--json" in opts and "--quiet" in opts, name
+        if "--preset" in opts:
+            assert all(k in opts for k in kitchen), name
+            for k in kitchen[1:3]:  # one definition: the same help text everywhere
+                assert opts[k].help == _options(subs["rollout"])[k].help, (name, k)
+    assert {n for n, s in subs.items() if "--preset" in _options(s)} >= {
+        "rollout", "eval", "demo", "play", "train", "solve", "pddl"}
+    for name in ("eval", "demo", "pddl", "train"):
+        assert "--out" in _options(subs[name]), name
+
+
+def test_json_results_and_deprecated_spellings(tmp_path, capsys):
+    assert main(["check-map", "mapC", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["switch_every"] == 15
+    # --steps (rollout) is the old spelling of --horizon: same result, a note on stderr
+    assert main(["rollout", "--preset", "easy", "--steps", "30", "--json"]) == 0
+    old = capsys.readouterr()
+    assert "deprecated" in old.err and "--horizon" in old.err
+    assert main(["rollout", "--preset", "easy", "--horizon", "30", "--json"]) == 0
+    new = json.loads(capsys.readouterr().out)
+    assert new["steps"] == 30 and new["state_hash"] == json.loads(old.out)["state_hash"]
+    out = tmp_path / "ev"
+    assert main(["eval", "--preset", "easy", "--agents", "random", "--seed", "3", "--horizon",
+                 "20", "--out", str(out), "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["episodes_run"] == 1 and result["leaderboard"][0]["agent"] == "random"
+    assert main(["report", str(out), "--no-plots", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["leaderboard"][0]["agent"] == "random"
+    import argparse
+
+    from ocplus_plan.commands._common import add_deprecated_alias
+
+    p = argparse.ArgumentParser()
+    p.add_argument("--quiet", action="store_true")
+    add_deprecated_alias(p, "--no-progress", "--quiet", takes_value=False)
+    assert p.parse_args(["--no-progress"]).quiet is True
+    assert "deprecated" in capsys.readouterr().err

@@ -1,42 +1,141 @@
-"""Options several subcommands share (one definition, one help text)."""
+"""Options the subcommands share: one definition, one help text, one meaning everywhere.
+
+- kitchen (:func:`add_kitchen_args`): ``--preset --map --n-agents --seed --horizon``;
+  commands that run many kitchens (``eval``, ``demo``) take a comma-separated
+  ``--preset`` list and ``--seeds`` besides ``--seed``.
+- output (:func:`add_output_args`): ``--json`` prints the result as one JSON object on
+  stdout; ``--quiet`` drops progress bars and status lines (the result is still
+  printed); ``--out`` names the folder a command writes its files to.
+- old spellings (:func:`add_deprecated_alias`) keep working and say on stderr what
+  replaced them: ``rollout --steps`` (now ``--horizon``), ``train --no-progress`` (now
+  ``--quiet``).
+"""
 
 from __future__ import annotations
 
 import argparse
 import json
+import sys
 from typing import Any
 
+from ..planning.model import ENCODINGS, GRANULARITIES
+from ..sim.rules import Rules, make_rules
 
-def add_kitchen_args(p: argparse.ArgumentParser, *, step: bool = False) -> None:
-    """``--preset --map --n-agents --seed`` (and ``--step`` for commands that compile a
-    state reached after random steps)."""
-    p.add_argument("--preset", default="easy", help="easy | medium | hard")
-    p.add_argument("--map", default=None, help="map name or YAML path (None: the preset's map)")
-    p.add_argument("--n-agents", type=int, default=None, help="number of agents (None: the preset's)")
-    p.add_argument("--seed", type=int, default=0, help="episode seed")
+PRESET_HELP = "easy | medium | hard"
+
+
+class HelpFormatter(argparse.RawDescriptionHelpFormatter, argparse.ArgumentDefaultsHelpFormatter):
+    """Every subcommand's help: its docstring as written, and each option's default."""
+
+
+def add_kitchen_args(p: argparse.ArgumentParser, *, sweep: bool = False, step: bool = False,
+                     horizon: bool = True, presets: str = "easy,medium,hard",
+                     seeds: str = "10", default_horizon: int | None = None) -> None:
+    """``--preset --map --n-agents --seed`` and ``--horizon``.
+
+    ``sweep``: ``--preset`` takes a comma-separated list (``--presets`` is the same
+    option) and ``--seeds`` a count, list or range, exclusive with ``--seed``. ``step``
+    adds ``--step`` (random joint actions before compiling a state)."""
+    g = p.add_argument_group("kitchen")
+    if sweep:
+        g.add_argument("--preset", "--presets", dest="presets", default=presets,
+                       help=f"comma-separated presets ({PRESET_HELP})")
+    else:
+        g.add_argument("--preset", default="easy", help=PRESET_HELP)
+    g.add_argument("--map", default=None, help="map name or YAML path (None: the preset's)")
+    g.add_argument("--n-agents", type=int, default=None,
+                   help="number of cooks (None: the preset's)")
+    if sweep:
+        which = g.add_mutually_exclusive_group()
+        which.add_argument("--seed", type=int, default=None, help="one episode seed")
+        which.add_argument("--seeds", default=seeds,
+                           help="episode seeds: a count (10 = seeds 0-9), a list or a range")
+    else:
+        g.add_argument("--seed", type=int, default=0, help="episode seed")
+    if horizon:
+        g.add_argument("--horizon", type=int, default=default_horizon,
+                       help="steps per episode (None: the preset's, 200)")
     if step:
-        p.add_argument("--step", type=int, default=0,
+        g.add_argument("--step", type=int, default=0,
                        help="random joint actions to take before compiling")
+
+
+def rules_from_args(args: argparse.Namespace, **overrides: Any) -> Rules:
+    """The rules the kitchen options name (``--preset --map --n-agents --horizon``)."""
+    for name in ("n_agents", "horizon"):
+        if getattr(args, name, None) is not None:
+            overrides.setdefault(name, getattr(args, name))
+    return make_rules(args.preset, map=args.map, **overrides)
+
+
+def add_output_args(p: argparse.ArgumentParser, *, out: str | None = None,
+                    out_default: str | None = None, writes: str = "") -> None:
+    """``--json`` and ``--quiet``; with ``out`` ("required" or "optional") also ``--out``
+    (``writes`` says what goes there)."""
+    g = p.add_argument_group("output")
+    g.add_argument("--json", action="store_true", help="print the result as one JSON object")
+    g.add_argument("--quiet", action="store_true",
+                   help="no progress bars or status lines (the result is still printed)")
+    if out is not None:
+        g.add_argument("--out", required=out == "required", default=out_default,
+                       help="folder the command writes to" + (f": {writes}" if writes else ""))
+
+
+def add_deprecated_alias(p: argparse.ArgumentParser, old: str, new: str, *,
+                         takes_value: bool) -> None:
+    """Let ``old`` set what the option ``new`` sets, with a note on stderr."""
+    dest = new.lstrip("-").replace("-", "_")
+    if takes_value:
+        p.add_argument(old, dest=dest, type=int, action=_Deprecated, replacement=new,
+                       help=f"deprecated spelling of {new}")
+    else:
+        p.add_argument(old, dest=dest, nargs=0, action=_Deprecated, replacement=new,
+                       help=f"deprecated spelling of {new}")
+
+
+class _Deprecated(argparse.Action):
+    def __init__(self, option_strings: list[str], dest: str, replacement: str,
+                 **kwargs: Any) -> None:
+        super().__init__(option_strings, dest, **kwargs)
+        self.replacement = replacement
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace,
+                 values: Any, option_string: str | None = None) -> None:
+        print(f"ocplus: {option_string} is deprecated; use {self.replacement}", file=sys.stderr)
+        setattr(namespace, self.dest, True if self.nargs == 0 else values)
 
 
 def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False) -> None:
     """``--encoding --granularity --orders --anticipate-switches`` of the planning compiler."""
     if auto_encoding:
-        p.add_argument("--encoding", choices=("auto", "classical", "temporal"), default="auto",
+        p.add_argument("--encoding", choices=("auto", *ENCODINGS), default="auto",
                        help="auto = the encoding the planner is registered for")
     else:
-        p.add_argument("--encoding", choices=("classical", "temporal"), default="classical")
-    p.add_argument("--granularity", choices=("stations", "cells"), default="stations")
+        p.add_argument("--encoding", choices=ENCODINGS, default=ENCODINGS[0])
+    p.add_argument("--granularity", choices=GRANULARITIES, default=GRANULARITIES[0])
     p.add_argument("--orders", type=int, default=None,
                    help="serve only the first k open orders (default: all)")
     p.add_argument("--anticipate-switches", action="store_true",
                    help="temporal only: the coming layout switches as timed initial literals")
 
 
-def emit(result: dict[str, Any], as_json: bool, width: int = 16) -> None:
-    """Print a command's result: one JSON object, or one ``key value`` line per entry."""
-    if as_json:
-        print(json.dumps(result))
+def emit(result: Any, args: argparse.Namespace, width: int = 16) -> None:
+    """Print a command's result: one JSON object with ``--json``, else one ``key value``
+    line per entry."""
+    if getattr(args, "json", False) or not isinstance(result, dict):
+        print(json.dumps(result, default=str))
     else:
         for key, value in result.items():
             print(f"{key:{width}s} {value}")
+
+
+def say(args: argparse.Namespace, message: str) -> None:
+    """A status line: none with ``--quiet``; on stderr with ``--json`` (stdout stays JSON)."""
+    if not getattr(args, "quiet", False):
+        note(args, message)
+
+
+def note(args: argparse.Namespace, message: str) -> None:
+    """A line that goes with the result (e.g. why an agent was skipped), even with
+    ``--quiet``; on stderr with ``--json``."""
+    print(message, file=sys.stderr if getattr(args, "json", False) else sys.stdout)

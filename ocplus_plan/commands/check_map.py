@@ -3,48 +3,64 @@
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 from ..sim.codes import SPAWN_TILES, Cell
-from ..sim.maps import load_map, station_reachability
+from ..sim.maps import Layout, load_map, station_reachability
+from ._common import HelpFormatter, add_output_args, emit
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("check-map", help="validate a map file and summarise it",
-                       description=__doc__)
+                       description=__doc__, formatter_class=HelpFormatter)
     p.add_argument("map", help="registered map name (e.g. mapC) or path to a YAML file")
+    add_output_args(p)
     p.set_defaults(func=run)
+
+
+def summary(layout: Layout) -> dict[str, Any]:
+    """The map's size, stations, switching and reachability, as data."""
+    stations = {Cell(code).name.lower(): [list(c) for c in cells]
+                for code, cells in sorted(layout.stations.items()) if code != Cell.COUNTER}
+    unreachable = [{"layout": e["layout"], "station": Cell(e["code"]).name.lower(),
+                    "cell": list(e["cell"])}
+                   for e in station_reachability(layout) if not e["reachable_from"]]
+    return {"name": layout.name, "source": layout.source, "rows": layout.rows,
+            "cols": layout.cols, "max_agents": layout.max_agents,
+            "declared_max_agents": layout.declared_max_agents,
+            "spawn_points": [list(p) for p in layout.spawn_points], "stations": stations,
+            "dynamic": layout.is_dynamic,
+            "switch_every": layout.map_switch_step if layout.is_dynamic else None,
+            "switching_cells": [list(c) for c in layout.switching_cells()],
+            "unreachable": unreachable}
 
 
 def run(args: argparse.Namespace) -> int:
     layout = load_map(args.map)
-    rows, cols = layout.shape
+    info = summary(layout)
+    if args.json:
+        emit(info, args)
+        return 0
     print(f"map {layout.name}  ({layout.source})")
     if layout.description:
         print(f"  {layout.description.strip()}")
-    capped = (f" (max_n_agent {layout.declared_max_agents}, capped at the spawn points)"
-              if layout.declared_max_agents > layout.max_agents else "")
-    print(f"size: {rows} rows x {cols} cols; max agents {layout.max_agents}{capped}; "
-          f"spawn points {[list(p) for p in layout.spawn_points]}")
-    for code, cells in sorted(layout.stations.items()):
-        if code == Cell.COUNTER:
-            continue
-        kind = "spawn tile" if code in SPAWN_TILES else "station"
-        print(f"  {Cell(code).name.lower():9s} {kind:10s} x{len(cells)}: {[list(c) for c in cells]}")
+    capped = (f" (max_n_agent {info['declared_max_agents']}, capped at the spawn points)"
+              if info["declared_max_agents"] > info["max_agents"] else "")
+    print(f"size: {info['rows']} rows x {info['cols']} cols; max agents {info['max_agents']}"
+          f"{capped}; spawn points {info['spawn_points']}")
+    for name, cells in info["stations"].items():
+        kind = "spawn tile" if Cell[name.upper()] in SPAWN_TILES else "station"
+        print(f"  {name:9s} {kind:10s} x{len(cells)}: {cells}")
     if layout.is_dynamic:
-        print(f"dynamic: switches every {layout.map_switch_step} steps; cells that switch: "
-              f"{[list(c) for c in layout.switching_cells()]}")
+        print(f"dynamic: switches every {info['switch_every']} steps; cells that switch: "
+              f"{info['switching_cells']}")
     else:
         print("dynamic: no (static layout)")
-    n_layouts = 2 if layout.switch_grid is not None else 1
-    problems = []
-    for entry in station_reachability(layout):
-        if not entry["reachable_from"]:
-            problems.append(entry)
-    for li in range(n_layouts):
-        bad = [e for e in problems if e["layout"] == li]
+    for li in range(len(layout.grids())):
+        bad = [e for e in info["unreachable"] if e["layout"] == li]
         label = "main layout" if li == 0 else "switch layout"
         if bad:
-            cells = ", ".join(f"{Cell(e['code']).name.lower()} at {list(e['cell'])}" for e in bad)
+            cells = ", ".join(f"{e['station']} at {e['cell']}" for e in bad)
             print(f"reachability ({label}): UNREACHABLE from every spawn point: {cells}")
         else:
             print(f"reachability ({label}): every station reachable from a spawn point")

@@ -10,59 +10,87 @@ with the reason, in the results). An interrupted run continues with --resume.
 from __future__ import annotations
 
 import argparse
+import time
 from pathlib import Path
+from typing import Any
 
 from ..eval.runner import EvalConfig, parse_list, parse_seeds, run_eval
+from ._common import HelpFormatter, add_kitchen_args, add_output_args, emit, note, say
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("eval", help="evaluate agents on presets (results, summary, leaderboard)",
-                       description=__doc__,
-                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    g = p.add_argument_group("what to run")
-    g.add_argument("--presets", default="easy,medium,hard", help="comma-separated presets")
-    g.add_argument("--agents", default="greedy,random",
-                   help="comma-separated agents, e.g. greedy,planner:fast-downward,ppo,random")
-    g.add_argument("--seeds", default="10", help="a count (10 = seeds 0-9), a list or a range")
-    g.add_argument("--horizon", type=int, default=200, help="steps per episode")
-    g.add_argument("--n-agents", type=int, default=None, help="cooks (None: the preset's)")
-    g.add_argument("--map", default=None, help="map name or YAML path (None: the preset's)")
-    h = p.add_argument_group("how to run")
-    h.add_argument("--out", required=True, type=Path, help="output folder (must not exist unless --resume)")
-    h.add_argument("--resume", action="store_true",
-                   help="continue an interrupted run in --out (only missing episodes run)")
-    h.add_argument("--jobs", type=int, default=1, help="worker processes")
-    h.add_argument("--episode-timeout", type=float, default=None,
-                   help="seconds before an episode is killed and recorded as an error (None: no limit)")
-    h.add_argument("--plots", action="store_true", help="also write PNG figures (plots extra)")
-    h.add_argument("--quiet", action="store_true", help="no progress bar")
-    h.add_argument("--save-replays", default="", metavar="SEEDS",
-                   help="save these seeds' episodes as recordings under OUT/replays/ "
-                        "(play back with `ocplus replay FILE`)")
+                       description=__doc__, formatter_class=HelpFormatter)
+    add_sweep_args(p, agents="greedy,random", seeds="10", jobs=1, episode_timeout=None,
+                   out="required")
     p.set_defaults(func=run)
 
 
+def add_sweep_args(p: argparse.ArgumentParser, *, agents: str | None, seeds: str, jobs: int,
+                   episode_timeout: float | None, out: str) -> None:
+    """The options of ``eval`` (and of ``demo``, which is an evaluation with other defaults)."""
+    add_kitchen_args(p, sweep=True, seeds=seeds, default_horizon=200)
+    p.add_argument("--agents", default=agents,
+                   help="comma-separated agents, e.g. greedy,planner:fast-downward,ppo,random")
+    h = p.add_argument_group("how to run")
+    h.add_argument("--resume", action="store_true",
+                   help="continue an interrupted run in --out (only missing episodes run)")
+    h.add_argument("--jobs", type=int, default=jobs, help="worker processes")
+    h.add_argument("--episode-timeout", type=float, default=episode_timeout,
+                   help="seconds before an episode is killed and recorded as an error (None: no limit)")
+    h.add_argument("--plots", action="store_true", help="also write PNG figures (plots extra)")
+    h.add_argument("--save-replays", default="", metavar="SEEDS",
+                   help="save these seeds' episodes as recordings under OUT/replays/ "
+                        "(play back with `ocplus replay FILE`)")
+    add_output_args(p, out=out, writes="results.jsonl, summary.csv, plots/, replays/")
+
+
 def run(args: argparse.Namespace) -> int:
+    return run_sweep(args, agents=args.agents, out=Path(args.out), plots=args.plots)
+
+
+def run_sweep(args: argparse.Namespace, *, agents: str, out: Path, plots: bool) -> int:
+    """Run the evaluation the options describe and print its outcome."""
+    seeds = [args.seed] if args.seed is not None else parse_seeds(args.seeds)
     cfg = EvalConfig(
-        presets=parse_list(args.presets, "presets"), agents=parse_list(args.agents, "agents"),
-        seeds=parse_seeds(args.seeds), out=args.out, horizon=args.horizon,
-        n_agents=args.n_agents, map=args.map, jobs=args.jobs, resume=args.resume,
-        episode_timeout=args.episode_timeout, plots=args.plots, quiet=args.quiet,
-        replay_seeds=_replay_seeds(args.save_replays),
+        presets=parse_list(args.presets, "presets"), agents=parse_list(agents, "agents"),
+        seeds=seeds, out=out, horizon=args.horizon, n_agents=args.n_agents, map=args.map,
+        jobs=args.jobs, resume=args.resume, episode_timeout=args.episode_timeout, plots=plots,
+        quiet=args.quiet, replay_seeds=_replay_seeds(args.save_replays),
     )
+    say(args, f"ocplus {args.command}: presets {', '.join(cfg.presets)}; agents "
+              f"{', '.join(cfg.agents)}; {len(seeds)} seed(s); {cfg.horizon} steps; "
+              f"{cfg.jobs} worker(s); output {out}")
+    t0 = time.monotonic()
     try:
-        outcome = run_eval(cfg)
+        outcome = run_eval(cfg, echo=lambda message: note(args, message))
     except KeyboardInterrupt:
-        print(f"\nocplus eval: interrupted; finished episodes are kept in {args.out}; "
-              f"continue with: ocplus eval ... --out {args.out} --resume")
+        note(args, f"\nocplus {args.command}: interrupted; finished episodes are kept in {out}; "
+                   f"continue with: ocplus {args.command} ... --out {out} --resume")
         raise
+    result: dict[str, Any] = {
+        "out": str(out), "episodes_run": outcome.ran, "errors": outcome.errors,
+        "configurations_skipped": outcome.skipped, "seconds": round(time.monotonic() - t0, 1),
+        "results": str(out / "results.jsonl"), "summary": str(out / "summary.csv"),
+        "plots": [str(f) for f in outcome.plots], "leaderboard": outcome.summary,
+    }
+    if args.json:
+        emit(result, args)
+        return 0
     print()
     print(outcome.leaderboard)
-    print(f"results: {outcome.out / 'results.jsonl'} ({outcome.ran} episode(s) run, "
-          f"{outcome.errors} error(s), {outcome.skipped} configuration(s) skipped)")
-    print(f"summary: {outcome.out / 'summary.csv'}")
+    print(f"{outcome.ran} episode(s) in {result['seconds']:.0f} s ({outcome.errors} error(s), "
+          f"{outcome.skipped} configuration(s) skipped)")
+    print(f"results: {result['results']}")
+    print(f"summary: {result['summary']}")
     if outcome.plots:
-        print(f"plots:   {outcome.plots[0].parent}/ ({len(outcome.plots)} PNG files)")
+        print(f"plots:   {out / 'plots'}/ ({len(outcome.plots)} PNG files, e.g. "
+              f"{out / 'plots' / 'leaderboard.png'})")
+    elif plots:
+        print("plots:   none (matplotlib is missing: pip install -e '.[plots]', then "
+              f"`ocplus report {out}`)")
+    else:
+        print(f"plots:   none (add --plots, or run `ocplus report {out}`)")
     return 0
 
 

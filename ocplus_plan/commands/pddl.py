@@ -11,18 +11,23 @@ from __future__ import annotations
 import argparse
 import time
 
-from ..sim import make_rules
-from ._common import add_compile_args, add_kitchen_args, emit
+from ._common import (
+    HelpFormatter,
+    add_compile_args,
+    add_kitchen_args,
+    add_output_args,
+    emit,
+    rules_from_args,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("pddl", help="write domain.pddl and problem.pddl for a state",
-                       description=__doc__,
-                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+                       description=__doc__, formatter_class=HelpFormatter)
     add_kitchen_args(p, step=True)
     add_compile_args(p)
-    p.add_argument("--out", default="pddl_out", help="output directory (created if missing)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_output_args(p, out="optional", out_default="pddl_out",
+                    writes="domain.pddl and problem.pddl (created if missing)")
     p.set_defaults(func=run)
 
 
@@ -31,8 +36,7 @@ def run(args: argparse.Namespace) -> int:
     from ..planning.pddl import write_pddl
     from .solve import state_after_random_steps
 
-    kw = {} if args.n_agents is None else {"n_agents": args.n_agents}
-    rules = make_rules(args.preset, map=args.map, **kw)
+    rules = rules_from_args(args)
     state = state_after_random_steps(rules, args.seed, args.step)
     t0 = time.perf_counter()
     compiled = compile(state, encoding=args.encoding, granularity=args.granularity,
@@ -46,5 +50,5 @@ def run(args: argparse.Namespace) -> int:
         "objects": len(compiled.problem.all_objects),
         "compile_time_s": round(compile_time, 5), "domain": str(domain), "problem": str(problem),
     }
-    emit(out, args.json)
+    emit(out, args)
     return 0

@@ -15,7 +15,6 @@ saves the episode for ``ocplus replay``.
 from __future__ import annotations
 
 import argparse
-import json
 from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
@@ -24,6 +23,7 @@ from typing import Any
 from ..agents.base import Controller
 from ..errors import ConfigError
 from ..sim import PRESETS, Action, Rules, State, StepResult, make_rules, new_state
+from ._common import HelpFormatter, add_kitchen_args, add_output_args, emit, say
 
 MODES = ("coop", "adversarial")
 #: event kinds counted per side in the metrics
@@ -225,30 +225,27 @@ def run_loop(session: PlaySession, window: Any, *, turn_based: bool, fps: float 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("play", help="play in a kitchen window with the keyboard, beside AI agents",
-                       description=__doc__,
-                       formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--preset", default="easy", help="easy | medium | hard (default: easy)")
-    p.add_argument("--map", default=None, help="map name or YAML path (default: the preset's)")
-    p.add_argument("--n-agents", type=int, default=None,
-                   help="agents in the kitchen (default: the preset's, and at least one AI "
-                   "cook beside the humans when the map has room)")
+                       description=__doc__, formatter_class=HelpFormatter,
+                       epilog="Without --n-agents the kitchen has the preset's cooks and, when "
+                              "the map has room, at least one AI cook beside the humans. The "
+                              "result is printed as JSON with or without --json.")
+    add_kitchen_args(p)
     p.add_argument("--human", default="0",
-                   help="agent indices the keyboard drives: 0, 0,1 or none (default: 0)")
+                   help="agent indices the keyboard drives: 0, 0,1 or none")
     p.add_argument("--agents", default="greedy",
                    help="controller of the other agents: greedy, planner:NAME, ppo:PATH, random")
     p.add_argument("--mode", default="coop", choices=MODES,
                    help="coop: one team score; adversarial: humans and AI scored apart")
     speed = p.add_mutually_exclusive_group()
-    speed.add_argument("--fps", type=float, default=4.0, help="steps per second (default: 4)")
+    speed.add_argument("--fps", type=float, default=4.0, help="steps per second")
     speed.add_argument("--turn-based", action="store_true",
                        help="step only when every human has pressed a key")
-    p.add_argument("--seed", type=int, default=0, help="episode seed (default: 0)")
-    p.add_argument("--horizon", type=int, default=None, help="episode length (default: rules)")
     p.add_argument("--record", default=None, metavar="FILE",
                    help="save the episode (.jsonl or .jsonl.gz) for `ocplus replay`")
     p.add_argument("--no-wait", action="store_true",
                    help="close the window as soon as the episode ends")
-    p.set_defaults(func=run)
+    add_output_args(p)
+    p.set_defaults(func=run, json=True)
 
 
 def build_session(args: argparse.Namespace) -> PlaySession:
@@ -291,6 +288,6 @@ def run(args: argparse.Namespace) -> int:
         window.close()
         if session.recorder is not None and args.record:
             path = session.recorder.save(Path(args.record), session.state)
-            print(f"recorded {session.state.t} steps to {path}")
-    print(json.dumps(session.metrics()))
+            say(args, f"recorded {session.state.t} steps to {path}")
+    emit(session.metrics(), args)
     return 0

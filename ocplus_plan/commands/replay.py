@@ -10,8 +10,9 @@ the right arrow steps while paused, Escape quits).
 from __future__ import annotations
 
 import argparse
-import json
 from typing import TYPE_CHECKING
+
+from ._common import HelpFormatter, add_output_args, emit
 
 if TYPE_CHECKING:
     from ..render.replay import Recording
@@ -21,8 +22,8 @@ _PLAYBACK_HELP = "replay: space pauses, right arrow steps, Escape quits"
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("replay", help="check a recorded episode; show it or write a GIF",
-                       description=__doc__,
-                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+                       description=__doc__, formatter_class=HelpFormatter,
+                       epilog="The summary is printed as JSON with or without --json.")
     p.add_argument("file", help="a recording from `ocplus play --record` (.jsonl or .jsonl.gz)")
     p.add_argument("--gif", default=None, metavar="OUT", help="write an animated GIF here")
     p.add_argument("--check", action="store_true",
@@ -33,7 +34,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--max-frames", type=int, default=None, help="GIF: at most this many frames")
     p.add_argument("--no-wait", action="store_true",
                    help="close the window as soon as the playback ends")
-    p.set_defaults(func=run)
+    add_output_args(p)
+    p.set_defaults(func=run, json=True)
 
 
 #: what works without a display (named when there is none)
@@ -61,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
                                         max_frames=args.max_frames))
     elif not args.check:
         _play_back(rec, args.fps, wait_at_end=not args.no_wait)
-    print(json.dumps(summary))
+    emit(summary, args)
     return 0 if check.ok else 1
 
 

@@ -5,29 +5,32 @@ from __future__ import annotations
 import argparse
 import time
 
-from ..sim import conservation_problems, make_rules, new_state
-from ._common import add_kitchen_args, emit
+from ..sim import conservation_problems, new_state
+from ._common import (
+    HelpFormatter,
+    add_deprecated_alias,
+    add_kitchen_args,
+    add_output_args,
+    emit,
+    rules_from_args,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("rollout", help="run one episode and print its statistics",
-                       description=__doc__,
-                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+                       description=__doc__, formatter_class=HelpFormatter)
     add_kitchen_args(p)
     p.add_argument("--agents", default="random",
                    help="controller for all agents (random, stay, greedy, planner:NAME, ...)")
-    p.add_argument("--steps", type=int, default=None, help="steps to run (default: the horizon)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_output_args(p)
+    add_deprecated_alias(p, "--steps", "--horizon", takes_value=True)
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..agents import Episode, make_controller
 
-    kw = {} if args.n_agents is None else {"n_agents": args.n_agents}
-    if args.steps is not None:
-        kw["horizon"] = max(args.steps, 1)
-    rules = make_rules(args.preset, map=args.map, **kw)
+    rules = rules_from_args(args)
     state = new_state(rules, args.seed)
     controller = make_controller(args.agents, args.seed)
     broken: list[str] = []
@@ -47,5 +50,5 @@ def run(args: argparse.Namespace) -> int:
         "wall_time_s": round(time.perf_counter() - t0, 4),
         **{f"controller_{k}": v for k, v in controller.info().items()},
     }
-    emit(out, args.json, width=18)
+    emit(out, args, width=18)
     return 0

@@ -10,19 +10,24 @@ timeout, an unsolvable problem or a missing planner is reported as a status
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from typing import Any
 
 from ..errors import ConfigError
-from ..sim import make_rules, new_state, transition
-from ._common import add_compile_args, add_kitchen_args
+from ..sim import new_state, transition
+from ._common import (
+    HelpFormatter,
+    add_compile_args,
+    add_kitchen_args,
+    add_output_args,
+    emit,
+    rules_from_args,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("solve", help="compile a state and solve it with a named planner",
-                       description=__doc__,
-                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+                       description=__doc__, formatter_class=HelpFormatter)
     add_kitchen_args(p, step=True)
     p.add_argument("--planner", default="fast-downward",
                    help="registry name (see --list), e.g. fast-downward, kairos")
@@ -33,7 +38,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--plan", action="store_true", help="include the plan steps in the output")
     p.add_argument("--list", action="store_true",
                    help="list the planners and whether each is available, then exit")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_output_args(p)
     p.set_defaults(func=run)
 
 
@@ -64,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
             rows.append({"planner": name, "engine": cfg.engine, "encoding": cfg.encoding,
                          "timeout": cfg.timeout, "available": avail.ok, "reason": avail.reason})
         if args.json:
-            print(json.dumps(rows))
+            emit(rows, args)
         else:
             for r in rows:
                 mark = "yes" if r["available"] else f"no: {r['reason']}"
@@ -77,8 +82,7 @@ def run(args: argparse.Namespace) -> int:
         raise ConfigError(f"--timeout must be positive, got {args.timeout}")
     from ..planning import compile
 
-    kw = {} if args.n_agents is None else {"n_agents": args.n_agents}
-    rules = make_rules(args.preset, map=args.map, **kw)
+    rules = rules_from_args(args)
     state = state_after_random_steps(rules, args.seed, args.step)
     t0 = time.perf_counter()
     compiled = compile(state, encoding=encoding, granularity=args.granularity,
@@ -97,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
     if args.plan:
         out["plan"] = steps
     if args.json:
-        print(json.dumps(out))
+        emit(out, args)
     else:
         for key, value in out.items():
             if key == "plan":

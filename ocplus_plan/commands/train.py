@@ -8,25 +8,29 @@ training steps) and OUT/train.json (configuration, command, wall time).
 from __future__ import annotations
 
 import argparse
-import json
 import shlex
 import sys
+
+from ._common import (
+    HelpFormatter,
+    add_deprecated_alias,
+    add_kitchen_args,
+    add_output_args,
+    emit,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "train", help="train the PPO baseline (rl extra)", description=__doc__,
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
-        epilog="example: ocplus train --preset easy --steps 600000 --seed 0 --out runs/easy",
+        formatter_class=HelpFormatter,
+        epilog="example: ocplus train --preset easy --steps 600000 --seed 0 --out runs/easy\n"
+               "(one shared policy drives every cook; the summary is printed as JSON with or "
+               "without --json)",
     )
-    p.add_argument("--preset", default="easy", help="easy | medium | hard")
-    p.add_argument("--map", default=None, help="map name or YAML path (default: the preset's)")
-    p.add_argument("--n-agents", type=int, default=None,
-                   help="agents per kitchen, all driven by the one shared policy")
+    add_kitchen_args(p, horizon=False)
     p.add_argument("--steps", type=int, default=300_000,
                    help="training agent-steps (one per agent per kitchen step)")
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--out", required=True, help="output directory")
     g = p.add_argument_group("learning")
     g.add_argument("--obs", default="features", choices=("features", "grid"),
                    help="egocentric path features, or the SPEC vector (one-hot grid) encoding")
@@ -51,8 +55,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--init", default=None, help="start from this checkpoint's weights")
     g.add_argument("--checkpoint-every", type=int, default=None,
                    help="steps between checkpoints (default: steps / 5)")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.set_defaults(func=run)
+    add_output_args(p, out="required",
+                    writes="policy.zip, checkpoints/, episodes.csv, train.json")
+    add_deprecated_alias(p, "--no-progress", "--quiet", takes_value=False)
+    p.set_defaults(func=run, json=True)
 
 
 def _hidden(text: str) -> tuple[int, ...]:
@@ -87,8 +93,8 @@ def run(args: argparse.Namespace) -> int:
         if args.n_agents is not None:
             parts += ["--n-agents", str(args.n_agents)]
         command = "ocplus " + shlex.join(parts)
-    summary = train(config, command=command, progress=not args.no_progress)
-    print(json.dumps({k: summary[k] for k in (
+    summary = train(config, command=command, progress=not args.quiet)
+    emit({k: summary[k] for k in (
         "policy", "timesteps", "episodes", "dishes_per_episode_last50", "wall_time_s",
-        "steps_per_s")}))
+        "steps_per_s")}, args)
     return 0
