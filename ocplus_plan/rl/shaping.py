@@ -26,13 +26,14 @@ policy unchanged, and putting a carried thing down *costs* what picking it up pa
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 from ..errors import ConfigError
 from ..sim.codes import Cell, Item, ItemState
 from ..sim.orders import plate_recipe
-from ..sim.queries import is_plateable
+from ..sim.queries import distances, interaction_spots, is_plateable, plate_fits
 from ..sim.state import Event, State
 
 _SUBTASK_EVENTS = frozenset({"chop_done", "cook_done", "wash_done"})
@@ -69,18 +70,7 @@ def _fits_an_order(state: State, plate: int, complete: bool = False) -> bool:
         return False
     if complete:
         return any(order.recipe == recipe for order in state.orders)
-    for order in state.orders:
-        need = list(order.recipe)
-        ok = True
-        for k in recipe:
-            if k in need:
-                need.remove(k)
-            else:
-                ok = False
-                break
-        if ok:
-            return True
-    return False
+    return any(plate_fits(Counter(recipe), Counter(order.recipe)) for order in state.orders)
 
 
 def _needed(state: State, item: int) -> bool:
@@ -116,20 +106,9 @@ class RewardShaper:
         if hit is None:
             geo = state.geo
             terrain, walk = geo.terrains[state.layout_index], geo.walkables[state.layout_index]
-            dist = [-1] * len(walk)
-            frontier = [v for c, code in enumerate(terrain) if code == _DELIVERY
-                        for v in geo.neighbors[c] if v >= 0 and walk[v]]
-            for v in frontier:
-                dist[v] = 0
-            while frontier:
-                nxt = []
-                for u in frontier:
-                    for v in geo.neighbors[u]:
-                        if v >= 0 and walk[v] and dist[v] < 0:
-                            dist[v] = dist[u] + 1
-                            nxt.append(v)
-                frontier = nxt
-            hit = self._to_delivery[key] = (state.rules, dist)
+            spots = [v for c, code in enumerate(terrain) if code == _DELIVERY
+                     for v in interaction_spots(geo.neighbors, walk, c)]
+            hit = self._to_delivery[key] = (state.rules, distances(geo.neighbors, walk, spots))
         return hit[1]
 
     def potential(self, state: State, agent: int) -> float:
