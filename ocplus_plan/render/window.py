@@ -29,6 +29,7 @@ import numpy as np
 
 from ..errors import ConfigError, DependencyNotInstalled, DisplayUnavailable
 from ..sim.codes import Action, Item, ItemState, Where
+from ..sim.queries import ticks_until_burnt, ticks_until_cooked
 from ..sim.rules import recipe_name
 from ..sim.state import State
 
@@ -180,12 +181,12 @@ def panel_lines(
         st = state.item_state[item]
         if st == ItemState.BURNT:
             out.append(PanelLine(f"pan ({r},{c}): burnt!", BAD, bar=1.0, bar_color=BAD))
-        elif ticks < rules.cook_time:
+        elif ticks_until_cooked(rules, ticks):
             out.append(PanelLine(f"pan ({r},{c}): cooking {ticks}/{rules.cook_time}",
                                  bar=ticks / rules.cook_time, bar_color=WARN))
         else:
-            left = rules.burn_time - ticks
-            out.append(PanelLine(f"pan ({r},{c}): cooked, burns in {left + 1}", GOOD,
+            left = ticks_until_burnt(rules, ticks)
+            out.append(PanelLine(f"pan ({r},{c}): cooked, burns in {left}", GOOD,
                                  bar=min(1.0, ticks / max(1, rules.burn_time)), bar_color=BAD))
 
     out.append(PanelLine("cooks", ACCENT, heading=True))
