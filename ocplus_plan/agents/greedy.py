@@ -22,6 +22,7 @@ Nothing here re-implements a rule: where a held item can go is what
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -204,13 +205,9 @@ class GreedyAgent(Controller):
         reach = v.reach
         helpers = [b for b in range(v.s.n_agents) if b != a
                    and any(reach(b, d) < float("inf") for d in dests)]
-        spots = [f for f in v.free_counters() if f not in claimed and reach(a, f) < float("inf")
+        spots = [f for f in v.free_counters() if f not in claimed
                  and any(reach(b, f) < float("inf") for b in helpers)]
-        best, best_d = None, float("inf")
-        for f in spots:
-            if reach(a, f) < best_d:
-                best, best_d = f, reach(a, f)
-        return best
+        return self._nearest(v, a, spots)
 
     def _urgent_pan(self, v: KitchenView, a: int) -> int | None:
         """A pan whose cooked steak burns unless ``a`` (the nearest cook) heads there now."""
@@ -232,28 +229,24 @@ class GreedyAgent(Controller):
         could take the item on to a destination once ``a`` steps back."""
         s = v.s
         spots = [f for f in v.free_counters() if f not in claimed and v.reach_now(a, f) < 4]
-        best, best_d = None, float("inf")
         mine = min(v.reach(a, d) for d in dests)
+        takers = []  # spots a cook nearer to a destination reaches (it may relay again)
         for b in range(s.n_agents):
-            # a cook nearer to the destination (it may relay again, down a lane of cooks)
             if b == a or not min(v.reach(b, d) for d in dests) < mine:
                 continue
             walls = frozenset(p for c, p in enumerate(s.agent_pos) if c not in (a, b))
             dist_b = v.bfs(s.agent_pos[b], walls)
-            for f in spots:
-                d = v.reach_now(a, f)
-                if v.reach_in(dist_b, f) < float("inf") and d < best_d:
-                    best, best_d = f, d
-        return best
+            takers += [f for f in spots if v.reach_in(dist_b, f) < float("inf")]
+        return self._nearest(v, a, takers, v.reach_now)
 
     @staticmethod
-    def _nearest(v: KitchenView, a: int, cells: list[int]) -> int | None:
-        best, best_d = None, float("inf")
-        for f in cells:
-            d = v.reach(a, f)
-            if d < best_d:
-                best, best_d = f, d
-        return best
+    def _nearest(v: KitchenView, a: int, cells: list[int],
+                 steps: Callable[[int, int], float] | None = None) -> int | None:
+        """The first of ``cells`` that ``a`` reaches in the fewest ``steps`` (``v.reach``);
+        None when it reaches none."""
+        steps = steps or v.reach
+        best = min(cells, key=lambda f: steps(a, f), default=None)
+        return best if best is not None and steps(a, best) < float("inf") else None
 
     # ---------------------------------------------------------------- free agents
     def _candidates(self, v: KitchenView, budget: Counter) -> list[Subtask]:
