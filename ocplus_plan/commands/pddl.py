@@ -9,16 +9,8 @@ and prints what it wrote.
 from __future__ import annotations
 
 import argparse
-import time
 
-from ._common import (
-    HelpFormatter,
-    add_compile_args,
-    add_kitchen_args,
-    add_output_args,
-    emit,
-    rules_from_args,
-)
+from ._common import HelpFormatter, add_compile_args, add_kitchen_args, add_output_args, emit
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -32,23 +24,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..planning import compile
     from ..planning.pddl import write_pddl
-    from .solve import state_after_random_steps
+    from .solve import compile_from_args
 
-    rules = rules_from_args(args)
-    state = state_after_random_steps(rules, args.seed, args.step)
-    t0 = time.perf_counter()
-    compiled = compile(state, encoding=args.encoding, granularity=args.granularity,
-                       max_orders=args.orders, anticipate_switches=args.anticipate_switches)
-    compile_time = time.perf_counter() - t0
+    compiled, out = compile_from_args(args, args.encoding)
     domain, problem = write_pddl(compiled, args.out)
-    out = {
-        "preset": rules.preset, "map": rules.layout.name, "n_agents": rules.n_agents,
-        "seed": args.seed, "step": state.t, "encoding": args.encoding,
-        "granularity": args.granularity, "orders": list(compiled.goal_orders),
-        "objects": len(compiled.problem.all_objects),
-        "compile_time_s": round(compile_time, 5), "domain": str(domain), "problem": str(problem),
-    }
+    out.update(orders=list(compiled.goal_orders), objects=len(compiled.problem.all_objects),
+               domain=str(domain), problem=str(problem))
     emit(out, args)
     return 0

@@ -59,6 +59,23 @@ def state_after_random_steps(rules: Any, seed: int, steps: int) -> Any:
     return state
 
 
+def compile_from_args(args: argparse.Namespace, encoding: str) -> tuple[Any, dict[str, Any]]:
+    """Compile the state the kitchen options and ``--step`` name: the compiled problem, and
+    what ``pddl`` and ``solve`` both report about it."""
+    from ..planning import compile
+
+    rules = rules_from_args(args)
+    state = state_after_random_steps(rules, args.seed, args.step)
+    t0 = time.perf_counter()
+    compiled = compile(state, encoding=encoding, granularity=args.granularity,
+                       max_orders=args.orders, anticipate_switches=args.anticipate_switches)
+    return compiled, {
+        "preset": rules.preset, "map": rules.layout.name, "n_agents": rules.n_agents,
+        "seed": args.seed, "step": state.t, "encoding": encoding,
+        "granularity": args.granularity, "compile_time_s": round(time.perf_counter() - t0, 5),
+    }
+
+
 def run(args: argparse.Namespace) -> int:
     from ..planning.engines import availability, get_planner, planner_names, solve
 
@@ -80,20 +97,8 @@ def run(args: argparse.Namespace) -> int:
     encoding = config.encoding if args.encoding == "auto" else args.encoding
     if args.timeout is not None and args.timeout <= 0:
         raise ConfigError(f"--timeout must be positive, got {args.timeout}")
-    from ..planning import compile
-
-    rules = rules_from_args(args)
-    state = state_after_random_steps(rules, args.seed, args.step)
-    t0 = time.perf_counter()
-    compiled = compile(state, encoding=encoding, granularity=args.granularity,
-                       max_orders=args.orders, anticipate_switches=args.anticipate_switches)
-    compile_time = time.perf_counter() - t0
+    compiled, out = compile_from_args(args, encoding)
     result = solve(compiled.problem, config, timeout=args.timeout, use_val=not args.no_val)
-    out: dict[str, Any] = {
-        "preset": rules.preset, "map": rules.layout.name, "n_agents": rules.n_agents,
-        "seed": args.seed, "step": state.t, "encoding": encoding,
-        "granularity": args.granularity, "compile_time_s": round(compile_time, 5),
-    }
     info = result.to_dict()
     steps = info.pop("steps")
     info.pop("pgid")

@@ -11,13 +11,7 @@ import argparse
 import shlex
 import sys
 
-from ._common import (
-    HelpFormatter,
-    add_deprecated_alias,
-    add_kitchen_args,
-    add_output_args,
-    emit,
-)
+from ._common import HelpFormatter, add_deprecated_alias, add_kitchen_args, add_output_args, emit
 
 
 def register(sub: argparse._SubParsersAction) -> None:

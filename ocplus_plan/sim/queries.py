@@ -1,18 +1,14 @@
 """The kitchen's questions, answered once: every layer asks these instead of re-deriving them.
 
-- walking: :func:`walks` (shortest walks from some cells: steps, the cell each one is
-  entered from, the first action, the order of discovery), :func:`distances`,
-  :func:`walk_actions`, :func:`interaction_spots`, :func:`walkable_in_any_layout`,
-  :func:`direction` (the action that moves into, or bumps, a neighbouring cell);
-- bumps: :func:`bump_effect` (what bumping a cell does, given what the agent holds) and
-  :func:`bumps_needed` (how many chops or washes finish the job); the transition itself
-  dispatches on them, so they are the rule and not a description of it;
+- walking: :func:`walks` / :func:`distances` / :func:`walk_actions` (shortest walks),
+  :func:`interaction_spots`, :func:`walkable_in_any_layout`, :func:`direction`;
+- bumps: :func:`bump_effect` (what bumping a cell does) and :func:`bumps_needed` (how many
+  chops or washes finish one); the transition dispatches on them, so they are the rule;
 - the pan: :func:`ticks_until_cooked`, :func:`ticks_until_burnt` (the transition uses them);
 - plates: :func:`is_plateable`, :func:`plate_fits` (can a plate still become a recipe).
 
-Cells are flat indices (``row * cols + col``). ``neighbors[c]`` holds the cells in the
-directions RIGHT, DOWN, LEFT, UP (-1 off the grid): a neighbour's position in that tuple
-is the action index that moves into it, which :func:`direction` relies on.
+Cells are flat indices; ``neighbors[c]`` lists the cells in the directions RIGHT, DOWN,
+LEFT, UP (-1 off the grid), so a neighbour's position there is the action that enters it.
 """
 
 from __future__ import annotations
@@ -24,7 +20,7 @@ from functools import lru_cache
 from typing import TYPE_CHECKING, NamedTuple
 
 from ..errors import ConfigError
-from .codes import COUNTERS, VEGETABLES, Action, Cell, Item, ItemState, Where
+from .codes import COUNTERS, VEGETABLES, Action, Cell, Item, ItemState
 
 if TYPE_CHECKING:
     from .rules import Rules
@@ -40,22 +36,14 @@ _DELIVERY, _TRASH = int(Cell.DELIVERY), int(Cell.TRASH)
 _PLATE, _STEAK = int(Item.PLATE), int(Item.STEAK)
 _FRESH, _CHOPPED, _COOKED = int(ItemState.FRESH), int(ItemState.CHOPPED), int(ItemState.COOKED)
 _CLEAN, _DIRTY = int(ItemState.CLEAN), int(ItemState.DIRTY)
-_ON_PLATE = int(Where.PLATE)
 
 
 # ---------------------------------------------------------------- walking
 def grid_neighbors(rows: int, cols: int) -> tuple[tuple[int, int, int, int], ...]:
     """Per flat cell: the neighbour in direction RIGHT, DOWN, LEFT, UP, or -1 off the grid."""
-    out = []
-    for r in range(rows):
-        for c in range(cols):
-            out.append((
-                r * cols + c + 1 if c + 1 < cols else -1,
-                (r + 1) * cols + c if r + 1 < rows else -1,
-                r * cols + c - 1 if c > 0 else -1,
-                (r - 1) * cols + c if r > 0 else -1,
-            ))
-    return tuple(out)
+    cells = [(r, c, r * cols + c) for r in range(rows) for c in range(cols)]
+    return tuple((f + 1 if c + 1 < cols else -1, f + cols if r + 1 < rows else -1,
+                  f - 1 if c > 0 else -1, f - cols if r > 0 else -1) for r, c, f in cells)
 
 
 class Walks(NamedTuple):
@@ -189,22 +177,19 @@ def bump_effect(state: State, held: int, cell: int) -> Bump:
             return _PICK_UP if here >= 0 else _NOTHING
         return _PUT_DOWN if here < 0 else _plate_exchange(state, held, here)
     if code == _BOARD:
-        kinds = state.geo.item_kind
-        if held < 0:
+        if held < 0:  # a fresh vegetable is chopped where it lies, never picked up half-chopped
             if here < 0:
                 return _NOTHING
-            fresh_veg = kinds[here] in _VEG and state.item_state[here] == _FRESH
-            return Bump.CHOP if fresh_veg else _PICK_UP  # half-chopped never leaves the board
+            return Bump.CHOP if _fresh_veg(state, here) else _PICK_UP
         if here < 0:
-            fresh_veg = kinds[held] in _VEG and state.item_state[held] == _FRESH
-            return _PUT_DOWN if fresh_veg else _NOTHING
+            return _PUT_DOWN if _fresh_veg(state, held) else _NOTHING
         return _plate_exchange(state, held, here)
     if code == _PAN:
         if held < 0:
             return _PICK_UP if here >= 0 else _NOTHING
         if here < 0:
-            steak = state.geo.item_kind[held] == _STEAK and state.item_state[held] in (_FRESH, _COOKED)
-            return _PUT_DOWN if steak else _NOTHING
+            steak = state.geo.item_kind[held] == _STEAK
+            return _PUT_DOWN if steak and state.item_state[held] in (_FRESH, _COOKED) else _NOTHING
         return _plate_exchange(state, held, here)
     if code == _SINK:
         if held < 0:
@@ -214,16 +199,14 @@ def bump_effect(state: State, held: int, cell: int) -> Bump:
         return _PUT_DOWN if here < 0 and state.item_state[held] == _DIRTY else _NOTHING
     if code == _DELIVERY:
         return Bump.DELIVER if held >= 0 else _NOTHING
-    if code == _TRASH and held >= 0:
-        if state.geo.item_kind[held] == _PLATE and not _holds_anything(state, held):
-            return _NOTHING  # an empty plate: nothing to throw away
-        return Bump.TRASH
+    if code == _TRASH and held >= 0:  # an empty plate: nothing to throw away
+        empty_plate = state.geo.item_kind[held] == _PLATE and not state.plate_contents(held)
+        return _NOTHING if empty_plate else Bump.TRASH
     return _NOTHING
 
 
-def _holds_anything(state: State, plate: int) -> bool:
-    where, loc = state.item_where, state.item_loc
-    return any(where[i] == _ON_PLATE and loc[i] == plate for i in range(len(where)))
+def _fresh_veg(state: State, item: int) -> bool:
+    return state.geo.item_kind[item] in _VEG and state.item_state[item] == _FRESH
 
 
 def _plate_exchange(state: State, held: int, here: int) -> Bump:
@@ -267,21 +250,7 @@ def plate_fits(contents: Counter[int], recipe: Counter[int]) -> bool:
     return not (contents - recipe)
 
 
-__all__ = [
-    "Bump",
-    "Walks",
-    "bump_effect",
-    "bumps_needed",
-    "direction",
-    "distances",
-    "grid_neighbors",
-    "interaction_spots",
-    "is_plateable",
-    "plate_fits",
-    "ticks_until_burnt",
-    "ticks_until_cooked",
-    "walk_actions",
-    "walk_to",
-    "walkable_in_any_layout",
-    "walks",
-]
+__all__ = ["Bump", "Walks", "bump_effect", "bumps_needed", "direction", "distances",
+           "grid_neighbors", "interaction_spots", "is_plateable", "plate_fits",
+           "ticks_until_burnt", "ticks_until_cooked", "walk_actions", "walk_to",
+           "walkable_in_any_layout", "walks"]

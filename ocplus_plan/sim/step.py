@@ -16,13 +16,7 @@ from ..errors import InvalidActionError
 from .codes import Action, Item, ItemState, Where
 from .dynamics import maybe_switch
 from .orders import draw_order, expire_orders, matching_order, plate_recipe
-from .queries import (
-    Bump,
-    bump_effect,
-    bumps_needed,
-    ticks_until_burnt,
-    ticks_until_cooked,
-)
+from .queries import Bump, bump_effect, bumps_needed, ticks_until_burnt, ticks_until_cooked
 from .state import Event, State
 
 _CELL, _HAND, _PLATE, _WAITING = int(Where.CELL), int(Where.HAND), int(Where.PLATE), int(Where.WAITING)
