@@ -34,8 +34,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
+from ..sim.queries import distances, interaction_spots, walkable_in_any_layout
 from ..sim.state import State
-from .paths import DistanceOracle, bfs_distances, interaction_spots
+from .paths import DistanceOracle
 from .plans import PlanStep
 
 #: what a step does to its cook's hand
@@ -91,14 +92,13 @@ class _Walks:
     def __init__(self, state: State, oracle: DistanceOracle) -> None:
         self.geo, self.layout, self.oracle = state.geo, state.layout_index, oracle
         self.walk = state.geo.walkables[state.layout_index]
-        self.any_walk = [any(w[c] for w in state.geo.walkables)
-                         for c in range(len(state.geo.neighbors))]
+        self.any_walk = walkable_in_any_layout(state.geo)
         self.detour = max(1, state.rules.map_switch_step) if state.rules.dynamic else 0
         self._any: dict[int, list[int]] = {}
 
     def to(self, pos: int, target: int) -> tuple[int, int]:
         """(steps to reach a spot of ``target`` from ``pos``, the spot reached)."""
-        spots = interaction_spots(self.geo, self.walk, target)
+        spots = interaction_spots(self.geo.neighbors, self.walk, target)
         best = None
         for s in spots:
             d = self.oracle.to_goals(self.layout, [s])[pos]
@@ -107,9 +107,9 @@ class _Walks:
         if best is not None:
             return best
         # cut off in this layout: walk over every layout's floor and wait for a switch
-        for s in interaction_spots(self.geo, self.any_walk, target):
+        for s in interaction_spots(self.geo.neighbors, self.any_walk, target):
             if s not in self._any:
-                self._any[s] = bfs_distances(self.geo, self.any_walk, [s])
+                self._any[s] = distances(self.geo.neighbors, self.any_walk, [s])
             d = self._any[s][pos]
             if d >= 0 and (best is None or d < best[0]):
                 best = (d + self.detour, s)
