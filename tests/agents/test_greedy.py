@@ -8,6 +8,7 @@ from ocplus_plan.agents import StayAgent, Team, make_controller
 from ocplus_plan.agents.greedy import GreedyAgent
 from ocplus_plan.errors import ConfigError
 from ocplus_plan.sim import available_maps, conservation_problems, make_rules, new_state, transition
+from ocplus_plan.sim.codes import Action
 
 
 def _episode(rules, seed: int, controller=None):
@@ -141,7 +142,7 @@ def test_where_a_cook_carries_things_is_what_the_bump_there_does():
                     continue
                 copy = state.copy()
                 copy.agent_pos[a] = spots[0]
-                joint = [4] * copy.n_agents
+                joint = [int(Action.STAY)] * copy.n_agents
                 joint[a] = direction(state.geo, spots[0], cell)
                 ev, _ = run(copy, joint)
                 assert promised[label] in {e.kind for e in ev if e.agent == a}, \

@@ -21,7 +21,7 @@ from ocplus_plan.execution.faults import (
     force_switch,
 )
 from ocplus_plan.sim import make_rules, new_state
-from ocplus_plan.sim.codes import ItemState
+from ocplus_plan.sim.codes import Action, ItemState
 
 from .toy_planner import crashing_planner, failing_planner, toy_planner
 
@@ -251,7 +251,7 @@ def test_ready_steps_are_what_the_step_then_does_on_sampled_states():
     def bump(state, a, spot, cell):
         copy = state.copy()
         copy.agent_pos[a] = spot
-        joint = [4] * copy.n_agents
+        joint = [int(Action.STAY)] * copy.n_agents
         joint[a] = direction(state.geo, spot, cell)
         ev, _ = run(copy, joint)
         return {e.kind for e in ev if e.agent == a}
