@@ -23,7 +23,7 @@ from typing import Any
 from ..agents.base import Controller
 from ..errors import ConfigError
 from ..sim import PRESETS, Action, Rules, State, StepResult, make_rules, new_state
-from ._common import HelpFormatter, add_kitchen_args, add_output_args, emit, say
+from ._common import HelpFormatter, add_kitchen_args, add_output_args, emit, rules_from_args, say
 
 MODES = ("coop", "adversarial")
 #: event kinds counted per side in the metrics
@@ -254,16 +254,12 @@ def build_session(args: argparse.Namespace) -> PlaySession:
     if args.fps is not None and args.fps <= 0:
         raise ConfigError(f"--fps {args.fps}: must be a positive number of steps per second")
     kw: dict[str, Any] = {}
-    if args.horizon is not None:
-        kw["horizon"] = args.horizon
-    if args.n_agents is not None:
-        kw["n_agents"] = args.n_agents
-    elif humans:
+    if args.n_agents is None and humans:
         # by default every human gets at least one AI cook beside them, if the map has room
         layout = make_rules(args.preset, map=args.map).layout
         wanted = max(PRESETS[args.preset].n_agents, len(humans) + 1)
         kw["n_agents"] = max(min(wanted, layout.max_agents), max(humans) + 1)
-    rules = make_rules(args.preset, map=args.map, **kw)
+    rules = rules_from_args(args, **kw)
     return PlaySession(rules, args.seed, humans=humans, agents=args.agents, mode=args.mode,
                        record=args.record is not None)
 
