@@ -106,6 +106,19 @@ def _k_of(problem: Any) -> int:
                if a.name.startswith("deliver"))
 
 
+@dataclass
+class _Objects:
+    """The problem's object names, keyed by the simulator thing each stands for."""
+
+    agents: dict[int, str]
+    spots: dict[int, str]
+    places: dict[int, str]
+    items: list[str]
+    kinds: dict[Item, str]
+    contents: dict[tuple[Item, ...], str] = field(default_factory=dict)
+    orders: dict[int, str] = field(default_factory=dict)
+
+
 def compile(state: State, orders: Sequence[Order] | None = None, encoding: str = "classical",
             granularity: str = "stations", max_orders: int | None = None,
             anticipate_switches: bool = False, extra_counters: int = 2,
@@ -120,23 +133,60 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
     left out (they must hold nothing), e.g. to plan the work for one cook and schedule
     it over all of them afterwards (``execution.schedule``).
     """
-    from unified_planning.model.metrics import MinimizeActionCosts, MinimizeMakespan
+    from unified_planning.model.metrics import MinimizeMakespan
 
-    if max_orders is not None and max_orders < 0:
-        raise CompileError(f"max_orders must be >= 0, got {max_orders}")
     if anticipate_switches and encoding != "temporal":
         raise CompileError(
             "anticipate_switches needs encoding='temporal': the coming layout switches are "
             "timed initial literals, which classical PDDL cannot express"
         )
-    rules = state.rules
+    cooks = _cooks(state, agents)
+    goal, model_orders = _goal_orders(state, orders, max_orders)
     geo = state.geo
+    plates = [i for i, k in enumerate(geo.item_kind) if k == Item.PLATE]
+    initial_contents = {q: tuple(sorted(Item(geo.item_kind[i]) for i in state.plate_contents(q)))
+                        for q in plates}
+    k_max = max([3] + [len(r) for r in state.rules.recipes]
+                + [len(c) for c in initial_contents.values()])
+    switches = anticipate_switches and granularity == "stations"
+    domain = build_domain(encoding, granularity, k_max, switches)
+    spots = build_spots(state, granularity, extra_counters, every_layout=anticipate_switches)
+    problem = _new_problem(f"ocplus_{encoding}_{granularity}", domain, _fast)
+    comp = Compiled(problem, Names(), encoding, granularity, spots,
+                    tuple(o.order_id for o in goal), geometry=geo, switches=switches)
+    builder = _Builder(problem, domain, comp, _fast)
+
+    objects = _declare_objects(builder, state, spots, cooks)
+    _declare_contents(builder, objects, goal, initial_contents)
+    _declare_orders(builder, objects, goal, model_orders)
+    _place_facts(builder, state, spots, objects, granularity, switches)
+    _agent_facts(builder, state, spots, objects, encoding)
+    _rule_numbers(builder, state)
+    cooking = _item_facts(builder, state, objects, initial_contents)
+    _pans(builder, state, comp, cooking, objects)
+    problem.add_quality_metric(domain.metric if encoding == "classical" else MinimizeMakespan())
+    if anticipate_switches:
+        _switch_literals(builder, state, objects.spots)
+    builder.flush()
+    return comp
+
+
+def _cooks(state: State, agents: Sequence[int] | None) -> tuple[int, ...]:
+    """The modelled cooks; a cook left out must hold nothing."""
     cooks = tuple(range(state.n_agents)) if agents is None else tuple(sorted(set(agents)))
     if not cooks or any(not 0 <= a < state.n_agents for a in cooks):
         raise CompileError(f"agents={agents!r}: the kitchen has cooks 0..{state.n_agents - 1}")
     left_out = [a for a in range(state.n_agents) if a not in cooks and state.agent_hand[a] >= 0]
     if left_out:
         raise CompileError(f"cooks {left_out} hold an item: they must be among agents={cooks}")
+    return cooks
+
+
+def _goal_orders(state: State, orders: Sequence[Order] | None,
+                 max_orders: int | None) -> tuple[list[Order], list[Order]]:
+    """(the goal orders, the open orders up to the last goal one: the serving chain)."""
+    if max_orders is not None and max_orders < 0:
+        raise CompileError(f"max_orders must be >= 0, got {max_orders}")
     goal = list(state.orders if orders is None else orders)
     if max_orders is not None:
         goal = goal[:max_orders]
@@ -145,196 +195,198 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
         if o.order_id not in order_ids:
             raise CompileError(f"order {o.order_id} is not open in this state")
     last = max((order_ids.index(o.order_id) for o in goal), default=-1)
-    model_orders = state.orders[: last + 1]
+    return goal, state.orders[: last + 1]
 
-    plates = [i for i, k in enumerate(geo.item_kind) if k == Item.PLATE]
-    initial_contents = {q: tuple(sorted(Item(geo.item_kind[i]) for i in state.plate_contents(q)))
-                        for q in plates}
-    k_max = max([3] + [len(r) for r in rules.recipes] + [len(c) for c in initial_contents.values()])
-    switches = anticipate_switches and granularity == "stations"
-    dom = build_domain(encoding, granularity, k_max, switches)
-    spots = build_spots(state, granularity, extra_counters, every_layout=anticipate_switches)
-    problem = _new_problem(f"ocplus_{encoding}_{granularity}", dom, _fast)
-    comp = Compiled(problem, Names(), encoding, granularity, spots,
-                    tuple(o.order_id for o in goal), geometry=geo, switches=switches)
-    b = _Builder(problem, dom, comp, _fast)
 
-    T = dom.types
-    agent_obj = {a: b.obj("agents", f"a{a}", a, T["agent"]) for a in cooks}
-    spot_name = {s: b.obj("cells", "s_{}_{}".format(*geo.rc(s)), geo.rc(s), T["spot"])
-                 for s in spots.spots}
+def _declare_objects(builder: _Builder, state: State, spots: SpotGraph,
+                     cooks: tuple[int, ...]) -> _Objects:
+    """Agents, spots, places, items and ingredient kinds."""
+    geo, types = state.geo, builder.dom.types
     terrain = geo.terrains[state.layout_index]
-    place_name = {}
+    places = {}
     for p in spots.places:
         label = Cell(terrain[p]).name.lower()
-        place_name[p] = b.obj("cells", "{}_{}_{}".format(label, *geo.rc(p)), geo.rc(p),
-                              T["place"])
-    item_name = [b.obj("items", geo.item_names[i], i, T["item"]) for i in range(state.n_items)]
-    kind_name = {k: b.obj("kinds", f"k_{v}", v, T["kind"]) for k, v in _KIND_NAMES.items()}
+        places[p] = builder.obj("cells", "{}_{}_{}".format(label, *geo.rc(p)), geo.rc(p),
+                                types["place"])
+    return _Objects(
+        agents={a: builder.obj("agents", f"a{a}", a, types["agent"]) for a in cooks},
+        spots={s: builder.obj("cells", "s_{}_{}".format(*geo.rc(s)), geo.rc(s), types["spot"])
+               for s in spots.spots},
+        places=places,
+        items=[builder.obj("items", geo.item_names[i], i, types["item"])
+               for i in range(state.n_items)],
+        kinds={k: builder.obj("kinds", f"k_{v}", v, types["kind"]) for k, v in _KIND_NAMES.items()},
+    )
 
-    # --- contents: every sub-multiset of a goal recipe, plus what plates hold now
-    useful: set[tuple[Item, ...]] = set()
+
+def _declare_contents(builder: _Builder, objects: _Objects, goal: list[Order],
+                      initial_contents: dict[int, tuple[Item, ...]]) -> None:
+    """Every sub-multiset of a goal recipe, plus what plates hold now, and how one grows
+    into another (``next_content`` only toward a goal recipe)."""
+    useful: set[tuple[Item, ...]] = {()}
     for o in goal:
         for size in range(len(o.recipe) + 1):
             useful.update(tuple(sorted(c)) for c in itertools.combinations(o.recipe, size))
-    useful.add(())
-    all_contents = useful | set(initial_contents.values())
-    content_name = {}
-    for c in sorted(all_contents, key=lambda c: (len(c), c)):
-        label = "_".join(_KIND_NAMES[k] for k in c) or "empty"
-        content_name[c] = b.obj("contents", f"c_{label}", tuple(_KIND_NAMES[k] for k in c),
-                                T["content"])
-    for c, cname in content_name.items():
-        if c:
-            b.true(f"size{len(c)}", cname)
-        else:
-            b.true("empty", cname)
-        if c in useful:
-            for k in set(_KIND_NAMES):
-                nxt = tuple(sorted(c + (k,)))
-                if nxt in useful:
-                    b.true("next_content", cname, kind_name[k], content_name[nxt])
+    for contents in sorted(useful | set(initial_contents.values()), key=lambda c: (len(c), c)):
+        label = "_".join(_KIND_NAMES[k] for k in contents) or "empty"
+        objects.contents[contents] = builder.obj(
+            "contents", f"c_{label}", tuple(_KIND_NAMES[k] for k in contents),
+            builder.dom.types["content"])
+    for contents, name in objects.contents.items():
+        builder.true(f"size{len(contents)}" if contents else "empty", name)
+        if contents in useful:
+            for kind in _KIND_NAMES:
+                grown = tuple(sorted(contents + (kind,)))
+                if grown in useful:
+                    builder.true("next_content", name, objects.kinds[kind],
+                                 objects.contents[grown])
 
-    # --- orders: served oldest first among equal recipes; the chain ends in o_none
-    order_name = {o.order_id: b.obj("orders", f"o{o.order_id}", o.order_id, T["order"])
-                  for o in model_orders}
-    sentinel = b.obj("orders", "o_none", -1, T["order"])
+
+def _declare_orders(builder: _Builder, objects: _Objects, goal: list[Order],
+                    model_orders: list[Order]) -> None:
+    """Orders are served oldest first among equal recipes; each chain ends in ``o_none``."""
+    for o in model_orders:
+        objects.orders[o.order_id] = builder.obj("orders", f"o{o.order_id}", o.order_id,
+                                                 builder.dom.types["order"])
+    sentinel = builder.obj("orders", "o_none", -1, builder.dom.types["order"])
     by_recipe: dict[tuple[Item, ...], list[Order]] = {}
     for o in model_orders:
         by_recipe.setdefault(tuple(o.recipe), []).append(o)
-        if tuple(sorted(o.recipe)) in content_name:
-            b.true("serves", content_name[tuple(sorted(o.recipe))], order_name[o.order_id])
+        recipe = tuple(sorted(o.recipe))
+        if recipe in objects.contents:
+            builder.true("serves", objects.contents[recipe], objects.orders[o.order_id])
     for chain in by_recipe.values():
-        b.true("up_next", order_name[chain[0].order_id])
+        builder.true("up_next", objects.orders[chain[0].order_id])
         for older, newer in zip(chain, chain[1:] + [None]):
-            b.true("next_order", order_name[older.order_id],
-                   order_name[newer.order_id] if newer else sentinel)
+            builder.true("next_order", objects.orders[older.order_id],
+                         objects.orders[newer.order_id] if newer else sentinel)
     for o in goal:
-        problem.add_goal(dom.fluents["served"](b.objects[order_name[o.order_id]]))
+        builder.problem.add_goal(
+            builder.dom.fluents["served"](builder.objects[objects.orders[o.order_id]]))
 
-    # --- places
-    home_place = {}
+
+def _place_facts(builder: _Builder, state: State, spots: SpotGraph, objects: _Objects,
+                 granularity: str, switches: bool) -> None:
+    """What each place is and holds, where items may go, and how agents move between spots."""
+    geo = state.geo
+    terrain = geo.terrains[state.layout_index]
     waiting_homes = {geo.item_home[i] for i in range(state.n_items)
                      if state.item_where[i] == Where.WAITING}
-    for p, pname in place_name.items():
+    for p, name in objects.places.items():
         code = terrain[p]
-        if code in _HOLDERS:
-            b.true("holder", pname)
-        if code in _GRABBABLE:
-            b.true("grabbable", pname)
-        if code in _TAKES_FROM:
-            b.true("takes_from", pname)
+        for flag, codes in (("holder", _HOLDERS), ("grabbable", _GRABBABLE),
+                            ("takes_from", _TAKES_FROM)):
+            if code in codes:
+                builder.true(flag, name)
         if code in _PLACE_FLAGS:
-            b.true(_PLACE_FLAGS[code], pname)
+            builder.true(_PLACE_FLAGS[code], name)
         if state.cell_item[p] < 0:
-            b.true("free", pname)
+            builder.true("free", name)
         if p not in waiting_homes:
-            b.true("nowait", pname)
+            builder.true("nowait", name)
     plain_counters = [p for p in spots.places if terrain[p] == Cell.COUNTER]
     for i in range(state.n_items):
-        home = geo.item_home[i]
-        home_place[i] = place_name[home]
-        b.true("home", item_name[i], place_name[home])
-        b.true("drop_ok", item_name[i], place_name[home])
+        home = objects.places[geo.item_home[i]]
+        builder.true("home", objects.items[i], home)
+        builder.true("drop_ok", objects.items[i], home)
         for p in plain_counters:
-            b.true("drop_ok", item_name[i], place_name[p])
+            builder.true("drop_ok", objects.items[i], objects.places[p])
     for s, p in spots.adjacent:
-        b.true("adj", spot_name[s], place_name[p])
-    walk_now = geo.walkables[state.layout_index]
+        builder.true("adj", objects.spots[s], objects.places[p])
     if granularity == "cells":
+        walk_now = geo.walkables[state.layout_index]
         for s in spots.spots:
             if walk_now[s]:
-                b.true("open", spot_name[s])
+                builder.true("open", objects.spots[s])
     for s1, s2, d in ([] if switches else spots.links):
-        b.true("link", spot_name[s1], spot_name[s2])
+        builder.true("link", objects.spots[s1], objects.spots[s2])
         if granularity == "stations":
-            b.num("dist", d, spot_name[s1], spot_name[s2])
+            builder.num("dist", d, objects.spots[s1], objects.spots[s2])
     if switches:
-        layout_name = [b.obj("layouts", f"layout{k}", k, T["layout"])
-                       for k in range(len(geo.walkables))]
-        b.true("now", layout_name[state.layout_index])
+        layouts = [builder.obj("layouts", f"layout{k}", k, builder.dom.types["layout"])
+                   for k in range(len(geo.walkables))]
+        builder.true("now", layouts[state.layout_index])
         for k, s1, s2, d in spots.layout_links:
-            b.true("llink", layout_name[k], spot_name[s1], spot_name[s2])
-            b.num("ldist", d, layout_name[k], spot_name[s1], spot_name[s2])
+            builder.true("llink", layouts[k], objects.spots[s1], objects.spots[s2])
+            builder.num("ldist", d, layouts[k], objects.spots[s1], objects.spots[s2])
 
-    # --- agents
-    occupied = {state.agent_pos[a] for a in cooks}
+
+def _agent_facts(builder: _Builder, state: State, spots: SpotGraph, objects: _Objects,
+                 encoding: str) -> None:
+    """Where the modelled cooks stand, which spots are vacant and what they hold."""
+    occupied = {state.agent_pos[a] for a in objects.agents}
     for s in spots.spots:
         if s not in occupied:
-            b.true("vacant", spot_name[s])
-    for a, name in agent_obj.items():
-        b.true("agent_at", name, spot_name[state.agent_pos[a]])
+            builder.true("vacant", objects.spots[s])
+    for a, name in objects.agents.items():
+        builder.true("agent_at", name, objects.spots[state.agent_pos[a]])
         if encoding == "temporal":
-            b.true("idle", name)
+            builder.true("idle", name)
         held = state.agent_hand[a]
         if held < 0:
-            b.true("free_hand", name)
+            builder.true("free_hand", name)
         else:
-            b.true("holding", name, item_name[held])
+            builder.true("holding", name, objects.items[held])
 
-    # --- rule numbers
-    b.num("chop_full", rules.chop_steps)
-    b.num("wash_full", rules.wash_steps)
-    b.num("cook_cost_full", rules.cook_time + 1)
-    b.num("cook_lo_full", rules.cook_time)
-    b.num("cook_hi_full", max(rules.cook_time, rules.burn_time - 1))
-    b.true("plates_get_dirty" if rules.dirty_plates else "plates_stay_clean")
 
-    # --- items
-    order_key = sorted(range(state.n_items), key=lambda i: (geo.item_kind[i], i))
-    for x, y in itertools.combinations(order_key, 2):
-        b.true("lt", item_name[x], item_name[y])
+def _rule_numbers(builder: _Builder, state: State) -> None:
+    rules = state.rules
+    builder.num("chop_full", rules.chop_steps)
+    builder.num("wash_full", rules.wash_steps)
+    builder.num("cook_cost_full", rules.cook_time + 1)
+    builder.num("cook_lo_full", rules.cook_time)
+    builder.num("cook_hi_full", max(rules.cook_time, rules.burn_time - 1))
+    builder.true("plates_get_dirty" if rules.dirty_plates else "plates_stay_clean")
+
+
+def _item_facts(builder: _Builder, state: State, objects: _Objects,
+                initial_contents: dict[int, tuple[Item, ...]]) -> list[tuple[int, int]]:
+    """Each item's kind, state, progress and where it is; returns the steaks heating on a
+    pan (their facts come from :func:`_pans`)."""
+    geo, rules = state.geo, state.rules
+    terrain = geo.terrains[state.layout_index]
+    by_kind = sorted(range(state.n_items), key=lambda i: (geo.item_kind[i], i))
+    for x, y in itertools.combinations(by_kind, 2):
+        builder.true("lt", objects.items[x], objects.items[y])
     cooking: list[tuple[int, int]] = []
     for i in range(state.n_items):
-        name, kind = item_name[i], Item(geo.item_kind[i])
-        st, prog = ItemState(state.item_state[i]), state.item_progress[i]
+        name, kind = objects.items[i], Item(geo.item_kind[i])
+        item_state, progress = ItemState(state.item_state[i]), state.item_progress[i]
         if kind == Item.PLATE:
-            b.true("is_plate", name)
-            contents = initial_contents[i]
-            b.true("plate_has", name, content_name[contents])
+            builder.true("is_plate", name)
+            builder.true("plate_has", name, objects.contents[initial_contents[i]])
         else:
-            b.true("ingredient", name)
-            b.true("is_steak" if kind == Item.STEAK else "is_veg", name)
-            b.true("kind_of", name, kind_name[kind])
+            builder.true("ingredient", name)
+            builder.true("is_steak" if kind == Item.STEAK else "is_veg", name)
+            builder.true("kind_of", name, objects.kinds[kind])
         where, loc = state.item_where[i], state.item_loc[i]
-        heating = (where == Where.CELL and terrain[loc] == Cell.PAN and st != ItemState.BURNT)
-        partial = prog > 0 and st in (ItemState.FRESH, ItemState.DIRTY)
-        b.true("partly" if partial else "untouched", name)
+        heating = (where == Where.CELL and terrain[loc] == Cell.PAN
+                   and item_state != ItemState.BURNT)
+        partial = progress > 0 and item_state in (ItemState.FRESH, ItemState.DIRTY)
+        builder.true("partly" if partial else "untouched", name)
         if not heating:  # a steak cooking on a pan gets its state flag in _pans()
-            b.true(_STATE_FLAG[st], name)
+            builder.true(_STATE_FLAG[item_state], name)
         if partial and kind == Item.STEAK:
-            b.num("cook_cost_left", rules.cook_time - prog + 1, name)
-            b.num("cook_lo", max(1, rules.cook_time - prog), name)
-            b.num("cook_hi", max(1, rules.cook_time - prog, rules.burn_time - prog - 1), name)
+            builder.num("cook_cost_left", rules.cook_time - progress + 1, name)
+            builder.num("cook_lo", max(1, rules.cook_time - progress), name)
+            builder.num("cook_hi", max(1, rules.cook_time - progress,
+                                       rules.burn_time - progress - 1), name)
         elif partial and kind == Item.PLATE:
-            b.num("wash_left", max(1, rules.wash_steps - prog), name)
+            builder.num("wash_left", max(1, rules.wash_steps - progress), name)
         elif partial:
-            b.num("chop_left", max(1, rules.chop_steps - prog), name)
-        if where == Where.HAND:
-            continue
+            builder.num("chop_left", max(1, rules.chop_steps - progress), name)
         if where == Where.PLATE:
-            b.true("on_plate", name, item_name[loc])
+            builder.true("on_plate", name, objects.items[loc])
         elif where == Where.WAITING:
-            b.true("waiting", name)
+            builder.true("waiting", name)
         elif heating:
             cooking.append((i, loc))
-        else:
-            b.true("item_at", name, place_name[loc])
-    _pans(b, state, comp, cooking, spot_name, place_name, item_name, agent_obj)
-
-    if encoding == "classical":
-        if not hasattr(dom, "_metric"):
-            dom._metric = MinimizeActionCosts(dom.costs, default=None)  # type: ignore[attr-defined]
-        problem.add_quality_metric(dom._metric)
-    else:
-        problem.add_quality_metric(MinimizeMakespan())
-        if anticipate_switches:
-            _switch_literals(b, state, spot_name)
-    b.flush()
-    return comp
+        elif where != Where.HAND:
+            builder.true("item_at", name, objects.places[loc])
+    return cooking
 
 
-def _switch_literals(b: _Builder, state: State, spot_name: dict[int, str]) -> None:
+def _switch_literals(builder: _Builder, state: State, spot_name: dict[int, str]) -> None:
     """Timed initial literals for the coming layout switches: ``open`` of the switching
     cells (cells granularity) or ``now`` of the layout (stations).
 
@@ -354,53 +406,52 @@ def _switch_literals(b: _Builder, state: State, spot_name: dict[int, str]) -> No
     layout = state.layout_index
     tau = max(1, state.next_switch - state.t)
     switching = [s for s in spot_name if s in set(geo.switch_cells)]
-    stations = "now" in b.dom.fluents
-    fl = b.dom.fluents["now" if stations else "open"]
+    stations = "now" in builder.dom.fluents
+    fl = builder.dom.fluents["now" if stations else "open"]
     while state.t + tau <= rules.horizon:
         at = GlobalStartTiming(tau)
         if stations:
-            b.problem.add_timed_effect(at, fl(b.objects[f"layout{layout}"]), False)
+            builder.problem.add_timed_effect(at, fl(builder.objects[f"layout{layout}"]), False)
         layout = 1 - layout
         if stations:
-            b.problem.add_timed_effect(at, fl(b.objects[f"layout{layout}"]), True)
+            builder.problem.add_timed_effect(at, fl(builder.objects[f"layout{layout}"]), True)
         for s in ([] if stations else switching):
-            b.problem.add_timed_effect(at, fl(b.objects[spot_name[s]]),
+            builder.problem.add_timed_effect(at, fl(builder.objects[spot_name[s]]),
                                        bool(geo.walkables[layout][s]))
         tau += rules.map_switch_step
 
 
-def _pans(b: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, int]],
-          spot_name: dict[int, str], place_name: dict[int, str], item_name: list[str],
-          agent_obj: dict[int, str]) -> None:
+def _pans(builder: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, int]],
+          objects: _Objects) -> None:
     """Steaks on a pan at compile time (not burnt yet): see the model's docstring."""
     rules = state.rules
-    occupied = {state.agent_pos[a] for a in agent_obj}
+    occupied = {state.agent_pos[a] for a in objects.agents}
     doomed = set()
     if comp.encoding == "temporal":
         from unified_planning.model import GlobalStartTiming
 
         for i, pan in cooking:
             ticks = state.item_progress[i]
-            b.true("on_heat", item_name[i], place_name[pan])
-            b.true(_STATE_FLAG[ItemState(state.item_state[i])], item_name[i])
+            builder.true("on_heat", objects.items[i], objects.places[pan])
+            builder.true(_STATE_FLAG[ItemState(state.item_state[i])], objects.items[i])
             opens = max(0, rules.cook_time - ticks)
             closes = rules.burn_time - ticks + 1
-            steak = b.objects[item_name[i]]
-            fl = b.dom.fluents
+            steak = builder.objects[objects.items[i]]
+            fl = builder.dom.fluents
             if opens == 0:
-                b.true("window", item_name[i])
+                builder.true("window", objects.items[i])
             else:
-                b.problem.add_timed_effect(GlobalStartTiming(opens), fl["window"](steak), True)
-            b.problem.add_timed_effect(GlobalStartTiming(closes), fl["window"](steak), False)
-            b.problem.add_timed_effect(GlobalStartTiming(closes), fl["overdone"](steak), True)
-        b.true("calm")
+                builder.problem.add_timed_effect(GlobalStartTiming(opens), fl["window"](steak), True)
+            builder.problem.add_timed_effect(GlobalStartTiming(closes), fl["window"](steak), False)
+            builder.problem.add_timed_effect(GlobalStartTiming(closes), fl["overdone"](steak), True)
+        builder.true("calm")
         return
     rescued = False
     for i, pan in cooking:
         ticks = state.item_progress[i]
         offers = []
         if not rescued:
-            for a in agent_obj:
+            for a in objects.agents:
                 if state.agent_hand[a] >= 0:
                     continue
                 here = state.agent_pos[a]
@@ -419,17 +470,17 @@ def _pans(b: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, in
             best.setdefault(a, (cost, a, s))
         if best:
             rescued = True
-            b.true("cooking_on", item_name[i], place_name[pan])
-            b.true(_STATE_FLAG[ItemState(state.item_state[i])], item_name[i])
+            builder.true("cooking_on", objects.items[i], objects.places[pan])
+            builder.true(_STATE_FLAG[ItemState(state.item_state[i])], objects.items[i])
             for cost, a, s in best.values():
-                b.true("can_rescue", agent_obj[a], item_name[i], spot_name[s])
-                b.num("rescue_cost", cost, agent_obj[a], item_name[i])
+                builder.true("can_rescue", objects.agents[a], objects.items[i], objects.spots[s])
+                builder.num("rescue_cost", cost, objects.agents[a], objects.items[i])
         else:
             doomed.add(i)
-            b.true("item_at", item_name[i], place_name[pan])
-            b.true("burnt", item_name[i])
+            builder.true("item_at", objects.items[i], objects.places[pan])
+            builder.true("burnt", objects.items[i])
     if not rescued:
-        b.true("calm")
+        builder.true("calm")
     comp.doomed = frozenset(doomed)
 
 

@@ -277,6 +277,8 @@ class Domain:
     actions: dict[str, Any]
     schemas: dict[str, Schema]
     costs: dict[Any, Any] = field(default_factory=dict)
+    #: classical: the action-cost metric every problem of this domain minimises
+    metric: Any = None
 
 
 def _check_options(encoding: str, granularity: str) -> None:
@@ -323,6 +325,10 @@ def build_domain(encoding: str = "classical", granularity: str = "stations",
             if switches and sch.name == "move":  # the layout still holds when it arrives
                 act.add_condition(EndTiming(), fluents["now"](act.parameter("l")))
         dom.actions[sch.name] = act
+    if encoding == "classical":
+        from unified_planning.model.metrics import MinimizeActionCosts
+
+        dom.metric = MinimizeActionCosts(dom.costs, default=None)
     if encoding == "temporal":
         dom.actions["cook"] = _temporal_cook(dom, rest=False)
         dom.actions["cook_rest"] = _temporal_cook(dom, rest=True)
