@@ -356,14 +356,17 @@ def plan_bound(state: State, max_orders: int | None = None) -> PlanBound:
       serving window). Each cook's walk is at least the shortest path from where it
       stands through the places it visits, in any order; the bound takes the best
       split of the places between the cooks.
-    * **cost** = walk + classical work: every step of every cook is an action cost.
+    * **Critical path** of an order: per ingredient, the nearest cook walks to it, then
+      the item is picked, carried (handing it over a counter counts 1 step, half of its
+      real put + pick) to its station, processed (a cook waits at least ``cook_time``,
+      or what is left), plated, carried on to the window and served; the plate's own
+      chain likewise. These steps depend on each other, so they cannot overlap in any
+      schedule, and each is at least the cost of the actions that make it.
+    * **cost** >= walk + classical work (every step of every cook is an action cost),
+      and >= every order's critical path (its actions are among the plan's).
     * **makespan** >= ceil((walk + temporal work) / cooks): a cook does one action at a
-      time and each cook's busy time is a whole number of steps; and >= each order's
-      **critical path**: per ingredient, the nearest cook walks to it, then the item
-      is picked, carried (handing it over a counter counts 1 step, half of its real
-      put + pick) to its station, processed, plated, and carried on to the window and
-      served; the plate's own chain likewise. These steps depend on each other, so they
-      cannot overlap in any schedule.
+      time and each cook's busy time is a whole number of steps; and >= every order's
+      critical path.
 
     Respawn waits, other cooks in the way, the order of orders and the contention for
     items, plates and stations are ignored: each only makes real plans longer.
@@ -465,7 +468,7 @@ def plan_bound(state: State, max_orders: int | None = None) -> PlanBound:
             chain = max(chain, min(o[2] for o in options))
         critical = max(critical, chain)
     walk = _walk_bound(state, paths, orders, items_of) if orders else 0.0
-    cost = walk + work_c
+    cost = max(walk + work_c, critical)
     makespan = max(critical, math.ceil((walk + work_t) / max(1, state.n_agents))
                    if walk < _INF else _INF)
     return PlanBound(cost, makespan, walk, work_c, work_t, critical,

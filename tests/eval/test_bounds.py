@@ -86,6 +86,13 @@ def test_plan_bound_by_hand_on_the_tiny_kitchen_one_cook() -> None:
     assert b.makespan == max(b.critical_path, b.cost)  # one cook: its busy time counts
 
 
+def test_plan_cost_bound_is_at_least_every_critical_path() -> None:
+    for preset, n in (("easy", 1), ("easy", 2), ("medium", 2), ("hard", 2)):
+        b = plan_bound(new_state(make_rules(preset, n_agents=n), 4), max_orders=1)
+        assert b.cost == max(b.walk + b.work_classical, b.critical_path)
+        assert b.makespan >= b.critical_path
+
+
 def test_plan_bound_two_cooks_share_the_walk_but_not_the_chain() -> None:
     b = plan_bound(_tiny([[1, 1], [1, 3]]), max_orders=1)
     chop = make_rules("easy").chop_steps
