@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -124,17 +124,25 @@ class _Tours:
 
     def _held_karp(self, visits: Sequence[Sequence[int]], start: int | None,
                    home: int | None, end: Sequence[int]) -> float:
-        n = len(visits)
-        # dp[(mask, tile)]: shortest walk from the start through the visits in mask,
-        # standing at ``tile`` (one of the last visit's tiles)
+        dp = self.walks(visits, lambda t: self.between(home, t) if home is not None
+                        else self.dist(start, t))  # type: ignore[arg-type]
+        full = (1 << len(visits)) - 1
+        finish = [home] if home is not None else list(end)
+        return min((dp.get((full, t), _INF) + self.between(t, f)
+                    for i, tiles in enumerate(visits) for t in tiles for f in finish),
+                   default=_INF)
+
+    def walks(self, visits: Sequence[Sequence[int]],
+              first: Callable[[int], float]) -> dict[tuple[int, int], float]:
+        """Held-Karp: ``dp[(mask, tile)]`` is the shortest walk that reaches ``tile`` (one
+        of the last visit's tiles) after standing next to one tile of every visit in
+        ``mask``, in any order; ``first(t)`` is the walk to the first visit's tile ``t``."""
         dp: dict[tuple[int, int], float] = {}
         for i, tiles in enumerate(visits):
             for t in tiles:
-                d = self.between(home, t) if home is not None else self.dist(start, t)  # type: ignore[arg-type]
                 key = (1 << i, t)
-                if d < dp.get(key, _INF):
-                    dp[key] = d
-        for mask in range(1, 1 << n):
+                dp[key] = min(dp.get(key, _INF), first(t))
+        for mask in range(1, 1 << len(visits)):
             for i, tiles in enumerate(visits):
                 if not mask & (1 << i):
                     continue
@@ -147,14 +155,8 @@ class _Tours:
                             continue
                         for u in nxt:
                             key = (mask | (1 << j), u)
-                            d = here + self.between(t, u)
-                            if d < dp.get(key, _INF):
-                                dp[key] = d
-        full = (1 << n) - 1
-        finish = [home] if home is not None else list(end)
-        return min((dp.get((full, t), _INF) + self.between(t, f)
-                    for i, tiles in enumerate(visits) for t in tiles for f in finish),
-                   default=_INF)
+                            dp[key] = min(dp.get(key, _INF), here + self.between(t, u))
+        return dp
 
 
 def _visits(geo: Geometry, recipe: Recipe, dirty: bool) -> list[list[int]]:
@@ -302,28 +304,10 @@ class _Paths(_Tours):
 
     def cover(self, start: int, visits: Sequence[Sequence[int]]) -> list[float]:
         """Per subset (bit mask) of ``visits``: the shortest walk from ``start`` that stands
-        next to one tile of each, in any order (Held-Karp, ending anywhere)."""
-        n = len(visits)
-        dp: dict[tuple[int, int], float] = {}
-        for i, tiles in enumerate(visits):
-            for t in tiles:
-                dp[(1 << i, t)] = min(dp.get((1 << i, t), _INF), self.dist(start, t))
-        best = [_INF] * (1 << n)
-        best[0] = 0.0
-        for mask in range(1, 1 << n):
-            for i, tiles in enumerate(visits):
-                if not mask & (1 << i):
-                    continue
-                for t in tiles:
-                    here = dp.get((mask, t), _INF)
-                    if here == _INF:
-                        continue
-                    best[mask] = min(best[mask], here)
-                    for j, nxt in enumerate(visits):
-                        if not mask & (1 << j):
-                            for u in nxt:
-                                key = (mask | (1 << j), u)
-                                dp[key] = min(dp.get(key, _INF), here + self.between(t, u))
+        next to one tile of each, in any order, ending anywhere."""
+        best = [0.0] + [_INF] * ((1 << len(visits)) - 1)
+        for (mask, _), d in self.walks(visits, lambda t: self.dist(start, t)).items():
+            best[mask] = min(best[mask], d)
         return best
 
 
@@ -471,7 +455,7 @@ def plan_bound(state: State, max_orders: int | None = None) -> PlanBound:
     cost = max(walk + work_c, critical)
     makespan = max(critical, math.ceil((walk + work_t) / max(1, state.n_agents))
                    if walk < _INF else _INF)
-    return PlanBound(cost, makespan, walk, work_c, work_t, critical,
+    return PlanBound(float(cost), float(makespan), walk, work_c, work_t, float(critical),
                      tuple(o.order_id for o in orders), state.n_agents)
 
 
