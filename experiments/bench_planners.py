@@ -139,8 +139,9 @@ def table(rows: list[dict[str, Any]]) -> str:
     """One Markdown table: a row per planner, a column per (preset, agents).
 
     Each planner cell: the plan's cost or makespan, its ratio to the lower bound and
-    the wall time; with several seeds, the mean ratio over the solved seeds, how many
-    were solved, and the median wall time of the solved runs.
+    the wall time; with several seeds, each seed's value in seed order ('-': not
+    solved), the mean ratio over the solved seeds, how many were solved, and the
+    median wall time of the solved runs.
     """
     solves = [r for r in rows if r["bench"] == "solve"]
     cols = [(p, n) for p, n in CONFIGS
@@ -193,7 +194,7 @@ def _cell(hits: list[dict[str, Any]]) -> str:
     if not solved:
         return "none of " + str(len(hits)) + " (" + ", ".join(sorted({r["status"] for r in hits})) + ")"
     q = solved[0].get("quality") or "value"
-    values = "/".join(f"{r['value']:g}" if r.get("value") is not None else "?" for r in solved)
+    values = "/".join(f"{r['value']:g}" if r.get("value") is not None else "-" for r in hits)
     ratios = [r["ratio"] for r in solved if r.get("ratio")]
     ratio = f" = {statistics.mean(ratios):.2f}x bound (mean)" if ratios else ""
     secs = statistics.median(r["planning_time_s"] for r in solved)

@@ -57,3 +57,17 @@ def test_a_single_seed_cell_shows_value_ratio_and_time() -> None:
     assert "| kairos (temporal) | makespan 20.016 = 1.25x bound, 0.4 s |" in table
     assert "| tamer (temporal) | timeout (12.0 s) |" in table
     assert "| lower bound: makespan | 16 |" in table
+
+
+def test_a_several_seed_cell_lists_each_seed_and_the_mean_ratio() -> None:
+    bench = _bench()
+    solved = {"bench": "solve", "preset": "easy", "n_agents": 1, "seed": 0,
+              "encoding": "classical", "planner": "fast-downward", "status": "solved",
+              "quality": "cost", "cost": 20, "makespan": None, "value": 20, "bound": 16,
+              "ratio": 1.25, "validated": True, "planning_time_s": 0.5, "bound_cost": 16,
+              "bound_makespan": 16}
+    missed = dict(solved, seed=4, status="timeout", value=None, ratio=None, planning_time_s=30.0)
+    table = bench.table([missed, solved])
+    assert "| fast-downward (classical) | cost 20/- = 1.25x bound (mean), 1/2 solved, 0.5 s |" \
+        in table
+    assert "| lower bound: cost | 16 / 16 |" in table
