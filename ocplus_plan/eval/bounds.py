@@ -40,7 +40,6 @@ cook).
 from __future__ import annotations
 
 import math
-from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
@@ -274,30 +273,22 @@ class _Paths(_Tours):
 
     def __init__(self, geo: Geometry) -> None:
         super().__init__(geo)
-        n = len(geo.neighbors)
-        self.hop: dict[int, list[int]] = {c: [] for c in range(n) if self.walk[c]}
-        for c in range(n):  # a hand-over tile in any layout (a switch cell may be one)
+        # the grid's neighbours plus, from each spot of a hand-over tile, its other spots
+        hops: list[list[int]] = [list(nbrs) for nbrs in geo.neighbors]
+        for c in range(len(hops)):  # a hand-over tile in any layout (a switch cell may be one)
             if any(t[c] in _HAND_OVER for t in geo.terrains):
                 around = self.spots(c)
                 for x in around:
-                    self.hop[x].extend(y for y in around if y != x)
-        self._carry: dict[int, dict[int, int]] = {}
+                    hops[x].extend(y for y in around if y != x)
+        self.item_steps = tuple(tuple(h) for h in hops)
+        self._carry: dict[int, list[int]] = {}
 
     def carry(self, src: int, tile: int) -> float:
         """Fewest steps for an item held at floor cell ``src`` to reach a spot of ``tile``."""
         if src not in self._carry:
-            dist = {src: 0}
-            queue = deque([src])
-            while queue:
-                cur = queue.popleft()
-                for nxt in [x for x in self.geo.neighbors[cur] if x >= 0 and self.walk[x]] \
-                        + self.hop[cur]:
-                    if nxt not in dist:
-                        dist[nxt] = dist[cur] + 1
-                        queue.append(nxt)
-            self._carry[src] = dist
+            self._carry[src] = distances(self.item_steps, self.walk, [src])
         d = self._carry[src]
-        return min((d[s] for s in self.spots(tile) if s in d), default=_INF)
+        return min((d[s] for s in self.spots(tile) if d[s] >= 0), default=_INF)
 
     def carry_between(self, a: int, b: int) -> float:
         return min((self.carry(s, b) for s in self.spots(a)), default=_INF)
