@@ -1,4 +1,10 @@
-"""An upper bound on the dishes a team can serve in an episode.
+"""Bounds: an upper bound on the dishes of an episode, lower bounds on a plan's quality.
+
+:func:`dish_bound` (below) bounds the dishes a team can serve in an episode;
+:func:`plan_bound` bounds the cost (classical) and the makespan (temporal) of any
+plan of the planning model for a state's first orders (its docstring says why).
+
+The dish bound:
 
 The bound relaxes the game until it is easy to solve exactly, so no controller can
 beat it on the same rules and horizon (the evaluation's ``bound_ratio`` is only
@@ -33,14 +39,15 @@ cook).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 
-from ..sim.codes import VEGETABLES, Cell, Item
+from ..sim.codes import COUNTERS, VEGETABLES, Cell, Item, ItemState, Where
 from ..sim.queries import distances, interaction_spots, walkable_in_any_layout
 from ..sim.rules import Recipe, Rules
-from ..sim.state import Geometry, geometry_for
+from ..sim.state import Geometry, State, geometry_for
 
 _INF = float("inf")
 
@@ -116,17 +123,25 @@ class _Tours:
 
     def _held_karp(self, visits: Sequence[Sequence[int]], start: int | None,
                    home: int | None, end: Sequence[int]) -> float:
-        n = len(visits)
-        # dp[(mask, tile)]: shortest walk from the start through the visits in mask,
-        # standing at ``tile`` (one of the last visit's tiles)
+        dp = self.walks(visits, lambda t: self.between(home, t) if home is not None
+                        else self.dist(start, t))  # type: ignore[arg-type]
+        full = (1 << len(visits)) - 1
+        finish = [home] if home is not None else list(end)
+        return min((dp.get((full, t), _INF) + self.between(t, f)
+                    for i, tiles in enumerate(visits) for t in tiles for f in finish),
+                   default=_INF)
+
+    def walks(self, visits: Sequence[Sequence[int]],
+              first: Callable[[int], float]) -> dict[tuple[int, int], float]:
+        """Held-Karp: ``dp[(mask, tile)]`` is the shortest walk that reaches ``tile`` (one
+        of the last visit's tiles) after standing next to one tile of every visit in
+        ``mask``, in any order; ``first(t)`` is the walk to the first visit's tile ``t``."""
         dp: dict[tuple[int, int], float] = {}
         for i, tiles in enumerate(visits):
             for t in tiles:
-                d = self.between(home, t) if home is not None else self.dist(start, t)  # type: ignore[arg-type]
                 key = (1 << i, t)
-                if d < dp.get(key, _INF):
-                    dp[key] = d
-        for mask in range(1, 1 << n):
+                dp[key] = min(dp.get(key, _INF), first(t))
+        for mask in range(1, 1 << len(visits)):
             for i, tiles in enumerate(visits):
                 if not mask & (1 << i):
                     continue
@@ -139,14 +154,8 @@ class _Tours:
                             continue
                         for u in nxt:
                             key = (mask | (1 << j), u)
-                            d = here + self.between(t, u)
-                            if d < dp.get(key, _INF):
-                                dp[key] = d
-        full = (1 << n) - 1
-        finish = [home] if home is not None else list(end)
-        return min((dp.get((full, t), _INF) + self.between(t, f)
-                    for i, tiles in enumerate(visits) for t in tiles for f in finish),
-                   default=_INF)
+                            dp[key] = min(dp.get(key, _INF), here + self.between(t, u))
+        return dp
 
 
 def _visits(geo: Geometry, recipe: Recipe, dirty: bool) -> list[list[int]]:
@@ -233,4 +242,256 @@ def _spawn_cells(rules: Rules, geo: Geometry) -> list[int]:
     return [geo.flat(r, c) for r, c in rules.layout.spawn_points[: rules.n_agents]]
 
 
-__all__ = ["DishBound", "bumps_per_dish", "dish_bound"]
+# ------------------------------------------------------------ plan quality bound
+
+#: tiles an item can be handed over across (put on one side, picked from the other)
+_HAND_OVER = frozenset(int(c) for c in COUNTERS) | {int(Cell.BOARD), int(Cell.PAN),
+                                                     int(Cell.SINK)}
+
+
+@dataclass(frozen=True)
+class PlanBound:
+    """Lower bounds on the quality of any plan of the planning model (see :func:`plan_bound`).
+
+    ``cost``: classical (sum of action costs); ``makespan``: temporal. Both are
+    ``inf`` when some order cannot be made at all. The parts are for reports.
+    """
+
+    cost: float
+    makespan: float
+    walk: float  # fewest move steps of all cooks together
+    work_classical: int  # fewest non-move steps, classical costs (cook = cook_time + 1)
+    work_temporal: int  # the same with the temporal cook (two one-step pan bumps)
+    critical_path: float  # the longest order's chain of dependent steps
+    orders: tuple[int, ...]
+    n_agents: int
+
+
+class _Paths(_Tours):
+    """:class:`_Tours` plus how fast an *item* travels: carried over floor (1 per step) or
+    handed over a counter, board, pan or sink (1: the put and the pick take 2)."""
+
+    def __init__(self, geo: Geometry) -> None:
+        super().__init__(geo)
+        # the grid's neighbours plus, from each spot of a hand-over tile, its other spots
+        hops: list[list[int]] = [list(nbrs) for nbrs in geo.neighbors]
+        for c in range(len(hops)):  # a hand-over tile in any layout (a switch cell may be one)
+            if any(t[c] in _HAND_OVER for t in geo.terrains):
+                around = self.spots(c)
+                for x in around:
+                    hops[x].extend(y for y in around if y != x)
+        self.item_steps = tuple(tuple(h) for h in hops)
+        self._carry: dict[int, list[int]] = {}
+
+    def carry(self, src: int, tile: int) -> float:
+        """Fewest steps for an item held at floor cell ``src`` to reach a spot of ``tile``."""
+        if src not in self._carry:
+            self._carry[src] = distances(self.item_steps, self.walk, [src])
+        d = self._carry[src]
+        return min((d[s] for s in self.spots(tile) if d[s] >= 0), default=_INF)
+
+    def carry_between(self, a: int, b: int) -> float:
+        return min((self.carry(s, b) for s in self.spots(a)), default=_INF)
+
+    def cover(self, start: int, visits: Sequence[Sequence[int]]) -> list[float]:
+        """Per subset (bit mask) of ``visits``: the shortest walk from ``start`` that stands
+        next to one tile of each, in any order, ending anywhere."""
+        best = [0.0] + [_INF] * ((1 << len(visits)) - 1)
+        for (mask, _), d in self.walks(visits, lambda t: self.dist(start, t)).items():
+            best[mask] = min(best[mask], d)
+        return best
+
+
+@lru_cache(maxsize=64)
+def _paths(geo: Geometry) -> _Paths:
+    return _Paths(geo)
+
+
+def plan_bound(state: State, max_orders: int | None = None) -> PlanBound:
+    """Lower bounds on the cost and the makespan of any plan that serves the first
+    ``max_orders`` open orders of ``state`` (all by default) with its cooks.
+
+    Why no plan of the planning model (``planning/model.py``, either granularity,
+    with or without anticipated switches) does better. Every move costs its walking
+    distance in one layout, never less than the distance over the cells walkable in
+    *any* layout used here; every other action costs its steps: pick, put, plating,
+    deliver, take-off 1, ``chop_steps`` (or what is left) per chop, ``wash_steps`` per
+    wash, a classical cook ``cook_time + 1``, a temporal cook two one-step pan bumps
+    around ``cook_time`` (or what is left) of waiting.
+
+    * **Work.** Each order's dish needs, per ingredient, the cheapest remaining steps of
+      any item of that kind (a fresh vegetable: pick, put on a board, chop, plate it; a
+      raw steak: pick, cook, plate it; a ready one: plate it; one on a plate: nothing)
+      and a plate (pick it, deliver; a dirty one also goes through the sink). Distinct
+      dishes need distinct actions, and taking the cheapest item for every dish can
+      only undercount (two dishes may not both use the one chopped tomato).
+    * **Walk.** Some cook must stand next to each place the orders need (a tile of each
+      needed kind, a board if no needed vegetable is chopped, a pan if no steak is
+      cooked, a plate unless one is held, the sink when every plate is dirty, the
+      serving window). Each cook's walk is at least the shortest path from where it
+      stands through the places it visits, in any order; the bound takes the best
+      split of the places between the cooks.
+    * **Critical path** of an order: per ingredient, the nearest cook walks to it, then
+      the item is picked, carried (handing it over a counter counts 1 step, half of its
+      real put + pick) to its station, processed (a cook waits at least ``cook_time``,
+      or what is left), plated, carried on to the window and served; the plate's own
+      chain likewise. These steps depend on each other, so they cannot overlap in any
+      schedule, and each is at least the cost of the actions that make it.
+    * **cost** >= walk + classical work (every step of every cook is an action cost),
+      and >= every order's critical path (its actions are among the plan's).
+    * **makespan** >= ceil((walk + temporal work) / cooks): a cook does one action at a
+      time and each cook's busy time is a whole number of steps; and >= every order's
+      critical path.
+
+    Respawn waits, other cooks in the way, the order of orders and the contention for
+    items, plates and stations are ignored: each only makes real plans longer.
+    """
+    rules, geo = state.rules, state.geo
+    orders = list(state.orders if max_orders is None else state.orders[:max_orders])
+    paths = _paths(geo)
+    terrain = geo.terrains[state.layout_index]
+    agents = list(range(state.n_agents))
+    delivery = _cells(geo, Cell.DELIVERY)
+
+    def tile_of(i: int) -> int | None:  # the tile an item lies on; None: in a hand
+        where, loc = state.item_where[i], state.item_loc[i]
+        if where == Where.HAND:
+            return None
+        if where == Where.PLATE:
+            return tile_of(loc)
+        return loc  # CELL or WAITING (its spawn tile)
+
+    def reach(tile: int) -> float:
+        return min((paths.dist(state.agent_pos[a], tile) for a in agents), default=_INF)
+
+    def to_window(start_tile: int | None, holder: int) -> float:
+        """Carry to the serving window from a tile (or from the cell of ``holder``)."""
+        return min((paths.carry_between(start_tile, d) if start_tile is not None
+                    else paths.carry(state.agent_pos[holder], d)) for d in delivery)
+
+    def carry(tile: int | None, holder: int, dest: int) -> float:
+        return (paths.carry_between(tile, dest) if tile is not None
+                else paths.carry(state.agent_pos[holder], dest))
+
+    def ingredient(i: int) -> tuple[int, int, float]:
+        """(classical work, temporal work, chain) of getting item ``i`` onto the dish."""
+        kind, st, prog = geo.item_kind[i], state.item_state[i], state.item_progress[i]
+        where, tile = state.item_where[i], tile_of(i)
+        holder = state.item_loc[i] if where == Where.HAND else -1
+        if where == Where.PLATE:
+            return 0, 0, 0.0
+        if st == ItemState.BURNT:  # trashed, it starts again fresh from its spawn tile
+            tile, holder, where, prog = geo.item_home[i], -1, Where.CELL, 0
+            st = ItemState.FRESH
+        on = terrain[tile] if tile is not None and where == Where.CELL else -1
+        if on == Cell.PAN and kind == Item.STEAK:  # heating: take it off in its window
+            wait = max(0, rules.cook_time - prog)
+            return 2, 2, max(reach(tile), wait) + 2 + to_window(tile, holder) + 1
+        got = 0.0 if tile is None else reach(tile)
+        if st in (ItemState.CHOPPED, ItemState.COOKED):
+            return 1, 1, got + 1 + to_window(tile, holder) + 1
+        pick = 0 if tile is None or on == Cell.BOARD else 1
+        if kind == Item.STEAK:
+            left = max(0, rules.cook_time - prog)  # classical cook: left + 1 steps
+            chains = [got + pick + carry(tile, holder, p) + max(1, left) + 1 + 1
+                      + paths.carry_between(p, d) + 1 for p in geo.pans for d in delivery]
+            return pick + left + 1 + 1, pick + 2 + 1, min(chains, default=_INF)
+        chop = max(1, rules.chop_steps - prog) if prog > 0 else rules.chop_steps
+        boards = [tile] if on == Cell.BOARD else _cells(geo, Cell.BOARD)
+        put = 0 if on == Cell.BOARD else 1
+        chains = [got + pick + (0 if b == tile else carry(tile, holder, b)) + put + chop + 1
+                  + paths.carry_between(b, d) + 1 for b in boards for d in delivery]
+        work = pick + put + chop + 1
+        return work, work, min(chains, default=_INF)
+
+    def plate(q: int) -> tuple[int, float]:
+        """(work, chain) of bringing plate ``q`` to the window (plating not included)."""
+        where, tile = state.item_where[q], tile_of(q)
+        holder = state.item_loc[q] if where == Where.HAND else -1
+        got = 0.0 if tile is None else reach(tile) + 1
+        pick = 0 if tile is None else 1
+        if state.item_state[q] != ItemState.DIRTY:
+            return pick + 1, got + to_window(tile, holder) + 1
+        prog = state.item_progress[q]
+        wash = max(1, rules.wash_steps - prog) if prog > 0 else rules.wash_steps
+        in_sink = tile is not None and where == Where.CELL and terrain[tile] == Cell.SINK
+        if in_sink:
+            return wash + 2, reach(tile) + wash + 1 + to_window(tile, holder) + 1
+        chains = [got + carry(tile, holder, k) + 1 + wash + 1 + paths.carry_between(k, d) + 1
+                  for k in _cells(geo, Cell.SINK) for d in delivery]
+        return pick + 1 + wash + 1 + 1, min(chains, default=_INF)
+
+    items_of: dict[int, list[int]] = {}
+    for i, k in enumerate(geo.item_kind):
+        items_of.setdefault(k, []).append(i)
+    plates = items_of.get(int(Item.PLATE), [])
+    costs = {i: ingredient(i) for k, its in items_of.items() if k != Item.PLATE for i in its}
+    plate_costs = [plate(q) for q in plates]
+    work_c = work_t = 0
+    critical = 0.0
+    for order in orders:
+        chain = min((c for _, c in plate_costs), default=_INF)
+        work_c += min((w for w, _ in plate_costs), default=0)
+        work_t += min((w for w, _ in plate_costs), default=0)
+        for kind in order.recipe:
+            options = [costs[i] for i in items_of.get(int(kind), [])]
+            if not options:
+                chain = _INF
+                continue
+            work_c += min(o[0] for o in options)
+            work_t += min(o[1] for o in options)
+            chain = max(chain, min(o[2] for o in options))
+        critical = max(critical, chain)
+    walk = _walk_bound(state, paths, orders, items_of) if orders else 0.0
+    cost = max(walk + work_c, critical)
+    makespan = max(critical, math.ceil((walk + work_t) / max(1, state.n_agents))
+                   if walk < _INF else _INF)
+    return PlanBound(float(cost), float(makespan), walk, work_c, work_t, float(critical),
+                     tuple(o.order_id for o in orders), state.n_agents)
+
+
+def _walk_bound(state: State, paths: _Paths, orders: list, items_of: dict[int, list[int]]) -> float:
+    """Fewest move steps of all cooks together (see :func:`plan_bound`, **Walk**)."""
+    geo = state.geo
+    where, st = state.item_where, state.item_state
+
+    def tiles(its: list[int]) -> list[int] | None:  # None: one is in a hand or on a plate
+        if any(where[i] in (Where.HAND, Where.PLATE) for i in its):
+            return None
+        return sorted({state.item_loc[i] for i in its})
+
+    visits: list[list[int]] = [_cells(geo, Cell.DELIVERY)]
+    kinds = {int(k) for o in orders for k in o.recipe}
+    plates = items_of.get(int(Item.PLATE), [])
+    if (group := tiles(plates)) is not None:
+        visits.append(group)
+    if state.rules.dirty_plates and plates and all(st[q] == ItemState.DIRTY for q in plates):
+        visits.append(_cells(geo, Cell.SINK))
+    chopping = cooking = False
+    for kind in sorted(kinds):
+        its = items_of.get(kind, [])
+        if (group := tiles(its)) is not None:
+            visits.append(group)
+        ready = any(st[i] in (ItemState.CHOPPED, ItemState.COOKED) or where[i] == Where.PLATE
+                    for i in its)
+        chopping |= kind in VEGETABLES and not ready
+        cooking |= kind == Item.STEAK and not ready
+    if chopping:
+        visits.append(_cells(geo, Cell.BOARD))
+    if cooking:
+        visits.append(list(geo.pans))
+    full = (1 << len(visits)) - 1
+    best = [0.0] + [_INF] * full  # best[mask]: the cooks so far cover exactly ``mask``
+    for a in range(state.n_agents):
+        mine = paths.cover(state.agent_pos[a], visits)
+        nxt = list(best)
+        for mask in range(1, full + 1):
+            sub = mask
+            while sub:
+                nxt[mask] = min(nxt[mask], best[mask ^ sub] + mine[sub])
+                sub = (sub - 1) & mask
+        best = nxt
+    return best[full]
+
+
+__all__ = ["DishBound", "PlanBound", "bumps_per_dish", "dish_bound", "plan_bound"]
