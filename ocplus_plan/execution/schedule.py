@@ -19,8 +19,8 @@ a planner (partial-order lifting plus list scheduling):
   kitchen's shortest walks, bumps as the plan's costs and a steak's remaining cooking
   time on the pan; a cook that would wait (a steak still cooking) first does a later
   segment that does not delay it (backfilling). A cook that holds an item now does its
-  own segment first. (``order="earliest"`` instead places whichever available segment
-  finishes first: more freedom, and it can walk a single cook further.)
+  own segment first. (Placing whichever available segment finishes first instead gave the
+  same dishes with two cooks and walked a single cook further, off its cost-optimal order.)
 
 The result is the same steps with cooks reassigned, renumbered in scheduled order and
 stamped with their estimated start (a time-triggered plan's own times are replaced);
@@ -78,7 +78,6 @@ def segments(steps: Sequence[tuple[PlanStep, str, int]], state: State) -> list[S
             holding[a] = True
         elif effect == RELEASE:
             holding[a] = False
-            current.pop(a, None)
         if not holding[a]:
             current.pop(a, None)
     for k in current.values():
@@ -116,24 +115,16 @@ class _Walks:
         return best if best is not None else (10 * len(self.walk), pos)
 
 
-#: how the next segment is chosen: the plan's order with backfilling, or earliest finish
-ORDERS = ("plan", "earliest")
-
-
 def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
-             agents: Sequence[int], oracle: DistanceOracle | None = None,
-             order: str = "plan") -> list[PlanStep]:
+             agents: Sequence[int], oracle: DistanceOracle | None = None) -> list[PlanStep]:
     """Reassign and reorder a sequential plan's steps over ``agents`` (see the module doc).
 
     ``steps`` are in plan order, each with its hand effect (TAKE, RELEASE, KEEP) and the
-    bumps it takes. ``order="plan"``: segments are taken in the plan's order (the planner
-    chose it for its cost), each by the cook that finishes it first, and a cook that would
-    wait for the next one (a steak still cooking, a board still busy) first does a later
-    segment that does not delay it (backfilling); with one cook only that backfilling
-    changes anything. ``order="earliest"``: whichever available segment and cook finish
-    first. A plan with steps of cooks outside ``agents`` is left as it is."""
-    if order not in ORDERS:
-        raise ValueError(f"order must be one of {ORDERS}, got {order!r}")
+    bumps it takes. Segments are taken in the plan's order (the planner chose it for its
+    cost), each by the cook that finishes it first, and a cook that would wait for the next
+    one (a steak still cooking, a board still busy) first does a later segment that does
+    not delay it (backfilling); with one cook only that backfilling changes anything. A plan
+    with steps of cooks outside ``agents`` is left as it is."""
     agents = tuple(agents)
     if not agents or any(s.agent not in agents for s, _, _ in steps):
         return _in_plan_order(steps)
@@ -196,24 +187,26 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
 
     while len(done) < len(segs):
         ready = [k for k in range(len(segs)) if k not in done and segs[k].deps <= done]
-        options = [(opt[0], k, opt) for k in ready if (opt := best_cook(k)) is not None]
+        options = {k: opt for k in ready if (opt := best_cook(k)) is not None}
         if not options:  # nobody may take what is left: keep the plan's own cooks
             return _in_plan_order(steps)
-        if order == "earliest" or options[0][1] != ready[0]:
-            (_, k, (key, end, starts, here)) = min(options, key=lambda o: (o[0][0], o[1]))
+        head = ready[0]
+        if head not in options:  # the plan's next segment has no free cook yet
+            k = min(options, key=lambda j: (options[j][0], j))
+            key, end, starts, here = options[k]
             place(k, key[2], starts, end, here)
             continue
-        (_, k, (key, end, starts, here)) = options[0]
+        key, end, starts, here = options[head]
         a = key[2]
-        for _, k2, _ in options[1:]:
-            if a not in cooks_for(segs[k2]):
+        for k2 in ready[1:]:
+            if k2 not in options or a not in cooks_for(segs[k2]):
                 continue
             end2, starts2, here2 = simulate(segs[k2], a)
-            if simulate(segs[k], a, end2, here2)[0] <= end:  # fits in the wait: backfill
+            if simulate(segs[head], a, end2, here2)[0] <= end:  # fits in the wait: backfill
                 place(k2, a, starts2, end2, here2)
                 break
         else:
-            place(k, a, starts, end, here)
+            place(head, a, starts, end, here)
     placed.sort(key=lambda x: (x[0], x[1]))
     return [replace(step, index=i, start=float(start))
             for i, (start, _, step) in enumerate(placed)]
@@ -227,4 +220,4 @@ def _resources(step: PlanStep) -> list[tuple[str, int]]:
     return [("c", step.target), *(("i", i) for i in step.items)]
 
 
-__all__ = ["KEEP", "ORDERS", "RELEASE", "TAKE", "Segment", "schedule", "segments"]
+__all__ = ["KEEP", "RELEASE", "TAKE", "Segment", "schedule", "segments"]
