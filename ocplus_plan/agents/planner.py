@@ -3,13 +3,15 @@
 ``PlannerAgent("fast-downward", encoding="classical", granularity="stations",
 policy="on_event")`` plans with any registered planner (``planning.engines``) on the
 compiled problem (``planning.compile``), maps every plan action back to a simulator
-interaction (:class:`~ocplus_plan.execution.executive.PlanStep`) and hands the plan
-to an :class:`~ocplus_plan.execution.executive.Executive`, which routes the agents,
+interaction (:class:`~ocplus_plan.execution.executive.PlanStep`), schedules that work over
+the driven cooks (:mod:`ocplus_plan.execution.schedule`) and hands the plan to an
+:class:`~ocplus_plan.execution.executive.Executive`, which routes the agents,
 monitors the world and replans. A planner failure is never an exception here: the
 executive keeps the last valid plan and agents without work keep out of the way.
 
 Registered as ``planner`` in :data:`ocplus_plan.agents.FACTORIES`: ``planner:fast-downward``,
-``planner:kairos`` (temporal), or ``planner:NAME:GRANULARITY:POLICY`` for the rest.
+``planner:kairos`` (temporal), or ``planner:NAME:GRANULARITY:POLICY:OPTIONS`` for the rest
+(OPTIONS joined by ``+``: ``anticipate``, ``one-cook``, ``chainK``, ``no-schedule``).
 """
 
 from __future__ import annotations
@@ -276,20 +278,6 @@ def renumber(steps: Sequence[PlanStep]) -> list[PlanStep]:
     return [replace(s, index=i) for i, s in enumerate(steps)]
 
 
-def plan_steps(compiled: Any, plan: Any, state: State, follow_moves: bool = False,
-               agents: Sequence[int] | None = None) -> list[PlanStep]:
-    """Map a UP sequential or time-triggered plan back to executive steps.
-
-    With ``agents``, a stations plan is scheduled over them
-    (:func:`~ocplus_plan.execution.schedule.schedule`): who does each segment of work and
-    in what order is chosen to finish early (a classical planner minimised total cost; a
-    temporal planner's first plan is read in the order its steps start)."""
-    entries = plan_entries(compiled, plan, state, follow_moves)
-    if follow_moves or agents is None:
-        return [s for s, _, _ in entries]
-    return schedule(entries, state, agents)
-
-
 class PlannerAgent(Controller):
     """A controller that plans with a named planner and executes with the executive."""
 
@@ -381,5 +369,5 @@ def make_planner_agent(arg: str | None, seed: int = 0) -> PlannerAgent:
     return PlannerAgent(name, encoding, granularity, policy, **options)
 
 
-__all__ = ["PlannerAgent", "compile_and_solve", "make_planner_agent", "plan_steps",
+__all__ = ["PlannerAgent", "compile_and_solve", "make_planner_agent", "plan_entries",
            "steps_from_record"]
