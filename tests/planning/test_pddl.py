@@ -190,10 +190,16 @@ def test_every_file_the_compiler_writes_passes_vals_parser_cleanly(
         _val_verdict(parser, domain, problem)
 
 
-def _engine_command(engine_name: str, domain: Path, problem: Path, plan: Path) -> list[str]:
+def _engine_command(name: str, domain: Path, problem: Path, plan: Path) -> list[str]:
+    """The command line of a registered planner, with its configured parameters (LPG is a
+    stochastic search: without the configured seed some runs exhaust their restarts)."""
     from unified_planning.shortcuts import OneshotPlanner
 
-    with OneshotPlanner(name=engine_name) as engine:
+    from ocplus_plan.planning.engines import _register, get_planner
+
+    config = get_planner(name)
+    _register(config)
+    with OneshotPlanner(name=config.engine, params=dict(config.params)) as engine:
         return engine._get_cmd(str(domain), str(problem), str(plan))
 
 
@@ -211,7 +217,7 @@ def test_the_planners_that_read_pddl_files_solve_the_written_ones(name: str,
     avail = availability(name)
     if not avail.ok:
         pytest.skip(f"{name}: {avail.reason}")
-    engine, encoding = FILE_PLANNERS[name]
+    encoding = FILE_PLANNERS[name][1]
     compiled = compile(new_state(make_rules("easy"), 0), encoding=encoding, max_orders=1)
     domain, problem = write_pddl(compiled, tmp_path)
     if name == "kairos":  # a library: it parses the texts itself
@@ -225,7 +231,7 @@ def test_the_planners_that_read_pddl_files_solve_the_written_ones(name: str,
         assert result.plan is not None, [str(d) for d in result.diagnostics]
         return
     plan = tmp_path / "plan"
-    run = subprocess.run(_engine_command(engine, domain, problem, plan), cwd=tmp_path,
+    run = subprocess.run(_engine_command(name, domain, problem, plan), cwd=tmp_path,
                          capture_output=True, text=True, timeout=120, check=False)
     written = sorted(tmp_path.glob("plan*"))  # LPG appends _1.SOL
     assert run.returncode == 0 and written, (run.stdout[-1500:], run.stderr[-1500:])
