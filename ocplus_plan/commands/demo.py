@@ -1,7 +1,8 @@
 """``ocplus demo``: the Quick start's small but real evaluation.
 
 An ``ocplus eval`` with other defaults: the three presets (easy, medium, hard) with the
-scripted greedy agent, a classical planner (planner:fast-downward), a temporal planner
+scripted greedy agent, a classical planner (planner:fast-downward-wastar: cost-aware, see the
+README section "Planners against the greedy cook"), a temporal planner
 (planner:kairos) and random actions, 3 seeds each, 200 steps per episode, plots when
 matplotlib is installed; prints the leaderboard and where the results and plots are. A
 planner that is not installed (or a controller kind this installation has not
@@ -19,7 +20,7 @@ from pathlib import Path
 from ._common import HelpFormatter
 from .eval import add_sweep_args, run_sweep
 
-DEMO_AGENTS = ["greedy", "planner:fast-downward", "planner:kairos", "random"]
+DEMO_AGENTS = ["greedy", "planner:fast-downward-wastar", "planner:kairos", "random"]
 
 
 def register(sub: argparse._SubParsersAction) -> None:
