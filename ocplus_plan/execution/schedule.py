@@ -34,7 +34,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
-from ..sim.queries import distances, interaction_spots, walkable_in_any_layout
+from ..sim.queries import (
+    distances,
+    interaction_spots,
+    ticks_until_cooked,
+    walkable_in_any_layout,
+)
 from ..sim.state import State
 from .paths import DistanceOracle
 from .plans import PlanStep
@@ -177,8 +182,8 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
                 busy_until[r] = start + max(1, bumps)
             if effect == RELEASE and step.target in state.geo.pans and step.items:
                 steak = step.items[0]
-                pan_ready[step.target] = start + 1 + max(
-                    0, state.rules.cook_time - state.item_progress[steak])
+                pan_ready[step.target] = start + 1 + ticks_until_cooked(
+                    state.rules, state.item_progress[steak])
         free_at[a], pos[a] = end, here
         done.add(k)
         waiting_pin.discard(seg.pinned)
