@@ -231,19 +231,13 @@ def relaxed_state(state: State) -> State:
 
 
 def hand_effects(record: Any) -> list[tuple[str, int]]:
-    """What each executive step of one map-back record does to its cook's hand, and how many
-    bumps it takes (aligned with :func:`steps_from_record`; used by the scheduler)."""
+    """What each executive step of one map-back record does to its cook's hand (the model's
+    ``MappedAction.hand``) and how many bumps it takes, aligned with :func:`steps_from_record`."""
     kind = str(getattr(record, "kind", "")).lower()
-    if kind == "cook":  # classical: put the steak on, (wait), take it off
+    if kind == "cook":  # put the steak on, (wait,) take it off: two steps
         return [(RELEASE, 1), (TAKE, 1)]
-    if kind in ("pick", "rescue", "take_off"):
-        return [(TAKE, 1)]
-    if kind in ("put", "plate_put", "deliver") or (
-            kind == "trash" and str(getattr(record, "action", "")) == "trash_item"):
-        return [(RELEASE, 1)]
-    if kind in ("chop", "wash"):
-        return [(KEEP, max(1, int(getattr(record, "duration", 1) or 1)))]
-    return [(KEEP, 1)]
+    bumps = max(1, int(getattr(record, "duration", 1) or 1)) if kind in ("chop", "wash") else 1
+    return [(str(getattr(record, "hand", KEEP)), bumps)]
 
 
 #: an executive step with its hand effect and bumps, as the scheduler takes them

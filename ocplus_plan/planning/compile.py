@@ -20,7 +20,7 @@ from ..sim.codes import COUNTERS, Cell, Item, ItemState, Where
 from ..sim.state import Order, State
 from ._build import Builder as _Builder
 from ._build import new_problem as _new_problem
-from .model import BUMP_DONE_KINDS, build_domain
+from .model import BUMP_DONE_KINDS, build_domain, hand_change
 from .names import MappedAction, Names
 from .spots import SpotGraph, build_spots, walk_distance
 
@@ -95,6 +95,7 @@ class Compiled:
             action.name, kind, n.agents[args[agent_key]] if agent_key else None, items,
             cell("p"), cell(spot_key), cell(from_key) if from_key else None, int(dur),
             n.orders[args["o"]] if "o" in args else None, start,
+            hand=hand_change(sch) if sch is not None else "keep",
         )
 
     def _number(self, name: str, args: tuple[str, ...]) -> int:

@@ -265,6 +265,15 @@ def schemas(encoding: str, granularity: str, k_max: int = 3,
     return out
 
 
+def hand_change(schema: Schema) -> str:
+    """What an action does to its agent's hand, read off its effects: "take" (it adds
+    ``holding``), "release" (it adds ``free_hand``) or "keep"."""
+    added = {lit[0] for lit in schema.add}
+    if "holding" in added:
+        return "take"
+    return "release" if "free_hand" in added else "keep"
+
+
 @dataclass
 class Domain:
     """The materialised UP domain: fluents and actions to add to each problem."""

@@ -42,6 +42,9 @@ class MappedAction:
     #: the second agent of a temporal cook envelope (who takes the steak off)
     other_agent: int | None = None
     other_spot: Cell_ | None = None
+    #: what the action does to its agent's hand: "take", "release" or "keep"
+    #: (:func:`~ocplus_plan.planning.model.hand_change`; a cook envelope keeps it)
+    hand: str = "keep"
 
 
 @dataclass

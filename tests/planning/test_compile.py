@@ -282,3 +282,15 @@ def test_a_cook_holding_an_item_cannot_be_left_out() -> None:
     with pytest.raises(CompileError, match=r"cooks \[0\] hold an item"):
         compile(state, agents=(1,))
     assert set(compile(state, agents=(0,)).names.agents) == {"a0"}
+
+
+def test_hand_change_is_read_off_the_schemas() -> None:
+    from ocplus_plan.planning.model import hand_change, schemas
+
+    by_name = {s.name: hand_change(s) for s in schemas("classical", "stations")}
+    assert by_name["pick"] == by_name["rescue"] == "take"
+    assert by_name["put"] == by_name["plate_put"] == by_name["deliver1"] == "release"
+    assert by_name["trash_item"] == "release" and by_name["trash_plate1"] == "keep"
+    assert by_name["chop"] == by_name["plate_take"] == by_name["move"] == "keep"
+    temporal = {s.name: hand_change(s) for s in schemas("temporal", "stations")}
+    assert temporal["take_off"] == "take"
