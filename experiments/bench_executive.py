@@ -151,8 +151,8 @@ def main(argv: list[str] | None = None) -> int:
                    help="run a sequential plan's steps with the cooks the planner chose instead "
                         "of scheduling its segments over the cooks (execution/schedule.py)")
     p.add_argument("--plan-cooks", choices=["all", "one"], default="all",
-                   help="classical: model every cook, or only the cooks holding an item (one when "
-                        "none does) and schedule the plan over all (default: %(default)s)")
+                   help="model every cook, or only the cooks holding an item (one when none "
+                        "does) and schedule the plan over all (default: %(default)s)")
     p.add_argument("--chain-orders", type=int, default=1,
                    help="classical: plan up to K open orders one after the other, each from the "
                         "state the previous plan leaves (default: %(default)s)")
@@ -167,7 +167,11 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     warnings.simplefilter("ignore")
     out = args.out.open("a") if args.out else None
-    orders = {"auto": "auto", "all": None}.get(args.orders_per_plan) or int(args.orders_per_plan)
+    orders: int | str | None = args.orders_per_plan
+    if orders == "all":
+        orders = None
+    elif orders != "auto":
+        orders = int(orders)
     for planner, config, policy in itertools.product(args.planners, args.configs, args.policies):
         preset, _, n = config.partition(":")
         rows = []
