@@ -22,8 +22,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from ocplus_plan.agents import make_controller, run_episode  # noqa: E402
-from ocplus_plan.sim import make_rules, new_state  # noqa: E402
+from ocplus_plan.agents import make_controller, run_episode
+from ocplus_plan.sim import make_rules, new_state
 
 CONFIGS = [("easy", 1), ("easy", 2), ("medium", 1), ("medium", 2), ("hard", 1), ("hard", 2)]
 

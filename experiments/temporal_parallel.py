@@ -29,9 +29,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from ocplus_plan.planning.compile import compile as compile_state  # noqa: E402
-from ocplus_plan.planning.engines import availability, get_planner, solve  # noqa: E402
-from ocplus_plan.sim import make_rules, new_state  # noqa: E402
+from ocplus_plan.planning.compile import compile as compile_state
+from ocplus_plan.planning.engines import availability, get_planner, solve
+from ocplus_plan.sim import make_rules, new_state
 
 
 def run_one(preset: str, cooks: int, planner: str, seed: int, orders: int,
@@ -77,8 +77,8 @@ def ratios(rows: list[dict]) -> list[dict]:
 def table(path: Path) -> str:
     rows = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
     runs = [r for r in rows if not r.get("ratio")]
-    lines = ["| preset | planner | seed | 1 cook: status, s, makespan | 2 cooks: status, s, makespan "
-             "| 2 / 1 |", "|---|---|---|---|---|---|"]
+    lines = [("| preset | planner | seed | 1 cook: status, s, makespan "
+              "| 2 cooks: status, s, makespan | 2 / 1 |"), "|---|---|---|---|---|---|"]
     for q in (r for r in rows if r.get("ratio")):
         cells = []
         for cooks in (1, 2):

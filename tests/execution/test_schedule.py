@@ -162,11 +162,13 @@ def test_scheduled_fast_downward_plans_keep_every_step_and_every_resource_order(
             steps = steps_from_record(record, state, len(entries))
             entries += [(s, e, b) for s, (e, b) in zip(steps, hand_effects(record))]
         out = schedule(entries, state, (0, 1))
-        key = lambda s: (s.kind, s.target, s.items)  # noqa: E731
+        def key(s):
+            return (s.kind, s.target, s.items)
+
         assert sorted(map(key, out)) == sorted(key(s) for s, _, _ in entries)
         resources = {r for s, _, _ in entries for r in [("c", s.target)] + [("i", i) for i in s.items]}
         for res in resources:
-            def touching(seq, res=res):
+            def touching(seq, res=res, key=key):
                 return [key(s) for s in seq if (res[0] == "c" and s.target == res[1])
                         or (res[0] == "i" and res[1] in s.items)]
             assert touching(out) == touching([s for s, _, _ in entries]), res

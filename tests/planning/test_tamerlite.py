@@ -13,10 +13,10 @@ import pytest
 pytest.importorskip("unified_planning")
 pytest.importorskip("tamerlite", reason="tamerlite is not installed: pip install -e '.[planners]'")
 
-from ocplus_plan.planning import compile  # noqa: E402
-from ocplus_plan.planning._tamerlite import static_groundings  # noqa: E402
-from ocplus_plan.planning.engines import availability, solve  # noqa: E402
-from ocplus_plan.sim import make_rules, new_state, transition  # noqa: E402
+from ocplus_plan.planning import compile
+from ocplus_plan.planning._tamerlite import static_groundings
+from ocplus_plan.planning.engines import availability, solve
+from ocplus_plan.sim import make_rules, new_state, transition
 
 warnings.filterwarnings("ignore", message=".*rustamer.*")
 
