@@ -31,12 +31,15 @@ times are estimates (collisions are ignored) used only to order and assign.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
+from ..sim.codes import Cell
 from ..sim.queries import (
     distances,
     interaction_spots,
+    ticks_until_burnt,
     ticks_until_cooked,
     walkable_in_any_layout,
 )
@@ -120,101 +123,317 @@ class _Walks:
         return best if best is not None else (10 * len(self.walk), pos)
 
 
-def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
-             agents: Sequence[int], oracle: DistanceOracle | None = None) -> list[PlanStep]:
-    """Reassign and reorder a sequential plan's steps over ``agents`` (see the module doc).
+class _Partial:
+    """A schedule under construction: when each cook is free and where, and what is placed."""
 
-    ``steps`` are in plan order, each with its hand effect (TAKE, RELEASE, KEEP) and the
-    bumps it takes. Segments are taken in the plan's order (the planner chose it for its
-    cost), each by the cook that finishes it first, and a cook that would wait for the next
-    one (a steak still cooking, a board still busy) first does a later segment that does
-    not delay it (backfilling); with one cook only that backfilling changes anything. A plan
-    with steps of cooks outside ``agents`` is left as it is."""
-    agents = tuple(agents)
-    if not agents or any(s.agent not in agents for s, _, _ in steps):
-        return _in_plan_order(steps)
-    walks = _Walks(state, oracle or DistanceOracle(state.geo))
-    segs = segments(steps, state)
-    free_at = {a: 0 for a in agents}
-    pos = {a: state.agent_pos[a] for a in agents}
-    busy_until: dict[tuple[str, int], int] = {}  # resource -> when its last step ends
-    pan_ready: dict[int, int] = {}  # pan cell -> when its steak is cooked
-    closed: set[int] = set()  # cooks that keep an item to the end of the plan
-    waiting_pin = {s.pinned for s in segs if s.pinned is not None}
-    done: set[int] = set()
-    placed: list[tuple[int, int, PlanStep]] = []  # (start, order, step with its cook)
+    def __init__(self, agents: Sequence[int], state: State) -> None:
+        self.free_at = {a: 0 for a in agents}
+        self.pos = {a: state.agent_pos[a] for a in agents}
+        self.busy_until: dict[tuple[str, int], int] = {}  # resource -> when its last step ends
+        self.pan_ready: dict[int, int] = {}  # pan cell -> when its steak is cooked
+        self.pan_burnt: dict[int, int] = {}  # pan cell -> when its steak burns
+        for pan in state.geo.pans:
+            steak = state.cell_item[pan]
+            if steak >= 0:
+                ticks = state.item_progress[steak]
+                self.pan_ready[pan] = ticks_until_cooked(state.rules, ticks)
+                self.pan_burnt[pan] = ticks_until_burnt(state.rules, ticks)
+        self.closed: set[int] = set()  # cooks that keep an item to the end of the plan
+        self.waiting_pin: set[int | None] = set()
+        self.done: set[int] = set()
+        self.placed: list[tuple[int, int, PlanStep]] = []  # (start, order, step with its cook)
+        self.late = 0  # steps by which takes from a pan come after its steak burns
 
-    def simulate(seg: Segment, a: int, t: int | None = None,
+    def copy(self) -> _Partial:
+        out = copy.copy(self)
+        for name in ("free_at", "pos", "busy_until", "pan_ready", "pan_burnt"):
+            setattr(out, name, dict(getattr(self, name)))
+        for name in ("closed", "waiting_pin", "done"):
+            setattr(out, name, set(getattr(self, name)))
+        out.placed = list(self.placed)
+        return out
+
+    def cost(self) -> tuple[int, int, int]:
+        """What the lookahead minimises: burnt steaks first, then the makespan, then how
+        early the dishes go out (the sum of the deliveries' starts)."""
+        makespan = max(self.free_at.values(), default=0)
+        served = sum(start for start, _, step in self.placed if step.kind == "deliver")
+        return self.late, makespan, served
+
+
+class _Scheduler:
+    """List scheduling of a plan's segments, with a rollout lookahead (see :func:`schedule`)."""
+
+    def __init__(self, steps: Sequence[tuple[PlanStep, str, int]], state: State,
+                 agents: tuple[int, ...], oracle: DistanceOracle | None, lookahead: int) -> None:
+        self.state, self.agents, self.lookahead = state, agents, lookahead
+        self.walks = _Walks(state, oracle or DistanceOracle(state.geo))
+        self.segs = segments(steps, state)
+        self._walk_cache: dict[tuple[int, int], tuple[int, int]] = {}
+
+    def walk(self, here: int, target: int) -> tuple[int, int]:
+        key = (here, target)
+        if key not in self._walk_cache:
+            self._walk_cache[key] = self.walks.to(here, target)
+        return self._walk_cache[key]
+
+    def simulate(self, p: _Partial, k: int, a: int, t: int | None = None,
                  here: int | None = None) -> tuple[int, list[int], int]:
-        t = free_at[a] if t is None else t
-        here = pos[a] if here is None else here
+        """(end, each step's start, where the cook ends) if cook ``a`` does segment ``k``
+        next, from time ``t`` and cell ``here`` (default: when and where it is free)."""
+        t = p.free_at[a] if t is None else t
+        here = p.pos[a] if here is None else here
         starts = []
-        for step, effect, bumps in seg.steps:
-            walk, here = walks.to(here, step.target)
+        for step, effect, bumps in self.segs[k].steps:
+            walk, here = self.walk(here, step.target)
             t += walk
-            ready = max((busy_until.get(r, 0) for r in _resources(step)), default=0)
-            if effect == TAKE and step.target in pan_ready:
-                ready = max(ready, pan_ready[step.target])
+            ready = max((p.busy_until.get(r, 0) for r in _resources(step)), default=0)
+            if effect == TAKE and step.target in p.pan_ready:
+                ready = max(ready, p.pan_ready[step.target])
             t = max(t, ready)
             starts.append(t)
             t += max(1, bumps)
         return t, starts, here
 
-    def cooks_for(seg: Segment) -> list[int]:
+    def cooks_for(self, p: _Partial, k: int) -> list[int]:
+        seg = self.segs[k]
         if seg.pinned is not None:
             return [seg.pinned]
-        return [a for a in agents if a not in waiting_pin and a not in closed]
+        return [a for a in self.agents if a not in p.waiting_pin and a not in p.closed]
 
-    def best_cook(k: int) -> tuple[tuple[int, bool, int], int, list[int], int] | None:
-        seg, out = segs[k], None
-        for a in cooks_for(seg):
-            end, starts, here = simulate(seg, a)
-            key = (end, a != seg.steps[0][0].agent, a)
+    def ready(self, p: _Partial) -> list[int]:
+        return [k for k in range(len(self.segs))
+                if k not in p.done and self.segs[k].deps <= p.done]
+
+    def best_cook(self, p: _Partial, k: int) -> tuple[int, int, list[int], int] | None:
+        """(cook, end, starts, where it ends) for the cook that finishes segment ``k`` first."""
+        out = None
+        first = self.segs[k].steps[0][0].agent
+        for a in self.cooks_for(p, k):
+            end, starts, here = self.simulate(p, k, a)
+            key = (end, a != first, a)
             if out is None or key < out[0]:
                 out = (key, end, starts, here)
-        return out
+        return None if out is None else (out[0][2], out[1], out[2], out[3])
 
-    def place(k: int, a: int, starts: list[int], end: int, here: int) -> None:
-        seg = segs[k]
-        for (step, effect, bumps), start in zip(seg.steps, starts):
-            placed.append((start, len(placed), replace(step, agent=a)))
-            for r in _resources(step):
-                busy_until[r] = start + max(1, bumps)
-            if effect == RELEASE and step.target in state.geo.pans and step.items:
-                steak = step.items[0]
-                pan_ready[step.target] = start + 1 + ticks_until_cooked(
-                    state.rules, state.item_progress[steak])
-        free_at[a], pos[a] = end, here
-        done.add(k)
-        waiting_pin.discard(seg.pinned)
-        if seg.open_end:
-            closed.add(a)
-
-    while len(done) < len(segs):
-        ready = [k for k in range(len(segs)) if k not in done and segs[k].deps <= done]
-        options = {k: opt for k in ready if (opt := best_cook(k)) is not None}
-        if not options:  # nobody may take what is left: keep the plan's own cooks
-            return _in_plan_order(steps)
+    def base_choice(self, p: _Partial) -> tuple[int, int] | None:
+        """The plain list-scheduling rule: the plan's next segment by the cook that finishes
+        it first, unless that cook would wait and a later segment fits in the wait
+        (backfilling). None when nobody may take what is left."""
+        ready = self.ready(p)
+        options = {k: opt for k in ready if (opt := self.best_cook(p, k)) is not None}
+        if not options:
+            return None
         head = ready[0]
         if head not in options:  # the plan's next segment has no free cook yet
-            k = min(options, key=lambda j: (options[j][0], j))
-            key, end, starts, here = options[k]
-            place(k, key[2], starts, end, here)
-            continue
-        key, end, starts, here = options[head]
-        a = key[2]
+            k = min(options, key=lambda j: (options[j][1], options[j][0], j))
+            return k, options[k][0]
+        a, end, _, _ = options[head]
         for k2 in ready[1:]:
-            if k2 not in options or a not in cooks_for(segs[k2]):
+            if k2 not in options or a not in self.cooks_for(p, k2):
                 continue
-            end2, starts2, here2 = simulate(segs[k2], a)
-            if simulate(segs[head], a, end2, here2)[0] <= end:  # fits in the wait: backfill
-                place(k2, a, starts2, end2, here2)
-                break
-        else:
-            place(head, a, starts, end, here)
-    placed.sort(key=lambda x: (x[0], x[1]))
-    return [replace(step, index=i, start=float(start))
-            for i, (start, _, step) in enumerate(placed)]
+            end2, _, here2 = self.simulate(p, k2, a)
+            if self.simulate(p, head, a, end2, here2)[0] <= end:  # fits in the wait
+                return k2, a
+        return head, a
+
+    def place(self, p: _Partial, k: int, a: int) -> None:
+        seg = self.segs[k]
+        end, starts, here = self.simulate(p, k, a)
+        for (step, effect, bumps), start in zip(seg.steps, starts):
+            p.placed.append((start, len(p.placed), replace(step, agent=a)))
+            for r in _resources(step):
+                p.busy_until[r] = start + max(1, bumps)
+            if step.target in p.pan_burnt and effect == TAKE:
+                p.late += max(0, start - p.pan_burnt.pop(step.target) + _BURN_MARGIN)
+                p.pan_ready.pop(step.target, None)
+            if effect == RELEASE and step.target in self.state.geo.pans and step.items:
+                ticks = self.state.item_progress[step.items[0]]
+                p.pan_ready[step.target] = start + 1 + ticks_until_cooked(self.state.rules, ticks)
+                p.pan_burnt[step.target] = start + 1 + ticks_until_burnt(self.state.rules, ticks)
+        p.free_at[a], p.pos[a] = end, here
+        p.done.add(k)
+        p.waiting_pin.discard(seg.pinned)
+        if seg.open_end:
+            p.closed.add(a)
+
+    def rollout(self, p: _Partial) -> _Partial | None:
+        """Finish ``p`` with the plain rule; None when it gets stuck."""
+        while len(p.done) < len(self.segs):
+            choice = self.base_choice(p)
+            if choice is None:
+                return None
+            self.place(p, *choice)
+        return p
+
+    def choose(self, p: _Partial) -> tuple[int, int] | None:
+        """The next (segment, cook): the plain rule's choice, or one of the first ready
+        segments with any cook allowed to do it when finishing the schedule from there with
+        the plain rule ends better (a one-step rollout: never worse than the plain rule by
+        the schedule's own estimate)."""
+        base = self.base_choice(p)
+        if base is None or self.lookahead <= 0:
+            return base
+        done = self.rollout(self._after(p, base))
+        best, best_cost = base, (done.cost() if done is not None else None)
+        for k in self.ready(p)[: self.lookahead]:
+            for a in self.cooks_for(p, k):
+                if (k, a) == base:
+                    continue
+                done = self.rollout(self._after(p, (k, a)))
+                if done is not None and (best_cost is None or done.cost() < best_cost):
+                    best, best_cost = (k, a), done.cost()
+        return best
+
+    def _after(self, p: _Partial, choice: tuple[int, int]) -> _Partial:
+        q = p.copy()
+        self.place(q, *choice)
+        return q
+
+    def run(self) -> tuple[list[PlanStep], tuple[int, int, int]] | None:
+        """The scheduled steps and the schedule's cost; None when it gets stuck."""
+        p = _Partial(self.agents, self.state)
+        p.waiting_pin = {s.pinned for s in self.segs if s.pinned is not None}
+        while len(p.done) < len(self.segs):
+            choice = self.choose(p)
+            if choice is None:
+                return None
+            self.place(p, *choice)
+        placed = sorted(p.placed, key=lambda x: (x[0], x[1]))
+        return [replace(step, index=i, start=float(start))
+                for i, (start, _, step) in enumerate(placed)], p.cost()
+
+
+#: steps of slack the schedule keeps before a steak would burn on its pan
+_BURN_MARGIN = 2
+#: how many of the first ready segments the rollout lookahead tries at each choice
+LOOKAHEAD = 4
+
+
+def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
+             agents: Sequence[int], oracle: DistanceOracle | None = None,
+             lookahead: int = LOOKAHEAD, swap_stations: bool = True) -> list[PlanStep]:
+    """Reassign and reorder a sequential plan's steps over ``agents`` (see the module doc).
+
+    ``steps`` are in plan order, each with its hand effect (TAKE, RELEASE, KEEP) and the
+    bumps it takes. The plain rule: segments are taken in the plan's order (the planner
+    chose it for its cost), each by the cook that finishes it first, and a cook that would
+    wait for the next one (a steak still cooking, a board still busy) first does a later
+    segment that does not delay it (backfilling). With ``lookahead=K`` each choice also
+    tries the first K ready segments with every cook allowed to do them, finishes the
+    schedule from each with the plain rule, and keeps the one that ends best: no steak left
+    to burn, then the shortest makespan, then the earliest deliveries (a cook that puts a
+    steak on the pan goes to chop while it cooks and another cook may plate it).
+
+    ``swap_stations``: a planner minimising cost does not care which of two identical
+    boards (pans, sinks) it uses, but the schedule does: two vegetables planned on one board
+    must be chopped one after the other. Each stay of an item on a station (from the step
+    that puts it there to the one that takes it off) may move to another station of the
+    same kind that is free over that stretch of the plan (:func:`station_stays`); a stay is
+    moved when the plain rule's schedule then ends better. A plan with steps of cooks
+    outside ``agents`` is left as it is."""
+    agents = tuple(agents)
+    if not agents or any(s.agent not in agents for s, _, _ in steps):
+        return _in_plan_order(steps)
+    oracle = oracle or DistanceOracle(state.geo)
+    steps = list(steps)
+    if swap_stations:
+        steps = _best_stations(steps, state, agents, oracle, lookahead)
+    out = _Scheduler(steps, state, agents, oracle, lookahead).run()
+    return _in_plan_order(steps) if out is None else out[0]
+
+
+#: station kinds whose cells are interchangeable for the schedule
+_SWAPPABLE = (int(Cell.BOARD), int(Cell.PAN), int(Cell.SINK))
+
+
+@dataclass
+class Stay:
+    """An item's stay on a station in a plan: the plan steps that target the station
+    while the item lies there (put, chops or washes, take)."""
+
+    station: int
+    kind: int  # the station's cell code
+    steps: list[int]  # indices into the plan
+    first: int  # plan index of the put (-1: the item was there before the plan)
+    last: int  # plan index of the take (len(plan): still there at the end)
+
+
+def station_stays(steps: Sequence[tuple[PlanStep, str, int]], state: State) -> list[Stay]:
+    """Every item's stays on boards, pans and sinks in a plan, in plan order."""
+    terrain = state.geo.terrains[state.layout_index]
+    open_: dict[int, Stay] = {}
+    out: list[Stay] = []
+    for cell, item in enumerate(state.cell_item):
+        if item >= 0 and terrain[cell] in _SWAPPABLE:
+            open_[cell] = Stay(cell, terrain[cell], [], -1, len(steps))
+            out.append(open_[cell])
+    for i, (step, effect, _) in enumerate(steps):
+        cell = step.target
+        if terrain[cell] not in _SWAPPABLE:
+            continue
+        stay = open_.get(cell)
+        if stay is None:
+            if effect == RELEASE:  # something is put on the empty station
+                open_[cell] = stay = Stay(cell, terrain[cell], [i], i, len(steps))
+                out.append(stay)
+            continue
+        stay.steps.append(i)
+        if effect == TAKE or step.kind == "plate":  # taken off (in a hand, onto a plate)
+            stay.last = i
+            del open_[cell]
+    return out
+
+
+def _relabel(steps: list[tuple[PlanStep, str, int]], stay: Stay,
+             cell: int) -> list[tuple[PlanStep, str, int]]:
+    out = list(steps)
+    for i in stay.steps:
+        step, effect, bumps = out[i]
+        out[i] = (replace(step, target=cell), effect, bumps)
+    return out
+
+
+def _free_over(stays: Sequence[Stay], cell: int, stay: Stay) -> bool:
+    """Is ``cell`` free from ``stay``'s first step to its last in plan order?"""
+    return all(o is stay or o.station != cell or o.last < stay.first or o.first > stay.last
+               for o in stays)
+
+
+def _best_stations(steps: list[tuple[PlanStep, str, int]], state: State,
+                   agents: tuple[int, ...], oracle: DistanceOracle,
+                   lookahead: int = 0) -> list[tuple[PlanStep, str, int]]:
+    """Move stays to other stations of their kind, one at a time in plan order, when the
+    plain rule's schedule ends better (coordinate descent, a few schedules per stay)."""
+    terrain = state.geo.terrains[state.layout_index]
+    walk = state.geo.walkables[state.layout_index]
+    by_kind: dict[int, list[int]] = {}
+    for cell, code in enumerate(terrain):
+        if code in _SWAPPABLE and interaction_spots(state.geo.neighbors, walk, cell):
+            by_kind.setdefault(code, []).append(cell)
+    if all(len(cells) < 2 for cells in by_kind.values()):
+        return steps
+
+    def cost(plan: list[tuple[PlanStep, str, int]]) -> tuple[int, int, int] | None:
+        out = _Scheduler(plan, state, agents, oracle, lookahead).run()
+        return None if out is None else out[1]
+
+    best = cost(steps)
+    if best is None:
+        return steps
+    stays = station_stays(steps, state)
+    for stay in stays:
+        if stay.first < 0 or len(by_kind.get(stay.kind, ())) < 2:
+            continue
+        home = stay.station
+        for cell in by_kind[stay.kind]:
+            if cell == home or not _free_over(stays, cell, stay):
+                continue
+            trial = _relabel(steps, stay, cell)
+            c = cost(trial)
+            if c is not None and c < best:
+                best, steps, stay.station = c, trial, cell
+    return steps
 
 
 def _in_plan_order(steps: Sequence[tuple[PlanStep, str, int]]) -> list[PlanStep]:
@@ -225,4 +444,4 @@ def _resources(step: PlanStep) -> list[tuple[str, int]]:
     return [("c", step.target), *(("i", i) for i in step.items)]
 
 
-__all__ = ["KEEP", "RELEASE", "TAKE", "Segment", "schedule", "segments"]
+__all__ = ["KEEP", "RELEASE", "TAKE", "Segment", "Stay", "schedule", "segments", "station_stays"]

@@ -13,7 +13,14 @@ import warnings
 import pytest
 
 from ocplus_plan.execution.plans import PlanStep
-from ocplus_plan.execution.schedule import KEEP, RELEASE, TAKE, schedule, segments
+from ocplus_plan.execution.schedule import (
+    KEEP,
+    RELEASE,
+    TAKE,
+    schedule,
+    segments,
+    station_stays,
+)
 from ocplus_plan.sim import make_rules, new_state, transition
 
 warnings.simplefilter("ignore", UserWarning)
@@ -37,7 +44,8 @@ def _chop_job(state, agent: int, spawn: tuple[int, int], board: tuple[int, int],
     return [
         (PlanStep(first, agent, "pickup", _cell(state, *spawn), (veg,)), TAKE, 1),
         (PlanStep(first + 1, agent, "putdown", _cell(state, *board), (veg,)), RELEASE, 1),
-        (PlanStep(first + 2, agent, "chop", _cell(state, *board), (veg,)), KEEP, 3),
+        (PlanStep(first + 2, agent, "chop", _cell(state, *board), (veg,)), KEEP,
+         state.rules.chop_steps),
     ]
 
 
@@ -92,6 +100,87 @@ def test_a_cook_holding_an_item_does_its_own_segment_first():
     assert out[0].agent == 0 and out[0].kind == "putdown"
 
 
+def test_lookahead_chops_while_the_steak_cooks_when_that_ends_sooner():
+    """One cook, a 14-step cook: fetching and chopping the tomato does not fit in the wait
+    (the plain rule waits at the pan and chops last), but doing it first and taking the
+    steak a little later (long before it burns) ends the plan sooner: the lookahead does."""
+    state = new_state(make_rules("medium", n_agents=1, cook_time=14, burn_time=29), 0)
+    steak = _item_at(state, 2, 0)
+    pan, counter = _cell(state, 3, 0), _cell(state, 1, 0)
+    plan = [
+        (PlanStep(0, 0, "pickup", _cell(state, 2, 0), (steak,)), TAKE, 1),
+        (PlanStep(1, 0, "putdown", pan, (steak,)), RELEASE, 1),
+        (PlanStep(2, 0, "pickup", pan, (steak,)), TAKE, 1),
+        (PlanStep(3, 0, "putdown", counter, (steak,)), RELEASE, 1),
+        *_chop_job(state, 0, (0, 2), (1, 6), 4),
+    ]
+    plain = schedule(plan, state, (0,), lookahead=0)
+    ahead = schedule(plan, state, (0,))
+    def kinds(out):
+        return [(s.kind, s.target) for s in out]
+    chop, take = ("chop", _cell(state, 1, 6)), ("pickup", pan)
+    assert kinds(plain).index(chop) > kinds(plain).index(take)
+    assert kinds(ahead).index(chop) < kinds(ahead).index(take)
+    assert max(s.start for s in ahead) < max(s.start for s in plain)
+    # the steak is still taken before it burns (29 ticks after it went on the pan)
+    put = next(s.start for s in ahead if s.kind == "putdown" and s.target == pan)
+    assert next(s.start for s in ahead if (s.kind, s.target) == take) < put + 29
+
+
+def test_lookahead_never_lets_a_steak_burn_for_a_shorter_plan():
+    """With the steak burning right after it is cooked, nothing is done in between."""
+    state = new_state(make_rules("medium", n_agents=1, cook_time=14, burn_time=15), 0)
+    steak = _item_at(state, 2, 0)
+    pan, counter = _cell(state, 3, 0), _cell(state, 1, 0)
+    plan = [
+        (PlanStep(0, 0, "pickup", _cell(state, 2, 0), (steak,)), TAKE, 1),
+        (PlanStep(1, 0, "putdown", pan, (steak,)), RELEASE, 1),
+        (PlanStep(2, 0, "pickup", pan, (steak,)), TAKE, 1),
+        (PlanStep(3, 0, "putdown", counter, (steak,)), RELEASE, 1),
+        *_chop_job(state, 0, (0, 2), (1, 6), 4),
+    ]
+    out = [(s.kind, s.target) for s in schedule(plan, state, (0,))]
+    assert out.index(("pickup", pan)) < out.index(("chop", _cell(state, 1, 6)))
+
+
+def test_station_stays_follow_an_item_from_put_to_take():
+    state = _state(2)
+    plan = _chop_job(state, 0, (0, 2), (1, 6), 0) + _chop_job(state, 0, (0, 4), (1, 6), 3)
+    tomato, lettuce = plan[0][0].items[0], plan[3][0].items[0]
+    plan.insert(3, (PlanStep(9, 0, "pickup", _cell(state, 1, 6), (tomato,)), TAKE, 1))
+    plan.insert(4, (PlanStep(10, 0, "putdown", _cell(state, 2, 1), (tomato,)), RELEASE, 1))
+    stays = station_stays(plan, state)
+    assert [(s.station, s.steps, s.first, s.last) for s in stays] == [
+        (_cell(state, 1, 6), [1, 2, 3], 1, 3),
+        (_cell(state, 1, 6), [6, 7], 6, len(plan)),  # the lettuce stays on the board
+    ]
+    assert lettuce not in plan[3][0].items
+
+
+def test_two_vegetables_planned_on_one_board_are_chopped_on_two():
+    """The planner put both vegetables on board (1,6), one after the other; two cooks
+    chop them at the same time when one of them moves to the free board (3,6) (8 chops
+    each, so waiting for the board costs more than the longer walk to the other)."""
+    state = new_state(make_rules("easy", n_agents=2, chop_steps=8), 0)
+    plan = _chop_job(state, 0, (0, 2), (1, 6), 0)
+    tomato = plan[0][0].items[0]
+    plan += [
+        (PlanStep(3, 0, "pickup", _cell(state, 1, 6), (tomato,)), TAKE, 1),
+        (PlanStep(4, 0, "putdown", _cell(state, 2, 6), (tomato,)), RELEASE, 1),
+        *_chop_job(state, 0, (0, 4), (1, 6), 5),
+    ]
+    fixed = schedule(plan, state, (0, 1), swap_stations=False)
+    moved = schedule(plan, state, (0, 1))
+    boards = {s.target for s in moved if s.kind == "chop"}
+    assert boards == {_cell(state, 1, 6), _cell(state, 3, 6)}
+    def end(out):
+        return max(s.start + (state.rules.chop_steps if s.kind == "chop" else 1) for s in out)
+    assert end(moved) < end(fixed)
+    # a stay moves whole: each vegetable is put, chopped and taken on one board
+    for veg in (tomato, plan[5][0].items[0]):
+        assert len({s.target for s in moved if veg in s.items and s.target in boards}) == 1
+
+
 def test_resource_order_is_kept():
     """A step that touches a board after another step touched it stays after it."""
     state = _state(2)
@@ -103,7 +192,7 @@ def test_resource_order_is_kept():
         (PlanStep(4, 1, "plate", _cell(state, 1, 6), (tomato, plate)), KEEP, 1),
         (PlanStep(5, 1, "deliver", _cell(state, 4, 2), (plate, tomato)), RELEASE, 1),
     ]
-    out = schedule(plan, state, (0, 1))
+    out = schedule(plan, state, (0, 1), swap_stations=False)
     board = [s.kind for s in out if s.target == _cell(state, 1, 6)]
     assert board == ["putdown", "chop", "plate"]
     assert [s.index for s in out] == list(range(len(out)))
