@@ -21,6 +21,15 @@ a planner (partial-order lifting plus list scheduling):
   segment that does not delay it (backfilling). A cook that holds an item now does its
   own segment first. (Placing whichever available segment finishes first instead gave the
   same dishes with two cooks and walked a single cook further, off its cost-optimal order.)
+* lookahead (a one-step rollout): at each choice the first few ready segments are also
+  tried with every cook allowed to do them, the rest of the schedule is finished with the
+  rule above, and the choice whose schedule ends best is kept (no steak left on a pan past
+  its burn time, then the makespan, then the earliest deliveries): a cook that puts a
+  steak on the pan goes to chop while it cooks even when that does not fit exactly in the
+  wait, and another cook may plate it;
+* identical stations: the planner does not care which of two boards (pans, sinks) an item
+  goes on, the schedule does; an item's stay on a station moves to another one of its kind
+  that is free over that stretch of the plan when the schedule then ends sooner.
 
 The result is the same steps with cooks reassigned, renumbered in scheduled order and
 stamped with their estimated start (a time-triggered plan's own times are replaced);
