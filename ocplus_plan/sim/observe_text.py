@@ -19,6 +19,7 @@ import string
 from ..errors import ConfigError
 from .codes import Action, Cell, Item, ItemState, Where
 from .queries import ticks_until_burnt, ticks_until_cooked
+from .rules import Rules
 from .state import State
 from .words import (
     CELL_GLYPHS,
@@ -101,6 +102,35 @@ def _timers(state: State) -> list[str]:
     return out
 
 
+def rules_text(rules: Rules) -> str:
+    """The rules of the kitchen in a few sentences, with this rule set's numbers (SPEC 1-5)."""
+    lines = [
+        "Cooks move one cell per step onto floor; moving into anything else (a counter, a "
+        "station, a wall) uses it instead, and the cook stays in place. Two cooks never "
+        "share a cell or pass items hand to hand: hand things over on a counter.",
+        "Empty-handed, using a counter, pan or sink picks up what lies there. Holding "
+        "something, using an empty counter puts it down.",
+        f"Vegetables are chopped on a cutting board: put the fresh vegetable there, then use "
+        f"the board {rules.chop_steps} times with empty hands.",
+        "Dishes are served on a clean plate: put chopped vegetables and cooked steak onto a "
+        "plate (use the plate while holding the ingredient, or use the ingredient while "
+        "holding the plate), then carry the plate to the serving window.",
+    ]
+    if any(Item.STEAK in r for r in rules.recipes):
+        lines.append(f"A raw steak put on a pan cooks by itself: cooked after "
+                     f"{rules.cook_time} steps, burnt after {rules.burn_time + 1}. Take it "
+                     "off (or take it onto a plate) in time; the trash can takes burnt food "
+                     "back to its counter fresh.")
+    if rules.dirty_plates:
+        lines.append(f"A served plate comes back dirty on its counter: put it in the sink and "
+                     f"use the sink {rules.wash_steps} times with empty hands to clean it.")
+    if rules.dynamic:
+        lines.append(f"Some walls move every {rules.map_switch_step} steps.")
+    lines.append(f"A served order earns {rules.rewards.correct_delivery:g}; a plate that "
+                 f"matches no order is refused ({rules.rewards.wrong_delivery:g}).")
+    return "\n".join(lines)
+
+
 def kitchen_text(state: State) -> str:
     """What every cook sees: the map, stations, cooks, items, orders and timers."""
     rules = state.rules
@@ -153,5 +183,5 @@ def text_observations(state: State) -> list[str]:
     return [text_observation(state, a, shared) for a in range(state.n_agents)]
 
 
-__all__ = ["TEXT_CHARSET", "actions_text", "kitchen_text", "max_text_length", "text_observation",
+__all__ = ["TEXT_CHARSET", "actions_text", "kitchen_text", "max_text_length", "rules_text", "text_observation",
            "text_observations"]
