@@ -30,7 +30,6 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from ..errors import ConfigError, UnreadableText
-from ..execution.plans import PlanOutcome
 from ..sim.codes import Action
 from ..sim.observe_text import actions_text, kitchen_text, rules_text
 from ..sim.state import State

@@ -22,9 +22,9 @@ from .queries import ticks_until_burnt, ticks_until_cooked
 from .rules import Rules
 from .state import State
 from .words import (
+    ACTION_WORDS,
     CELL_GLYPHS,
     CELL_WORDS,
-    ACTION_WORDS,
     action_words,
     at,
     cell_words,
@@ -105,16 +105,16 @@ def _timers(state: State) -> list[str]:
 def rules_text(rules: Rules) -> str:
     """The rules of the kitchen in a few sentences, with this rule set's numbers (SPEC 1-5)."""
     lines = [
-        "Cooks move one cell per step onto floor; moving into anything else (a counter, a "
-        "station, a wall) uses it instead, and the cook stays in place. Two cooks never "
-        "share a cell or pass items hand to hand: hand things over on a counter.",
-        "Empty-handed, using a counter, pan or sink picks up what lies there. Holding "
-        "something, using an empty counter puts it down.",
-        f"Vegetables are chopped on a cutting board: put the fresh vegetable there, then use "
-        f"the board {rules.chop_steps} times with empty hands.",
-        "Dishes are served on a clean plate: put chopped vegetables and cooked steak onto a "
-        "plate (use the plate while holding the ingredient, or use the ingredient while "
-        "holding the plate), then carry the plate to the serving window.",
+        ("Cooks move one cell per step onto floor; moving into anything else (a counter, a "
+         "station, a wall) uses it instead, and the cook stays in place. Two cooks never "
+         "share a cell or pass items hand to hand: hand things over on a counter."),
+        ("Empty-handed, using a counter, pan or sink picks up what lies there. Holding "
+         "something, using an empty counter puts it down."),
+        (f"Vegetables are chopped on a cutting board: put the fresh vegetable there, then use "
+         f"the board {rules.chop_steps} times with empty hands."),
+        ("Dishes are served on a clean plate: put chopped vegetables and cooked steak onto a "
+         "plate (use the plate while holding the ingredient, or use the ingredient while "
+         "holding the plate), then carry the plate to the serving window."),
     ]
     if any(Item.STEAK in r for r in rules.recipes):
         lines.append(f"A raw steak put on a pan cooks by itself: cooked after "
@@ -134,10 +134,10 @@ def rules_text(rules: Rules) -> str:
 def kitchen_text(state: State) -> str:
     """What every cook sees: the map, stations, cooks, items, orders and timers."""
     rules = state.rules
-    lines = [f"Kitchen {rules.layout.name} (preset {rules.preset}), step {state.t} of "
-             f"{rules.horizon}. Places are (row, col), counted from 0 at the top-left corner.",
-             f"Map, one character per cell, row 0 first ({_legend(state)}; a digit is a cook, "
-             "an upper-case letter or * marks an item lying there):"]
+    lines = [(f"Kitchen {rules.layout.name} (preset {rules.preset}), step {state.t} of "
+              f"{rules.horizon}. Places are (row, col), counted from 0 at the top-left corner."),
+             (f"Map, one character per cell, row 0 first ({_legend(state)}; a digit is a cook, "
+              "an upper-case letter or * marks an item lying there):")]
     lines += [f"  {r:>2} {row}" for r, row in enumerate(map_rows(state))]
     lines.append("Stations:")
     lines += _stations(state)

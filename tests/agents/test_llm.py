@@ -156,3 +156,17 @@ def test_the_factory_imports_the_model_by_path():
 def test_bad_llm_specs_say_what_to_write(spec, message):
     with pytest.raises(ConfigError, match=message):
         make_controller(spec)
+
+
+def test_ocplus_eval_runs_a_model_given_by_path_and_keeps_its_transcript(tmp_path, capsys):
+    from ocplus_plan.cli import main
+    from ocplus_plan.eval.results import read_results
+
+    out = tmp_path / "llm"
+    assert main(["eval", "--presets", "easy", "--agents",
+                 "llm:tests.agents.scripted_models:gibberish", "--seeds", "1", "--horizon", "3",
+                 "--out", str(out), "--quiet"]) == 0
+    capsys.readouterr()
+    row = read_results(out)[0]
+    assert row["status"] == "ok" and row["planner"]["reply_errors"] == 3
+    assert len(row["controller"]["transcript"]) == 3
