@@ -136,9 +136,9 @@ def kitchen_text(state: State) -> str:
     rules = state.rules
     lines = [(f"Kitchen {rules.layout.name} (preset {rules.preset}), step {state.t} of "
               f"{rules.horizon}. Places are (row, col), counted from 0 at the top-left corner."),
-             (f"Map, one character per cell, row 0 first ({_legend(state)}; a digit is a cook, "
-              "an upper-case letter or * marks an item lying there):")]
-    lines += [f"  {r:>2} {row}" for r, row in enumerate(map_rows(state))]
+             (f"Map, one character per cell, row 0 first ({_legend(state)}; a digit is a "
+              "cook):")]
+    lines += [f"  {r:>2} {row}" for r, row in enumerate(map_rows(state, mark_items=False))]
     lines.append("Stations:")
     lines += _stations(state)
     lines.append("Cooks (a cook walks onto floor; moving into anything else uses it):")

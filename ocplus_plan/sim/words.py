@@ -102,10 +102,11 @@ def where_words(state: State, item: int) -> str:
     return f"on {cell_words(state, loc)}"
 
 
-def map_rows(state: State) -> list[str]:
+def map_rows(state: State, mark_items: bool = True) -> list[str]:
     """The current layout, one string per row, one :data:`CELL_GLYPHS` character per cell;
-    a cook is drawn as its index, an item on a cell upper-cases the cell's letter (``*`` on
-    a plain counter)."""
+    a cook is drawn as its index and, with ``mark_items``, an item on a cell upper-cases the
+    cell's letter (``*`` on a plain counter; a tomato on its counter then reads like the
+    trash can, so texts that list the items leave them off)."""
     geo, terrain = state.geo, state.geo.terrains[state.layout_index]
     lines = []
     for r in range(geo.rows):
@@ -114,7 +115,7 @@ def map_rows(state: State) -> list[str]:
             ch = CELL_GLYPHS[terrain[f]]
             if f in state.agent_pos:
                 ch = str(state.agent_pos.index(f))
-            elif state.cell_item[f] >= 0:
+            elif mark_items and state.cell_item[f] >= 0:
                 ch = ch.upper() if ch.isalpha() else "*"
             row.append(ch)
         lines.append("".join(row))
