@@ -1,7 +1,8 @@
 """Controllers with one interface (see :mod:`.base`) and a registry by name.
 
 Names: ``random``, ``stay``, ``greedy``, ``planner:NAME``, ``ppo:PATH`` and
-``llm:MODULE:FUNCTION[:MODE]`` (a language model given as a callable) in :data:`FACTORIES` (``kind`` -> factory taking the text after the colon).
+``llm:MODULE:FUNCTION[:MODE]`` (a language model given as a callable) in
+:data:`FACTORIES` (``kind`` -> factory taking the text after the colon).
 """
 
 from __future__ import annotations

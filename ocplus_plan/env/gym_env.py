@@ -162,8 +162,8 @@ class OvercookedPlusEnv(_Base):
     ``dynamic_map`` / ``dynamic``, ``rewardList`` / ``rewards`` (keys such as
     ``"correct delivery"`` or ``correct_delivery``), ``n_agent`` / ``n_agents``,
     ``horizon``, ``obs_radius`` (0 = whole map), ``mode`` / ``obs_mode`` (``vector`` |
-    ``rgb`` (alias ``image``) | ``symbolic`` | ``text``), ``agent_communication`` with ``comm_vocab``
-    (8), ``comm_range`` (0 = unlimited), ``comm_failure_rate`` (0.0), ``comm_delay`` (1),
+    ``rgb`` (alias ``image``) | ``symbolic`` | ``text``), ``agent_communication`` with
+    ``comm_vocab`` (8), ``comm_range`` (0 = unlimited), ``comm_failure_rate`` (0.0), ``comm_delay`` (1),
     ``GUI`` / ``GUI_enable`` / ``render_mode`` (``None`` | ``"rgb_array"`` | ``"human"``),
     ``reward_scope`` (``"team"`` | ``"per_agent"``), the paper's ``n_task``,
     ``fixed_task``, ``task_idx``, ``min_ing``, ``max_ing``, ``human_player`` and ``debug``
@@ -187,8 +187,8 @@ class OvercookedPlusEnv(_Base):
     (the same object for every cook). ``text``: a ``Text`` string per cook, the kitchen,
     its items, orders and timers and what each action would do for that cook, in plain
     words (:mod:`ocplus_plan.sim.observe_text`; ``obs_radius`` must be 0). With
-    communication, rgb, symbolic and text observations are ``Dict(obs=..., messages=MultiDiscrete([comm_vocab + 1] * (n - 1)))``: the token
-    received from each other cook ``(a + k + 1) % n``, ``comm_vocab`` meaning none.
+    communication, rgb, symbolic and text observations are
+    ``Dict(obs=..., messages=MultiDiscrete([comm_vocab + 1] * (n - 1)))``: the token received from each other cook ``(a + k + 1) % n``, ``comm_vocab`` meaning none.
 
     **Rewards.** The scalar reward is the team sum of the per-cook rewards (with
     ``reward_mode="shared"`` every cook already gets the team's total, which is returned
