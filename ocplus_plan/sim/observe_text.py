@@ -108,8 +108,9 @@ def rules_text(rules: Rules) -> str:
         ("Cooks move one cell per step onto floor; moving into anything else (a counter, a "
          "station, a wall) uses it instead, and the cook stays in place. Two cooks never "
          "share a cell or pass items hand to hand: hand things over on a counter."),
-        ("Empty-handed, using a counter, pan or sink picks up what lies there. Holding "
-         "something, using an empty counter puts it down."),
+        ("Empty-handed, using a counter or a pan picks up what lies there (a cutting board "
+         "chops the fresh vegetable on it instead, a sink washes the dirty plate in it). "
+         "Holding something, using an empty counter puts it down."),
         (f"Vegetables are chopped on a cutting board: put the fresh vegetable there, then use "
          f"the board {rules.chop_steps} times with empty hands."),
         ("Dishes are served on a clean plate: put chopped vegetables and cooked steak onto a "
