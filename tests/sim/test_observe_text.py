@@ -65,3 +65,11 @@ def test_texts_stay_within_the_charset_and_the_length_bound(hard):
         for text in text_observations(hard):
             assert set(text) <= set(TEXT_CHARSET)
             assert len(text) <= max_text_length(hard)
+
+
+def test_the_rules_in_words_carry_this_rule_sets_numbers():
+    from ocplus_plan.sim.observe_text import rules_text
+
+    text = rules_text(make_rules("easy", chop_steps=5))
+    assert "use the board 5 times" in text and "pan" not in text.split("(")[0]
+    assert "A raw steak" not in text and "A raw steak" in rules_text(make_rules("hard"))
