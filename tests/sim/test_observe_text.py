@@ -71,5 +71,5 @@ def test_the_rules_in_words_carry_this_rule_sets_numbers():
     from ocplus_plan.sim.observe_text import rules_text
 
     text = rules_text(make_rules("easy", chop_steps=5))
-    assert "use the board 5 times" in text and "pan" not in text.split("(")[0]
+    assert "use the board 5 times" in text
     assert "A raw steak" not in text and "A raw steak" in rules_text(make_rules("hard"))
