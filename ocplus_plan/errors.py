@@ -38,3 +38,14 @@ class DependencyNotInstalled(OcplusError):
 class DisplayUnavailable(OcplusError):
     """A window was asked for where none can be shown (no display); the message names the
     headless alternative (``--gif``, ``--check``, ``render_mode='rgb_array'``)."""
+
+
+class UnreadableText(OcplusError):
+    """Text from outside the package (a language model's reply, a plan file) cannot be read.
+
+    It is parsed, never evaluated; the message names the line (``line``, 1-based; 0 when the
+    text as a whole is refused, e.g. too long) and says what was expected there."""
+
+    def __init__(self, message: str, line: int = 0) -> None:
+        super().__init__(message)
+        self.line = line

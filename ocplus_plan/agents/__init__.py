@@ -1,7 +1,8 @@
 """Controllers with one interface (see :mod:`.base`) and a registry by name.
 
-Names: ``random``, ``stay``; later issues add ``greedy``, ``planner:NAME`` and
-``ppo:PATH`` to :data:`FACTORIES` (``kind`` -> factory taking the text after the colon).
+Names: ``random``, ``stay``, ``greedy``, ``planner:NAME``, ``ppo:PATH`` and
+``llm:MODULE:FUNCTION[:MODE]`` (a language model given as a callable) in
+:data:`FACTORIES` (``kind`` -> factory taking the text after the colon).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ FACTORIES: dict[str, Callable[[str | None, int], Controller]] = {
     "stay": lambda arg, seed: StayAgent(),
     "planner": lambda arg, seed: __import__("ocplus_plan.agents.planner", fromlist=["x"]).make_planner_agent(arg, seed),
     "greedy": lambda arg, seed: __import__("ocplus_plan.agents.greedy", fromlist=["x"]).GreedyAgent(seed),
+    "llm": lambda arg, seed: __import__("ocplus_plan.agents.llm", fromlist=["x"]).make_llm_agent(arg, seed),
     "ppo": lambda arg, seed: __import__("ocplus_plan.agents.ppo", fromlist=["x"]).make_ppo_agent(arg, seed),
 }
 
@@ -27,7 +29,7 @@ def make_controller(spec: str, seed: int = 0) -> Controller:
     if kind not in FACTORIES:
         raise ConfigError(
             f"unknown agent {spec!r}; known agents: {', '.join(sorted(FACTORIES))} "
-            "(planner:NAME and ppo:PATH take an argument)"
+            "(planner:NAME, ppo:PATH and llm:MODULE:FUNCTION take an argument)"
         )
     return FACTORIES[kind](arg or None, seed)
 

@@ -3,7 +3,8 @@
 Writes DIR/results.jsonl (one row per episode: configuration, seed, metrics, timings,
 planner statistics), DIR/summary.csv (mean and 95% CI per configuration) and, with
 --plots, PNG figures in DIR/plots; prints a leaderboard. Agents: greedy, random, stay,
-planner:NAME, ppo[:PATH] (planners or policies that are not installed are skipped,
+planner:NAME, ppo[:PATH], llm:MODULE:FUNCTION[:MODE] (a language model, as a callable
+prompt -> reply; see agents/llm.py) (planners or policies that are not installed are skipped,
 with the reason, in the results). An interrupted run continues with --resume.
 """
 

@@ -21,12 +21,14 @@ from ..errors import ConfigError, InvalidActionError
 from ..sim import Rules, State, StepResult, make_rules, new_state, transition
 from ..sim.observe import VectorEncoder, snapshot
 from ..sim.observe_incremental import IncrementalEncoder
+from ..sim.observe_text import text_observations
 from .comm import CommChannel, CommConfig
 from .paper import PAPER_ONLY_KEYWORDS, translate_paper_keywords
 
-MODES = ("vector", "rgb", "symbolic")
+MODES = ("vector", "rgb", "symbolic", "text")
 #: accepted spellings of a mode (gym-macro-overcooked calls the picture mode "image")
-MODE_ALIASES = {"vector": "vector", "rgb": "rgb", "image": "rgb", "symbolic": "symbolic"}
+MODE_ALIASES = {"vector": "vector", "rgb": "rgb", "image": "rgb", "symbolic": "symbolic",
+                "text": "text"}
 RENDER_MODES = ("human", "rgb_array")
 #: keywords the env itself understands (everything else goes to ``make_rules``)
 ENV_KEYWORDS = (
@@ -90,6 +92,9 @@ def parse_env_kwargs(preset: str = "hard", **kwargs: Any) -> tuple[Rules, EnvCon
     obs_radius = kw.pop("obs_radius", 0)
     if isinstance(obs_radius, bool) or not isinstance(obs_radius, int) or obs_radius < 0:
         raise ConfigError(f"obs_radius must be an integer >= 0 (0 = whole map), got {obs_radius!r}")
+    if MODE_ALIASES[mode] == "text" and obs_radius:
+        raise ConfigError(f"mode='text' describes the whole kitchen; obs_radius must be 0, "
+                          f"got {obs_radius}")
 
     overrides = dict(kw)
     if map_ is not None:
@@ -155,14 +160,18 @@ class KitchenCore:
     def observe(self) -> Sequence[Any]:
         """One observation per agent (a tuple or a list). ``vector``: rows of an ``(n,
         size)`` float32 array (received tokens are among the features), encoded
-        incrementally; ``rgb``: ``(H, W, 3)`` uint8 images; ``symbolic``: one shared :class:`~ocplus_plan.sim.observe.StateSnapshot`. With
-        communication, rgb and symbolic observations become ``{"obs": ..., "messages":
+        incrementally; ``rgb``: ``(H, W, 3)`` uint8 images; ``symbolic``: one shared
+        :class:`~ocplus_plan.sim.observe.StateSnapshot`; ``text``: one string per cook
+        (:func:`~ocplus_plan.sim.observe_text.text_observation`). With
+        communication, rgb, symbolic and text observations become ``{"obs": ..., "messages":
         tokens}`` with one token per other agent (``comm_vocab`` = nothing received)."""
         if self._live is not None:
             obs = self._live.encode(self.state, self.received if self.comm else None)
             return self._rows(obs)
         if self.rgb is not None:
             obs = list(self.rgb.encode(self.state))
+        elif self.config.mode == "text":
+            obs = text_observations(self.state)
         else:
             obs = [snapshot(self.state)] * self.n_agents
         if self.comm is None:

@@ -12,6 +12,7 @@ from gymnasium.error import ResetNeeded
 
 from ..errors import ConfigError, DependencyNotInstalled, InvalidActionError
 from ..sim import Action, Rules, State, new_state
+from ..sim.observe_text import TEXT_CHARSET, max_text_length
 from .core import EnvConfig, KitchenCore, parse_env_kwargs
 
 _SEED_HIGH = 2**31 - 1
@@ -51,8 +52,13 @@ def agent_observation_space(core: KitchenCore) -> spaces.Space:
     if core.vector is not None:
         v = core.vector
         return spaces.Box(v.low, v.high, shape=(v.size,), dtype=np.float32)
-    base: spaces.Space = (spaces.Box(0, 255, shape=core.rgb.shape, dtype=np.uint8)
-                          if core.rgb is not None else StateSpace(core.rules))
+    base: spaces.Space
+    if core.rgb is not None:
+        base = spaces.Box(0, 255, shape=core.rgb.shape, dtype=np.uint8)
+    elif core.config.mode == "text":
+        base = spaces.Text(max_text_length(core.state), charset=TEXT_CHARSET)
+    else:
+        base = StateSpace(core.rules)
     if core.comm is None:
         return base
     vocab = core.comm.config.vocab
@@ -156,8 +162,8 @@ class OvercookedPlusEnv(_Base):
     ``dynamic_map`` / ``dynamic``, ``rewardList`` / ``rewards`` (keys such as
     ``"correct delivery"`` or ``correct_delivery``), ``n_agent`` / ``n_agents``,
     ``horizon``, ``obs_radius`` (0 = whole map), ``mode`` / ``obs_mode`` (``vector`` |
-    ``rgb`` (alias ``image``) | ``symbolic``), ``agent_communication`` with ``comm_vocab``
-    (8), ``comm_range`` (0 = unlimited), ``comm_failure_rate`` (0.0), ``comm_delay`` (1),
+    ``rgb`` (alias ``image``) | ``symbolic`` | ``text``), ``agent_communication`` with
+    ``comm_vocab`` (8), ``comm_range`` (0 = unlimited), ``comm_failure_rate`` (0.0), ``comm_delay`` (1),
     ``GUI`` / ``GUI_enable`` / ``render_mode`` (``None`` | ``"rgb_array"`` | ``"human"``),
     ``reward_scope`` (``"team"`` | ``"per_agent"``), the paper's ``n_task``,
     ``fixed_task``, ``task_idx``, ``min_ing``, ``max_ing``, ``human_player`` and ``debug``
@@ -178,9 +184,11 @@ class OvercookedPlusEnv(_Base):
     ``GRID_CHANNELS``), with exact per-element bounds. ``rgb``: ``Box`` uint8 ``(H, W, 3)``
     picture of the window (``TILE_SIZE`` pixels per cell; whole map for r = 0). ``symbolic``:
     a :class:`StateSnapshot <ocplus_plan.sim.observe.StateSnapshot>` of the full state
-    (the same object for every cook). With communication, rgb and symbolic observations
-    are ``Dict(obs=..., messages=MultiDiscrete([comm_vocab + 1] * (n - 1)))``: the token
-    received from each other cook ``(a + k + 1) % n``, ``comm_vocab`` meaning none.
+    (the same object for every cook). ``text``: a ``Text`` string per cook, the kitchen,
+    its items, orders and timers and what each action would do for that cook, in plain
+    words (:mod:`ocplus_plan.sim.observe_text`; ``obs_radius`` must be 0). With
+    communication, rgb, symbolic and text observations are
+    ``Dict(obs=..., messages=MultiDiscrete([comm_vocab + 1] * (n - 1)))``: the token received from each other cook ``(a + k + 1) % n``, ``comm_vocab`` meaning none.
 
     **Rewards.** The scalar reward is the team sum of the per-cook rewards (with
     ``reward_mode="shared"`` every cook already gets the team's total, which is returned

@@ -176,8 +176,9 @@ def controller_metrics(info: dict[str, Any]) -> dict[str, Any]:
     Read keys (all optional): ``replans`` (int), ``replans_by_reason`` (reason -> count),
     ``planning_time_s`` or ``planning_time`` (total seconds spent planning),
     ``planner_calls`` (int), ``plan_failures`` (int) or ``statuses`` (planner status ->
-    count; every status but ``solved*`` counts as a failure). Missing ones are ``0`` /
-    ``{}``; ``replans`` defaults to the sum of ``replans_by_reason``.
+    count; every status but ``solved*`` counts as a failure), and from a language-model
+    controller (``agents.llm``) ``model_calls`` and ``reply_errors`` (replies that could
+    not be used). Missing ones are ``0`` / ``{}``; ``replans`` defaults to the sum of ``replans_by_reason``.
     """
     by_reason = info.get("replans_by_reason") or {}
     if not isinstance(by_reason, dict):
@@ -195,6 +196,8 @@ def controller_metrics(info: dict[str, Any]) -> dict[str, Any]:
         "planning_time_s": float(planning or 0.0),
         "planner_calls": int(info.get("planner_calls", 0) or 0),
         "plan_failures": int(failures or 0),
+        "model_calls": int(info.get("model_calls", 0) or 0),
+        "reply_errors": int(info.get("reply_errors", 0) or 0),
     }
 
 

@@ -32,6 +32,7 @@ from ..sim.codes import Action, Item, ItemState, Where
 from ..sim.queries import ticks_until_burnt, ticks_until_cooked
 from ..sim.rules import recipe_name
 from ..sim.state import State
+from ..sim.words import state_word
 
 PANEL_WIDTH = 320
 MIN_MAP_HEIGHT = 420
@@ -121,16 +122,17 @@ class PanelLine:
 
 
 def describe_item(state: State, item: int) -> str:
-    """``"tomato (chopped)"``, ``"plate [lettuce]"``, ``"plate (dirty)"``."""
-    kind = Item(state.geo.item_kind[item])
-    st = ItemState(state.item_state[item])
+    """``"tomato (chopped)"``, ``"plate [lettuce]"``, ``"plate (dirty)"`` (state words from
+    :mod:`ocplus_plan.sim.words`)."""
+    kind = state.geo.item_kind[item]
+    st = state.item_state[item]
+    name = Item(kind).name.lower()
     if kind == Item.PLATE:
         inside = [Item(state.geo.item_kind[i]).name.lower() for i in state.plate_contents(item)]
         if st == ItemState.DIRTY:
             return "plate (dirty)"
         return f"plate [{', '.join(sorted(inside))}]" if inside else "plate (empty)"
-    state_name = "raw" if kind == Item.STEAK and st == ItemState.FRESH else st.name.lower()
-    return f"{kind.name.lower()} ({state_name})"
+    return f"{name} ({state_word(kind, st)})"
 
 
 def panel_lines(

@@ -254,25 +254,9 @@ class State:
 
     def describe(self) -> str:
         """A small text picture of the kitchen, for debugging and the CLI."""
-        glyph = {
-            Cell.BLOCK: "#", Cell.FLOOR: ".", Cell.SPAWN: ".", Cell.COUNTER: "-",
-            Cell.TOMATO: "t", Cell.LETTUCE: "l", Cell.ONION: "o", Cell.STEAK: "s",
-            Cell.PLATE: "p", Cell.BOARD: "B", Cell.DELIVERY: "D", Cell.PAN: "P",
-            Cell.SINK: "S", Cell.TRASH: "T",
-        }
-        terrain = self.geo.terrains[self.layout_index]
-        lines = []
-        for r in range(self.geo.rows):
-            row = []
-            for c in range(self.geo.cols):
-                f = r * self.geo.cols + c
-                ch = glyph[Cell(terrain[f])]
-                if f in self.agent_pos:
-                    ch = str(self.agent_pos.index(f))
-                elif self.cell_item[f] >= 0:
-                    ch = ch.upper() if ch.isalpha() else "*"
-                row.append(ch)
-            lines.append("".join(row))
+        from .words import map_rows  # words reads orders, which read this module
+
+        lines = map_rows(self)
         orders = ", ".join(recipe_name(o.recipe) for o in self.orders)
         lines.append(f"t={self.t} orders=[{orders}] hands={self.agent_hand}")
         return "\n".join(lines)

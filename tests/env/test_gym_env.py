@@ -256,3 +256,17 @@ def test_check_env_without_a_display_draws_off_screen_and_prints_no_sdl_errors(t
     assert out.returncode == 0 and out.stdout.split() == ["checked"], out.stderr[-2000:]
     assert "XDG_RUNTIME_DIR" not in out.stderr and "error:" not in out.stderr, out.stderr
     assert out.stderr.count("drawn off-screen") == 1  # one clear warning instead
+
+
+@pytest.mark.parametrize("comm", [False, True], ids=["nocomm", "comm"])
+def test_check_env_passes_in_text_mode(comm):
+    env = OvercookedPlusEnv("hard", mode="text", agent_communication=comm)
+    check_env(env)
+    obs, _ = env.reset(seed=0)
+    first = obs[0]["obs"] if comm else obs[0]
+    assert first.startswith("You are cook 0")
+
+
+def test_text_mode_with_a_window_radius_is_refused():
+    with pytest.raises(ConfigError, match="obs_radius must be 0"):
+        OvercookedPlusEnv("hard", mode="text", obs_radius=2)

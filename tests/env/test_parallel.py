@@ -13,7 +13,7 @@ import ocplus_plan.env as ocenv
 from ocplus_plan.errors import InvalidActionError
 
 
-@pytest.mark.parametrize("mode", ["vector", "rgb", "symbolic"])
+@pytest.mark.parametrize("mode", ["vector", "rgb", "symbolic", "text"])
 @pytest.mark.parametrize("comm", [False, True], ids=["nocomm", "comm"])
 def test_parallel_api_test_passes(mode, comm):
     kw = {"agent_communication": True, "comm_failure_rate": 0.25} if comm else {}

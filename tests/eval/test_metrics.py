@@ -76,9 +76,15 @@ def test_controller_metrics_reads_planner_statistics_and_aliases():
             "planner_calls": 4, "statuses": {"solved": 3, "timeout": 1}}
     assert controller_metrics(info) == {
         "replans": 4, "replans_by_reason": {"initial": 1, "deviation": 3},
-        "planning_time_s": 1.5, "planner_calls": 4, "plan_failures": 1}
+        "planning_time_s": 1.5, "planner_calls": 4, "plan_failures": 1, "model_calls": 0,
+        "reply_errors": 0}
     assert controller_metrics({})["replans"] == 0
     assert controller_metrics({"replans": 7, "planning_time_s": 2.0})["planning_time_s"] == 2.0
+
+
+def test_controller_metrics_counts_a_language_models_unusable_replies():
+    m = controller_metrics({"model_calls": 12, "reply_errors": 5})
+    assert (m["model_calls"], m["reply_errors"]) == (12, 5)
 
 
 def test_mean_ci_uses_student_t():

@@ -1,0 +1,177 @@
+"""Kitchen words: the one place where cells, items, orders and actions get their plain names.
+
+The ``text`` observation (:mod:`.observe_text`), the GUI's side panel and any natural-language
+rendering of the planning problem read their words from here, so a cook described to a
+language model, to a person at the window and in a PDDL problem's English version is the
+same cook. Pure functions of a :class:`~.state.State`; stdlib only.
+
+Small API: :data:`CELL_WORDS`, :data:`CELL_GLYPHS`, :data:`ACTION_WORDS` / :data:`ACTION_BY_WORD`,
+:func:`state_word`, :func:`item_words`, :func:`recipe_words`, :func:`at`, :func:`cell_words`,
+:func:`where_words`, :func:`action_words`, :func:`map_rows`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+from .codes import READY_STATE, Action, Cell, Item, ItemState, Where
+from .orders import matching_order, plate_recipe
+from .queries import Bump, bump_effect
+
+if TYPE_CHECKING:
+    from .state import State
+
+#: what each cell code is called
+CELL_WORDS: dict[int, str] = {
+    Cell.BLOCK: "wall", Cell.FLOOR: "floor", Cell.SPAWN: "floor", Cell.COUNTER: "counter",
+    Cell.TOMATO: "tomato counter", Cell.LETTUCE: "lettuce counter", Cell.ONION: "onion counter",
+    Cell.STEAK: "steak counter", Cell.PLATE: "plate counter", Cell.BOARD: "cutting board",
+    Cell.DELIVERY: "serving window", Cell.PAN: "pan", Cell.SINK: "sink", Cell.TRASH: "trash can",
+}
+#: one character per cell code for a picture of the map (``State.describe``, the text
+#: observation); an item lying on a spawn tile upper-cases its letter, on a plain counter it reads ``*``
+CELL_GLYPHS: dict[int, str] = {
+    Cell.BLOCK: "#", Cell.FLOOR: ".", Cell.SPAWN: ".", Cell.COUNTER: "-",
+    Cell.TOMATO: "t", Cell.LETTUCE: "l", Cell.ONION: "o", Cell.STEAK: "s",
+    Cell.PLATE: "p", Cell.BOARD: "B", Cell.DELIVERY: "D", Cell.PAN: "P",
+    Cell.SINK: "S", Cell.TRASH: "T",
+}
+#: the word of each action, and back (a reply may also give the action's number)
+ACTION_WORDS: dict[int, str] = {a: a.name.lower() for a in Action}
+ACTION_BY_WORD: dict[str, int] = {w: a for a, w in ACTION_WORDS.items()}
+
+
+def state_word(kind: int, item_state: int) -> str:
+    """``"chopped"``, ``"raw"`` (a fresh steak), ``"clean"`` ..."""
+    if kind == Item.STEAK and item_state == ItemState.FRESH:
+        return "raw"
+    return ItemState(item_state).name.lower()
+
+
+def _kind_word(kind: int) -> str:
+    return Item(kind).name.lower()
+
+
+def _and(words: Sequence[str]) -> str:
+    if len(words) <= 1:
+        return "".join(words)
+    return ", ".join(words[:-1]) + " and " + words[-1]
+
+
+def item_words(state: State, item: int) -> str:
+    """``"chopped tomato"``, ``"raw steak"``, ``"clean plate with chopped lettuce and cooked
+    steak"``, ``"empty clean plate"``, ``"dirty plate"``."""
+    kind = state.geo.item_kind[item]
+    st = state.item_state[item]
+    if kind != Item.PLATE:
+        return f"{state_word(kind, st)} {_kind_word(kind)}"
+    if st == ItemState.DIRTY:
+        return "dirty plate"
+    inside = sorted(item_words(state, i) for i in state.plate_contents(item))
+    return f"clean plate with {_and(inside)}" if inside else "empty clean plate"
+
+
+def recipe_words(recipe: Sequence[int]) -> str:
+    """``"chopped tomato + cooked steak"``: the ingredients a dish needs, ready to serve."""
+    return " + ".join(f"{state_word(k, READY_STATE[Item(k)])} {_kind_word(k)}" for k in recipe)
+
+
+def at(state: State, cell: int) -> str:
+    """``"(row 2, col 3)"``."""
+    r, c = state.geo.rc(cell)
+    return f"(row {r}, col {c})"
+
+
+def cell_words(state: State, cell: int) -> str:
+    """``"the cutting board at (row 1, col 6)"`` (the current layout's cell)."""
+    code = state.geo.terrains[state.layout_index][cell]
+    return f"the {CELL_WORDS[code]} at {at(state, cell)}"
+
+
+def where_words(state: State, item: int) -> str:
+    """Where an item is: ``"on the pan at (row 8, col 5)"``, ``"held by cook 1"``,
+    ``"on plate0"``, ``"waiting to reappear on the tomato counter at ..."``."""
+    where, loc = state.item_where[item], state.item_loc[item]
+    if where == Where.HAND:
+        return f"held by cook {loc}"
+    if where == Where.PLATE:
+        return f"on {state.geo.item_names[loc]}"
+    if where == Where.WAITING:
+        return f"waiting to reappear on {cell_words(state, loc)} (it is occupied)"
+    return f"on {cell_words(state, loc)}"
+
+
+def map_rows(state: State, mark_items: bool = True) -> list[str]:
+    """The current layout, one string per row, one :data:`CELL_GLYPHS` character per cell;
+    a cook is drawn as its index and, with ``mark_items``, an item on a cell upper-cases the
+    cell's letter (``*`` on a plain counter; a tomato on its counter then reads like the
+    trash can, so texts that list the items leave them off)."""
+    geo, terrain = state.geo, state.geo.terrains[state.layout_index]
+    lines = []
+    for r in range(geo.rows):
+        row = []
+        for f in range(r * geo.cols, (r + 1) * geo.cols):
+            ch = CELL_GLYPHS[terrain[f]]
+            if f in state.agent_pos:
+                ch = str(state.agent_pos.index(f))
+            elif mark_items and state.cell_item[f] >= 0:
+                ch = ch.upper() if ch.isalpha() else "*"
+            row.append(ch)
+        lines.append("".join(row))
+    return lines
+
+
+def _bump_words(state: State, effect: Bump, held: int, cell: int) -> str:
+    here = state.cell_item[cell]
+    place = cell_words(state, cell)
+    if effect == Bump.PICK_UP:
+        return f"pick up the {item_words(state, here)} from {place}"
+    if effect == Bump.PUT_DOWN:
+        return f"put your {item_words(state, held)} on {place}"
+    if effect == Bump.ONTO_PLATE:
+        return f"put your {item_words(state, held)} onto the {item_words(state, here)} on {place}"
+    if effect == Bump.TAKE_ONTO_PLATE:
+        return f"take the {item_words(state, here)} from {place} onto your plate"
+    if effect == Bump.CHOP:
+        done, need = state.item_progress[here], state.rules.chop_steps
+        return f"chop the {item_words(state, here)} on {place} (chop {done + 1} of {need})"
+    if effect == Bump.WASH:
+        done, need = state.item_progress[here], state.rules.wash_steps
+        return f"wash the dirty plate in {place} (wash {done + 1} of {need})"
+    if effect == Bump.DELIVER:
+        dish = item_words(state, held)
+        idx = matching_order(state, plate_recipe(state, held)
+                             if state.geo.item_kind[held] == Item.PLATE else None)
+        if idx < 0:
+            return f"serve your {dish} at {place} (it matches no order: it would be refused)"
+        return f"serve your {dish} at {place} (it completes order {state.orders[idx].order_id})"
+    if effect == Bump.TRASH:
+        if state.geo.item_kind[held] == Item.PLATE:
+            return f"empty your {item_words(state, held)} into {place}"
+        return f"throw your {item_words(state, held)} into {place}"
+    return f"bump {place}: nothing happens"
+
+
+def action_words(state: State, agent: int, action: int) -> str:
+    """What ``action`` would do for cook ``agent`` now, in words: ``"walk to (row 2, col 3)"``,
+    ``"pick up the fresh tomato from the tomato counter at (row 0, col 2)"``, ... (read off
+    :func:`~.queries.bump_effect`, the rule the transition itself uses)."""
+    if action == Action.STAY:
+        return "stay where you are"
+    pos = state.agent_pos[agent]
+    target = state.geo.neighbors[pos][action]
+    if target < 0:
+        return "bump the edge of the kitchen: nothing happens"
+    if state.geo.walkables[state.layout_index][target]:
+        if target in state.agent_pos:
+            other = state.agent_pos.index(target)
+            return (f"walk to {at(state, target)}, where cook {other} stands now "
+                    "(blocked unless they move away)")
+        return f"walk to {at(state, target)}"
+    held = state.agent_hand[agent]
+    return _bump_words(state, bump_effect(state, held, target), held, target)
+
+
+__all__ = ["ACTION_BY_WORD", "ACTION_WORDS", "CELL_GLYPHS", "CELL_WORDS", "action_words", "at", "cell_words",
+           "item_words", "map_rows", "recipe_words", "state_word", "where_words"]
