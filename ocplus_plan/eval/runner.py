@@ -18,6 +18,7 @@ import multiprocessing as mp
 import os
 import re
 import signal
+import sys
 import time
 import traceback
 from dataclasses import asdict, dataclass, field
@@ -28,7 +29,6 @@ from typing import Any
 from ..errors import ConfigError, DependencyNotInstalled, OcplusError
 from ..sim import make_rules, new_state
 from .metrics import EpisodeLog, compute_metrics, controller_metrics
-from .progress import progress_bar
 from .results import (
     CONFIG_FILE,
     RESULTS_FILE,
@@ -336,7 +336,11 @@ def run_eval(cfg: EvalConfig, echo: Any = print) -> EvalOutcome:
     with ResultsWriter(out) as writer:
         for row in skipped:
             writer.write(row)
-        bar = progress_bar(len(todo), desc="eval", disable=cfg.quiet)
+        from tqdm import tqdm  # here, not at the top: importing the evaluation stays light
+
+        # redrawn in place on a terminal; in a log, one line every 30 s at most
+        bar = tqdm(total=len(todo), desc="eval", unit="ep", disable=cfg.quiet,
+                   dynamic_ncols=True, mininterval=0.1 if sys.stderr.isatty() else 30)
         try:
             for row in _run_all(todo, cfg):
                 writer.write(row)

@@ -27,6 +27,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+import psutil
+
 #: Outcome kinds of :func:`run_isolated`.
 OK, RAISED, TIMEOUT, CRASHED = "ok", "raised", "timeout", "crashed"
 
@@ -90,37 +92,46 @@ def group_alive(pgid: int) -> bool:
     return bool(group_members(pgid))
 
 
-def process_stats() -> list[tuple[int, list[str]]]:
-    """``(pid, stat fields after the command name)`` of every process on the machine
-    (fields: state, ppid, pgrp, ..., utime at 11, stime at 12)."""
-    out = []
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
+def _group_processes(pgid: int) -> list[psutil.Process]:
+    """The processes (zombies included) whose process group is ``pgid``.
+
+    psutil has no process-group field, so each candidate is asked with ``os.getpgid``;
+    a process that ends while we look is simply not in the answer."""
+    found = []
+    for proc in psutil.process_iter():
         try:
-            with open(f"/proc/{entry}/stat", encoding="utf-8", errors="replace") as fh:
-                fields = fh.read().rsplit(")", 1)[1].split()
-        except OSError:
+            if os.getpgid(proc.pid) == pgid:
+                found.append(proc)
+        except OSError:  # gone (ProcessLookupError) or not ours to ask
             continue
-        out.append((int(entry), fields))
-    return out
-
-
-def _group_stats(pgid: int) -> list[tuple[int, list[str]]]:
-    """:func:`process_stats` of the processes in group ``pgid``."""
-    return [(pid, fields) for pid, fields in process_stats() if int(fields[2]) == pgid]
+    return found
 
 
 def group_members(pgid: int) -> list[int]:
     """PIDs of the live (non-zombie) processes whose process group is ``pgid``."""
-    return [pid for pid, fields in _group_stats(pgid) if fields[0] != "Z"]
+    live = []
+    for proc in _group_processes(pgid):
+        try:
+            if proc.status() != psutil.STATUS_ZOMBIE:
+                live.append(proc.pid)
+        except psutil.Error:  # ended in between
+            continue
+    return live
 
 
 def group_cpu_seconds(pgid: int, exclude: tuple[int, ...] = ()) -> float:
     """CPU seconds (user + system) used so far by the processes of group ``pgid``,
     zombies included, except ``exclude``: for planner servers nobody waits for."""
-    ticks = sum(int(f[11]) + int(f[12]) for pid, f in _group_stats(pgid) if pid not in exclude)
-    return ticks / os.sysconf("SC_CLK_TCK")
+    total = 0.0
+    for proc in _group_processes(pgid):
+        if proc.pid in exclude:
+            continue
+        try:
+            times = proc.cpu_times()
+        except psutil.Error:  # reaped in between: its time went to its parent's children
+            continue
+        total += times.user + times.system
+    return total
 
 
 def kill_group(pgid: int, wait: float = 2.0) -> bool:

@@ -10,6 +10,7 @@ import os
 import time
 from pathlib import Path
 
+import psutil
 import pytest
 
 pytest.importorskip("unified_planning")
@@ -31,9 +32,16 @@ ENGINES_TEST_FILE = Path(__file__).with_name("test_engines.py")
 
 def _live_children() -> set[int]:
     """Live (non-zombie) direct children of this test process."""
-    me = os.getpid()
-    return {pid for pid, fields in _proc.process_stats()
-            if fields[0] != "Z" and int(fields[1]) == me}
+    return {child.pid for child in psutil.Process().children()
+            if _status(child) not in (psutil.STATUS_ZOMBIE, None)}
+
+
+def _status(proc: psutil.Process) -> str | None:
+    """``proc``'s status, None once it is gone."""
+    try:
+        return proc.status()
+    except psutil.Error:
+        return None
 
 
 
@@ -116,8 +124,14 @@ def test_planner_group_dies_with_the_calling_process(tmp_path: Path) -> None:
 
 def _all_children(pid: int) -> list[int]:
     """Children of ``pid`` that lead their own process group."""
-    return [child for child, fields in _proc.process_stats()
-            if int(fields[1]) == pid and int(fields[2]) == child]
+    leaders = []
+    for child in psutil.Process(pid).children():
+        try:
+            if os.getpgid(child.pid) == child.pid:
+                leaders.append(child.pid)
+        except OSError:  # ended in between
+            continue
+    return leaders
 
 
 def test_planners_write_nothing_into_the_callers_directory(
