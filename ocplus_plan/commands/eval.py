@@ -6,6 +6,11 @@ planner statistics), DIR/summary.csv (mean and 95% CI per configuration) and, wi
 planner:NAME, ppo[:PATH], llm:MODULE:FUNCTION[:MODE] (a language model, as a callable
 prompt -> reply; see agents/llm.py) (planners or policies that are not installed are skipped,
 with the reason, in the results). An interrupted run continues with --resume.
+
+Episodes run in worker processes on this machine (--backend local, --jobs N) or as tasks
+on a Ray cluster (--backend ray, the `cluster` extra): without --address a Ray instance
+is started here; --address auto joins the cluster `ray start` made on this machine,
+--address HOST:6379 a remote head node. Both backends write the same rows.
 """
 
 from __future__ import annotations
@@ -15,19 +20,20 @@ import time
 from pathlib import Path
 from typing import Any
 
-from ..eval.runner import EvalConfig, parse_list, parse_seeds, run_eval
+from ..eval.runner import BACKENDS, EvalConfig, parse_list, parse_seeds, run_eval
 from ._common import HelpFormatter, add_kitchen_args, add_output_args, emit, note, say
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("eval", help="evaluate agents on presets (results, summary, leaderboard)",
                        description=__doc__, formatter_class=HelpFormatter)
-    add_sweep_args(p, agents="greedy,random", seeds="10", jobs=1, episode_timeout=None,
+    add_sweep_args(p, agents="greedy,random", seeds="10", jobs=None, episode_timeout=None,
                    out="required")
     p.set_defaults(func=run)
 
 
-def add_sweep_args(p: argparse.ArgumentParser, *, agents: str | None, seeds: str, jobs: int,
+def add_sweep_args(p: argparse.ArgumentParser, *, agents: str | None, seeds: str,
+                   jobs: int | None,
                    episode_timeout: float | None, out: str) -> None:
     """The options of ``eval`` (and of ``demo``, which is an evaluation with other defaults)."""
     add_kitchen_args(p, sweep=True, seeds=seeds, default_horizon=200)
@@ -36,7 +42,17 @@ def add_sweep_args(p: argparse.ArgumentParser, *, agents: str | None, seeds: str
     h = p.add_argument_group("how to run")
     h.add_argument("--resume", action="store_true",
                    help="continue an interrupted run in --out (only missing episodes run)")
-    h.add_argument("--jobs", type=int, default=jobs, help="worker processes")
+    h.add_argument("--backend", choices=BACKENDS, default="local",
+                   help="where episodes run: worker processes here, or Ray tasks "
+                        "(the `cluster` extra)")
+    h.add_argument("--jobs", type=int, default=jobs,
+                   help="episodes at once: worker processes (None: 1), or with --backend ray "
+                        "the Ray tasks in flight (None: all CPUs of the cluster)")
+    h.add_argument("--address", default=None,
+                   help="--backend ray: the cluster to join (auto, or HOST:PORT of the head "
+                        "node; None: start a Ray instance on this machine)")
+    h.add_argument("--retries", type=int, default=2,
+                   help="--backend ray: reruns of an episode whose worker or node died")
     h.add_argument("--episode-timeout", type=float, default=episode_timeout,
                    help="seconds before an episode is killed and recorded as an error (None: no limit)")
     h.add_argument("--plots", action="store_true", help="also write PNG figures (plots extra)")
@@ -56,12 +72,13 @@ def run_sweep(args: argparse.Namespace, *, agents: str, out: Path, plots: bool) 
     cfg = EvalConfig(
         presets=parse_list(args.presets, "presets"), agents=parse_list(agents, "agents"),
         seeds=seeds, out=out, horizon=args.horizon, n_agents=args.n_agents, map=args.map,
-        jobs=args.jobs, resume=args.resume, episode_timeout=args.episode_timeout, plots=plots,
+        jobs=args.jobs, backend=args.backend, address=args.address, retries=args.retries,
+        resume=args.resume, episode_timeout=args.episode_timeout, plots=plots,
         quiet=args.quiet, replay_seeds=_replay_seeds(args.save_replays),
     )
     say(args, f"ocplus {args.command}: presets {', '.join(cfg.presets)}; agents "
               f"{', '.join(cfg.agents)}; {len(seeds)} seed(s); {cfg.horizon} steps; "
-              f"{cfg.jobs} worker(s); output {out}")
+              f"{_where(cfg)}; output {out}")
     t0 = time.monotonic()
     try:
         outcome = run_eval(cfg, echo=lambda message: note(args, message))
@@ -93,6 +110,14 @@ def run_sweep(args: argparse.Namespace, *, agents: str, out: Path, plots: bool) 
     else:
         print(f"plots:   none (add --plots, or run `ocplus report {out}`)")
     return 0
+
+
+def _where(cfg: EvalConfig) -> str:
+    """Where the episodes run, for the status line."""
+    if cfg.backend == "ray":
+        cluster = cfg.address or "a Ray instance on this machine"
+        return f"on Ray ({cluster}, {cfg.jobs or 'all'} CPU(s))"
+    return f"{cfg.jobs or 1} worker(s)"
 
 
 def _replay_seeds(text: str) -> list[int]:

@@ -6,8 +6,9 @@ a planner or learned policy that is not installed, or an agent kind that this
 installation has not registered yet, becomes a ``skipped`` row with the reason),
 then runs the episodes, in worker processes with ``jobs > 1`` (one process per
 episode: a planner that crashes or hangs takes down only its episode, which is
-recorded as an ``error`` row), and appends each finished episode to
-``results.jsonl`` at once. ``resume=True`` reruns only what is missing.
+recorded as an ``error`` row) or, with ``backend="ray"``, as Ray tasks on a cluster
+(:mod:`.ray_backend`), and appends each finished episode to ``results.jsonl`` at once.
+``resume=True`` reruns only what is missing, whichever backend wrote the rows so far.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import dataclasses
 import json
 import multiprocessing as mp
 import os
+import platform
 import re
 import signal
 import sys
@@ -47,6 +49,9 @@ PENDING_KINDS: dict[str, str] = {
     "planner": "the planner-backed controller (ocplus_plan/execution)",
     "ppo": "the PPO policy (the `rl` extra: pip install -e '.[rl]')",
 }
+
+#: where episodes run: worker processes on this machine, or tasks on a Ray cluster
+BACKENDS = ("local", "ray")
 
 
 @dataclass(frozen=True)
@@ -82,7 +87,10 @@ class EvalConfig:
     horizon: int = 200
     n_agents: int | None = None
     map: str | None = None
-    jobs: int = 1
+    jobs: int | None = None  # local: worker processes (None: 1); ray: episodes in flight
+    backend: str = "local"  # one of BACKENDS
+    address: str | None = None  # ray: the cluster to join (None: start one on this machine)
+    retries: int = 2  # ray: reruns of an episode whose worker died
     resume: bool = False
     episode_timeout: float | None = None
     plots: bool = False
@@ -182,6 +190,7 @@ def evaluate_episode(spec: EpisodeSpec) -> dict[str, Any]:
     from ..agents import Episode, make_controller
 
     row = spec.row_base()
+    row["worker"] = {"node": platform.node(), "pid": os.getpid()}
     t_start = time.perf_counter()
     kw: dict[str, Any] = {"horizon": spec.horizon, "n_agents": spec.n_agents}
     rules = make_rules(spec.preset, map=spec.map_spec, **kw)
@@ -239,9 +248,19 @@ def _worker(conn: Any, spec: EpisodeSpec) -> None:
     try:
         row = evaluate_episode(spec)
     except BaseException as exc:  # pragma: no cover - reported by the parent
-        row = {**spec.row_base(), "status": "error", "reason": f"{type(exc).__name__}: {exc}"}
+        row = error_row(spec, f"{type(exc).__name__}: {exc}")
     conn.send(row)
     conn.close()
+
+
+def error_row(spec: EpisodeSpec, reason: str) -> dict[str, Any]:
+    """The row of an episode that produced none itself (its process died or timed out)."""
+    return {**spec.row_base(), "status": "error", "reason": reason}
+
+
+def timeout_reason(episode_timeout: float | None) -> str:
+    return (f"episode timed out after {episode_timeout:g} s (--episode-timeout); "
+            "its processes were killed")
 
 
 def _kill(proc: mp.Process) -> None:
@@ -260,8 +279,7 @@ def plan_episodes(cfg: EvalConfig) -> tuple[list[EpisodeSpec], list[dict[str, An
     so a typo fails in a second, not after an hour."""
     if cfg.horizon < 1:
         raise ConfigError(f"--horizon must be a positive number of steps, got {cfg.horizon}")
-    if cfg.jobs < 1:
-        raise ConfigError(f"--jobs must be at least 1, got {cfg.jobs}")
+    check_backend(cfg)
     kitchens = []
     for preset in cfg.presets:
         kw: dict[str, Any] = {"horizon": cfg.horizon}
@@ -288,6 +306,23 @@ def plan_episodes(cfg: EvalConfig) -> tuple[list[EpisodeSpec], list[dict[str, An
                     spec = dataclasses.replace(spec, replay_path=str(path))
                 episodes.append(spec)
     return episodes, skipped
+
+
+def check_backend(cfg: EvalConfig) -> None:
+    """Refuse a backend setting that cannot work, before anything runs."""
+    if cfg.jobs is not None and cfg.jobs < 1:
+        raise ConfigError(f"--jobs must be at least 1, got {cfg.jobs}")
+    if cfg.backend not in BACKENDS:
+        raise ConfigError(f"--backend {cfg.backend!r} is unknown; choose one of "
+                          f"{', '.join(BACKENDS)}")
+    if cfg.backend == "ray":
+        from .ray_backend import import_ray
+
+        import_ray()  # DependencyNotInstalled naming the extra
+    elif cfg.address is not None:
+        raise ConfigError("--address names a Ray cluster; add --backend ray, or drop --address")
+    if cfg.retries < 0:
+        raise ConfigError(f"--retries must be 0 or more, got {cfg.retries}")
 
 
 def prepare_out_dir(out: Path, resume: bool) -> set[str]:
@@ -343,6 +378,7 @@ def run_eval(cfg: EvalConfig, echo: Any = print) -> EvalOutcome:
                    dynamic_ncols=True, mininterval=0.1 if sys.stderr.isatty() else 30)
         try:
             for row in _run_all(todo, cfg):
+                row.setdefault("worker", {})["backend"] = cfg.backend
                 writer.write(row)
                 n_err += row.get("status") == "error"
                 bar.set_postfix_str(f"{row['agent']} {row['preset']} s{row['seed']}")
@@ -360,7 +396,13 @@ def run_eval(cfg: EvalConfig, echo: Any = print) -> EvalOutcome:
 
 
 def _run_all(todo: list[EpisodeSpec], cfg: EvalConfig):  # -> Iterator[dict]
-    if cfg.jobs <= 1 and cfg.episode_timeout is None:
+    if cfg.backend == "ray":
+        from .ray_backend import run_on_ray
+
+        yield from run_on_ray(todo, cfg)
+        return
+    jobs = cfg.jobs or 1
+    if jobs <= 1 and cfg.episode_timeout is None:
         for spec in todo:
             yield evaluate_episode(spec)
         return
@@ -370,7 +412,7 @@ def _run_all(todo: list[EpisodeSpec], cfg: EvalConfig):  # -> Iterator[dict]
     running: dict[Any, tuple[mp.Process, EpisodeSpec, float]] = {}
     try:
         while pending or running:
-            while pending and len(running) < cfg.jobs:
+            while pending and len(running) < jobs:
                 spec = pending.pop()
                 recv, send = ctx.Pipe(duplex=False)
                 # not daemonic: planner controllers start their own (killable) processes,
@@ -385,9 +427,8 @@ def _run_all(todo: list[EpisodeSpec], cfg: EvalConfig):  # -> Iterator[dict]
                     row = conn.recv()
                 except (EOFError, OSError):
                     proc.join(5)
-                    row = {**spec.row_base(), "status": "error",
-                           "reason": f"worker process died (exit code {proc.exitcode}) "
-                                     "before reporting; a crash in the controller or planner"}
+                    row = error_row(spec, f"worker process died (exit code {proc.exitcode}) "
+                                          "before reporting; a crash in the controller or planner")
                 conn.close()
                 proc.join(5)
                 yield row
@@ -398,9 +439,7 @@ def _run_all(todo: list[EpisodeSpec], cfg: EvalConfig):  # -> Iterator[dict]
                         _kill(proc)
                         running.pop(conn)
                         conn.close()
-                        yield {**spec.row_base(), "status": "error",
-                               "reason": f"episode timed out after {cfg.episode_timeout:g} s "
-                                         "(--episode-timeout); its processes were killed"}
+                        yield error_row(spec, timeout_reason(cfg.episode_timeout))
     finally:
         for conn, (proc, _, _) in running.items():
             _kill(proc)
@@ -408,15 +447,19 @@ def _run_all(todo: list[EpisodeSpec], cfg: EvalConfig):  # -> Iterator[dict]
 
 
 __all__ = [
+    "BACKENDS",
     "EpisodeSpec",
     "EvalConfig",
     "EvalOutcome",
     "PENDING_KINDS",
     "check_agent",
+    "check_backend",
+    "error_row",
     "evaluate_episode",
     "parse_list",
     "parse_seeds",
     "plan_episodes",
     "prepare_out_dir",
     "run_eval",
+    "timeout_reason",
 ]

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import shutil
 import signal
 import sys
 import tempfile
@@ -52,10 +53,19 @@ class Outcome:
     log_tail: str = ""
 
 
-def _watch_parent(parent_pid: int) -> None:
-    """Kill our own process group as soon as the parent is gone."""
+def _watch_parent(parent_pid: int, private: str) -> None:
+    """Kill our own process group as soon as the parent is gone, and remove the private
+    folder, which the parent can no longer remove (a Ray worker killed mid-episode)."""
     while True:
         if os.getppid() != parent_pid:
+            me = os.getpid()
+            for pid in group_members(os.getpgid(0)):  # first the others: no new files
+                if pid != me:
+                    try:
+                        os.kill(pid, signal.SIGKILL)
+                    except OSError:
+                        pass
+            shutil.rmtree(private, ignore_errors=True)
             os.killpg(0, signal.SIGKILL)
         time.sleep(0.5)
 
@@ -63,11 +73,11 @@ def _watch_parent(parent_pid: int) -> None:
 def _child_main(conn: Any, log_path: str, parent_pid: int,
                 fn: Callable[..., Any], args: tuple[Any, ...]) -> None:
     os.setpgid(0, 0)
-    threading.Thread(target=_watch_parent, args=(parent_pid,), daemon=True).start()
+    private = os.path.dirname(log_path)
+    threading.Thread(target=_watch_parent, args=(parent_pid, private), daemon=True).start()
     # Temporary files of the child and of the planners it starts (UP's PDDL folders, Aries'
     # server log, which it never deletes) go to the private folder the parent removes,
     # even when the group is killed at the time limit.
-    private = os.path.dirname(log_path)
     tempfile.tempdir = private
     os.environ["TMPDIR"] = private
     # Planners print a lot (and some print from native code): send fds 1 and 2 to a file.
@@ -151,11 +161,12 @@ def kill_group(pgid: int, wait: float = 2.0) -> bool:
         time.sleep(0.02)
 
 
-def run_isolated(fn: Callable[..., Any], args: tuple[Any, ...], hard_limit: float) -> Outcome:
+def run_isolated(fn: Callable[..., Any], args: tuple[Any, ...],
+                 hard_limit: float | None) -> Outcome:
     """Call ``fn(*args)`` in a forked child that leads its own process group.
 
     The child is killed (with its whole group) after ``hard_limit`` seconds of
-    wall time. Whatever happens, the group is killed before this returns, so no
+    wall time (None: no limit). Whatever happens, the group is killed before this returns, so no
     planner process outlives the call.
     """
     if sys.platform == "win32":  # pragma: no cover - the project targets Linux
@@ -165,7 +176,7 @@ def run_isolated(fn: Callable[..., Any], args: tuple[Any, ...], hard_limit: floa
         return _run_child(fn, args, hard_limit, os.path.join(private, "child.log"))
 
 
-def _run_child(fn: Callable[..., Any], args: tuple[Any, ...], hard_limit: float,
+def _run_child(fn: Callable[..., Any], args: tuple[Any, ...], hard_limit: float | None,
                log_path: str) -> Outcome:
     ctx = multiprocessing.get_context("fork")
     recv, send = ctx.Pipe(duplex=False)

@@ -1,0 +1,111 @@
+"""Episodes as Ray tasks: ``ocplus eval --backend ray [--address ADDR]``.
+
+A sweep that outgrows one machine runs on a Ray cluster (the ``cluster`` extra). Each
+episode is one Ray task; inside the task the episode runs in a forked child that leads
+its own process group (:func:`~ocplus_plan.planning._proc.run_isolated`), exactly as with
+the local backend, so ``--episode-timeout`` kills the episode and every planner process
+it started, and a crashing planner becomes an ``error`` row without costing the worker.
+
+What Ray adds is the cluster and fault tolerance: a Ray worker (or node) that dies in the
+middle of an episode has that episode run again, up to ``retries`` more times, by Ray
+itself (``max_retries``); an episode that keeps killing its worker becomes an ``error``
+row with Ray's reason. Rows come back as episodes finish (``ray.wait``) and the runner
+writes each at once, so a driver that dies loses only the episodes in flight, which are
+at most as many as the cluster has CPUs (or ``--jobs``).
+
+Without ``--address`` a private Ray instance is started on this machine (``--jobs``
+CPUs, default all) and stopped at the end; ``--address auto`` joins the cluster started
+with ``ray start`` on this machine, ``--address HOST:6379`` a remote head node. A Ray
+instance that the caller already started (``ray.init`` in a notebook or a test) is
+used as it is and left running.
+"""
+
+from __future__ import annotations
+
+import logging
+import shutil
+import tempfile
+from collections.abc import Iterator
+from typing import Any
+
+from ..errors import DependencyNotInstalled
+from .runner import EpisodeSpec, EvalConfig, error_row, evaluate_episode, timeout_reason
+
+#: the pip extra that brings Ray
+EXTRA = "cluster"
+
+
+def import_ray() -> Any:
+    """The ``ray`` module, or :class:`DependencyNotInstalled` naming the extra."""
+    try:
+        import ray
+    except ImportError as exc:
+        raise DependencyNotInstalled(
+            f"--backend ray needs Ray, which is not installed ({exc}): "
+            f"pip install -e '.[{EXTRA}]' (or pip install 'ocplus-plan[{EXTRA}]'), "
+            "or use --backend local") from exc
+    return ray
+
+
+def ray_episode(spec: EpisodeSpec, episode_timeout: float | None) -> dict[str, Any]:
+    """The body of one Ray task: the episode in an isolated, killable process group."""
+    import ray
+
+    from ..planning import _proc
+
+    outcome = _proc.run_isolated(evaluate_episode, (spec,), hard_limit=episode_timeout)
+    if outcome.kind == _proc.OK:
+        row = outcome.value
+    elif outcome.kind == _proc.TIMEOUT:
+        row = error_row(spec, timeout_reason(episode_timeout))
+    else:  # the episode's process crashed or raised outside the controller
+        row = error_row(spec, f"the episode's process failed: {outcome.value}")
+    row.setdefault("worker", {})["node_id"] = ray.get_runtime_context().get_node_id()
+    return row
+
+
+def run_on_ray(todo: list[EpisodeSpec], cfg: EvalConfig) -> Iterator[dict[str, Any]]:
+    """Run ``todo`` as Ray tasks; yield each episode's row as soon as it is finished."""
+    ray = import_ray()
+    started_here = not ray.is_initialized()
+    # a Ray instance started here keeps its session files (sockets, logs) in a folder of
+    # its own that goes with it; a short name: Ray's socket paths must stay under 108 bytes
+    private = tempfile.mkdtemp(prefix="ray") if started_here and cfg.address is None else None
+    if started_here:
+        ray.init(address=cfg.address, num_cpus=cfg.jobs if cfg.address is None else None,
+                 include_dashboard=False, log_to_driver=False, logging_level=logging.WARNING,
+                 _temp_dir=private)
+    in_flight_limit = cfg.jobs or max(1, int(ray.cluster_resources().get("CPU", 1)))
+    task = ray.remote(ray_episode).options(num_cpus=1, max_retries=cfg.retries,
+                                           retry_exceptions=False, name="ocplus-episode")
+    pending = list(reversed(todo))
+    running: dict[Any, EpisodeSpec] = {}
+    try:
+        while pending or running:
+            while pending and len(running) < in_flight_limit:
+                spec = pending.pop()
+                running[task.remote(spec, cfg.episode_timeout)] = spec
+            finished, _ = ray.wait(list(running), num_returns=1, timeout=1.0)
+            for ref in finished:
+                spec = running.pop(ref)
+                try:
+                    yield ray.get(ref)
+                except ray.exceptions.RayError as exc:
+                    yield error_row(spec, _failure_reason(exc, cfg.retries))
+    finally:
+        for ref in running:
+            ray.cancel(ref, force=True)
+        if started_here:
+            ray.shutdown()
+        if private is not None:
+            shutil.rmtree(private, ignore_errors=True)
+
+
+def _failure_reason(exc: BaseException, retries: int) -> str:
+    """Ray's reason for a task that failed for good, on one line."""
+    first_line = (str(exc).strip().splitlines() or [""])[0]
+    return (f"the Ray task failed after {retries + 1} attempt(s) (--retries {retries}): "
+            f"{type(exc).__name__}: {first_line}")
+
+
+__all__ = ["EXTRA", "import_ray", "ray_episode", "run_on_ray"]
