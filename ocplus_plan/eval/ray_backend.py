@@ -22,6 +22,7 @@ used as it is and left running.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import logging
 import shutil
@@ -29,7 +30,7 @@ import tempfile
 from collections.abc import Iterator
 from typing import Any
 
-from ..errors import DependencyNotInstalled
+from ..errors import ConfigError, DependencyNotInstalled
 from .runner import (
     EpisodeSpec,
     EvalConfig,
@@ -85,17 +86,44 @@ def _warm_up(agent: str) -> None:
     check_agent(agent)
 
 
-def run_on_ray(todo: list[EpisodeSpec], cfg: EvalConfig) -> Iterator[dict[str, Any]]:
-    """Run ``todo`` as Ray tasks; yield each episode's row as soon as it is finished."""
+@contextlib.contextmanager
+def ray_session(cfg: EvalConfig) -> Iterator[Any]:
+    """Join the cluster at ``cfg.address`` (or start a Ray instance here) for the sweep;
+    leave it at the end. A Ray that the caller started already is used and left running.
+    A cluster that cannot be joined is a :class:`ConfigError` saying what to check."""
     ray = import_ray()
-    started_here = not ray.is_initialized()
+    if ray.is_initialized():
+        yield ray
+        return
     # a Ray instance started here keeps its session files (sockets, logs) in a folder of
     # its own that goes with it; a short name: Ray's socket paths must stay under 108 bytes
-    private = tempfile.mkdtemp(prefix="ray") if started_here and cfg.address is None else None
-    if started_here:
-        ray.init(address=cfg.address, num_cpus=cfg.jobs if cfg.address is None else None,
-                 include_dashboard=False, log_to_driver=False, logging_level=logging.WARNING,
-                 _temp_dir=private)
+    private = tempfile.mkdtemp(prefix="ray") if cfg.address is None else None
+    try:
+        try:
+            ray.init(address=cfg.address, num_cpus=cfg.jobs if cfg.address is None else None,
+                     include_dashboard=False, log_to_driver=False,
+                     logging_level=logging.WARNING, _temp_dir=private)
+        except (ConnectionError, ray.exceptions.RayError) as exc:
+            raise ConfigError(
+                f"could not join the Ray cluster at {cfg.address or 'this machine'}: "
+                f"{_first_line(exc)}. Check that `ray start --head` runs there and that the "
+                "address is HOST:PORT of its GCS (6379 unless --port said otherwise); with "
+                "token authentication set RAY_AUTH_MODE=token here and give this machine the "
+                "cluster's token (~/.ray/auth_token or RAY_AUTH_TOKEN)") from exc
+        try:
+            yield ray
+        finally:
+            ray.shutdown()
+    finally:
+        if private is not None:
+            shutil.rmtree(private, ignore_errors=True)
+
+
+def run_on_ray(todo: list[EpisodeSpec], cfg: EvalConfig) -> Iterator[dict[str, Any]]:
+    """Run ``todo`` as Ray tasks on the Ray that :func:`ray_session` opened; yield each
+    episode's row as soon as it is finished."""
+    import ray
+
     in_flight_limit = cfg.jobs or max(1, int(ray.cluster_resources().get("CPU", 1)))
     task = ray.remote(ray_episode).options(num_cpus=1, max_retries=cfg.retries,
                                            retry_exceptions=False, name="ocplus-episode")
@@ -114,19 +142,18 @@ def run_on_ray(todo: list[EpisodeSpec], cfg: EvalConfig) -> Iterator[dict[str, A
                 except ray.exceptions.RayError as exc:
                     yield error_row(spec, _failure_reason(exc, cfg.retries))
     finally:
-        for ref in running:
+        for ref in running:  # the driver stops early (Ctrl-C): no orphan episodes
             ray.cancel(ref, force=True)
-        if started_here:
-            ray.shutdown()
-        if private is not None:
-            shutil.rmtree(private, ignore_errors=True)
 
 
 def _failure_reason(exc: BaseException, retries: int) -> str:
     """Ray's reason for a task that failed for good, on one line."""
-    first_line = (str(exc).strip().splitlines() or [""])[0]
     return (f"the Ray task failed after {retries + 1} attempt(s) (--retries {retries}): "
-            f"{type(exc).__name__}: {first_line}")
+            f"{type(exc).__name__}: {_first_line(exc)}")
 
 
-__all__ = ["EXTRA", "import_ray", "ray_episode", "run_on_ray"]
+def _first_line(exc: BaseException) -> str:
+    return (str(exc).strip().splitlines() or [""])[0]
+
+
+__all__ = ["EXTRA", "import_ray", "ray_episode", "ray_session", "run_on_ray"]

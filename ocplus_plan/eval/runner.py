@@ -13,6 +13,7 @@ recorded as an ``error`` row) or, with ``backend="ray"``, as Ray tasks on a clus
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import multiprocessing as mp
@@ -358,6 +359,31 @@ def run_eval(cfg: EvalConfig, echo: Any = print) -> EvalOutcome:
     """Run (or continue) an evaluation and write results.jsonl, summary.csv and plots."""
     out = Path(cfg.out)
     episodes, skipped = plan_episodes(cfg)
+    with _backend_session(cfg):  # a Ray cluster is joined before any file is written
+        ran, n_err = _run_and_write(cfg, episodes, skipped, echo)
+    summary = summarise(read_results(out))
+    write_summary(summary, out / SUMMARY_FILE)
+    plots: list[Path] = []
+    if cfg.plots:
+        from .plots import make_plots
+
+        plots = make_plots(out)
+    return EvalOutcome(out, summary, leaderboard(summary), ran, len(skipped), n_err, plots)
+
+
+def _backend_session(cfg: EvalConfig) -> contextlib.AbstractContextManager[Any]:
+    if cfg.backend == "ray":
+        from .ray_backend import ray_session
+
+        return ray_session(cfg)
+    return contextlib.nullcontext()
+
+
+def _run_and_write(cfg: EvalConfig, episodes: list[EpisodeSpec], skipped: list[dict[str, Any]],
+                   echo: Any) -> tuple[int, int]:
+    """Run the episodes that ``out`` does not have yet, appending each row as it comes;
+    (episodes run, errors)."""
+    out = Path(cfg.out)
     done = prepare_out_dir(out, cfg.resume)
     config = {k: (str(v) if isinstance(v, Path) else v) for k, v in asdict(cfg).items()}
     (out / CONFIG_FILE).write_text(json.dumps(config, indent=2) + "\n")
@@ -385,14 +411,7 @@ def run_eval(cfg: EvalConfig, echo: Any = print) -> EvalOutcome:
                 bar.update(1)
         finally:
             bar.close()
-    summary = summarise(read_results(out))
-    write_summary(summary, out / SUMMARY_FILE)
-    plots: list[Path] = []
-    if cfg.plots:
-        from .plots import make_plots
-
-        plots = make_plots(out)
-    return EvalOutcome(out, summary, leaderboard(summary), len(todo), len(skipped), n_err, plots)
+    return len(todo), n_err
 
 
 def _run_all(todo: list[EpisodeSpec], cfg: EvalConfig):  # -> Iterator[dict]

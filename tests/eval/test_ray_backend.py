@@ -102,6 +102,15 @@ def test_ray_rows_name_the_backend_node_and_wall_time(tmp_path, ray_instance):
     assert row["timings"]["wall_time_s"] > 0
 
 
+def test_cli_on_ray_shows_progress_and_leaderboard(tmp_path, ray_instance, capsys):
+    code = main(["eval", "--preset", "easy", "--agents", "greedy,random", "--seeds", "2",
+                 "--horizon", "60", "--backend", "ray", "--out", str(tmp_path / "run")])
+    captured = capsys.readouterr()
+    assert code == 0 and "on Ray" in captured.out
+    assert "eval: 100%" in captured.err and "4/4" in captured.err  # the progress bar
+    assert "1 greedy" in captured.out  # the leaderboard ranks greedy first
+
+
 def test_resume_continues_a_local_run_on_ray(tmp_path, ray_instance):
     out = tmp_path / "run"
     run_eval(_cfg(out, backend="local", seeds=[0]), echo=_quiet)
@@ -175,3 +184,17 @@ def test_episode_whose_worker_dies_past_its_retries_is_an_error_row(tmp_path, ra
     (failed,) = [r for r in rows if r["status"] == "error"]
     assert outcome.errors == 1 and "failed after 1 attempt(s)" in failed["reason"]
     assert "Worker" in failed["reason"] or "died" in failed["reason"]
+
+
+def test_cluster_that_cannot_be_joined_is_an_error_before_any_file(tmp_path, monkeypatch):
+    ray = pytest.importorskip("ray", reason="the `cluster` extra (Ray) is not installed")
+
+    def refuse(**_kwargs):
+        raise ConnectionError("Failed to connect to Ray cluster at 10.0.0.9:6379")
+
+    monkeypatch.setattr(ray, "is_initialized", lambda: False)
+    monkeypatch.setattr(ray, "init", refuse)
+    with pytest.raises(ConfigError, match="could not join the Ray cluster at 10.0.0.9:6379.*"
+                                          "ray start --head"):
+        run_eval(_cfg(tmp_path / "run", address="10.0.0.9:6379"), echo=_quiet)
+    assert not (tmp_path / "run").exists()
