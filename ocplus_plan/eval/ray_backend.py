@@ -138,9 +138,10 @@ def run_on_ray(todo: list[EpisodeSpec], cfg: EvalConfig) -> Iterator[dict[str, A
             for ref in finished:
                 spec = running.pop(ref)
                 try:
-                    yield ray.get(ref)
-                except ray.exceptions.RayError as exc:
-                    yield error_row(spec, _failure_reason(exc, cfg.retries))
+                    row = ray.get(ref)
+                except ray.exceptions.RayError as exc:  # failed for good, retries spent
+                    row = error_row(spec, _failure_reason(exc, cfg.retries))
+                yield row
     finally:
         for ref in running:  # the driver stops early (Ctrl-C): no orphan episodes
             ray.cancel(ref, force=True)
