@@ -37,6 +37,8 @@ from .validate import plan_from_steps, plan_to_steps
 #: a kitchen plan has at most a few thousand actions; a bigger file is not a plan of ours
 MAX_PLAN_BYTES = 4_000_000
 MAX_LINE_CHARS = 4_000
+#: no kitchen episode lasts this many steps; bigger numbers are typos (or overflow floats)
+MAX_TIME = 10**9
 
 _NAME = r"[A-Za-z][A-Za-z0-9_\-]*"
 _NUMBER = re.compile(r"\d+(?:\.\d*)?(?:[eE][+-]?\d+)?|\.\d+(?:[eE][+-]?\d+)?")
@@ -63,7 +65,10 @@ def _number(text: str, what: str, where: str) -> Fraction:
     if not _NUMBER.fullmatch(token):
         raise PlanFormatError(f"{where}: {what} {token!r} is not a number "
                               "(a plain non-negative decimal such as 3 or 0.001)")
-    return Fraction(token)
+    value = Fraction(token)
+    if value > MAX_TIME:
+        raise PlanFormatError(f"{where}: {what} {token} is too large (at most {MAX_TIME})")
+    return value
 
 
 def parse_plan_text(text: str, source: str = "<plan>") -> list[PlanLine]:
