@@ -100,14 +100,15 @@ def check_instance_plan(instance_dir: str | Path, encoding: str | None = None,
     out.replayed, out.simulator_steps, out.served = True, replay.steps, replay.served
     if not replay.ok:
         out.verdict = "unfaithful"
-        where = ""
+        where, mismatch = "", replay.mismatch
         if plan.kind.name == "SEQUENTIAL_PLAN" and replay.actions:
             ai = plan.actions[replay.actions - 1]
             args = [str(p.object()) for p in ai.actual_parameters]
             where = (f"at plan step {replay.actions - 1} "
                      f"({step_words(compiled, ai.action.name, args)}): ")
-        out.divergence = where + kitchen_words(replay.mismatch, compiled) + (
-            f" [{replay.category}]" if replay.category else "")
+            mismatch = mismatch.removeprefix(f"{ai}: ")
+        out.divergence = where + kitchen_words(mismatch, compiled) + (
+            f" (kind: {replay.category})" if replay.category else "")
     return out
 
 
