@@ -97,11 +97,12 @@ def render(command: tuple[str, ...], values: dict[str, str]) -> list[str]:
     return [_FIELD.sub(lambda m: values[m.group(1)], a) for a in command]
 
 
-def _run_in_child(argv: list[str], workdir: str, limit: float) -> dict[str, Any]:
+def _run_in_child(argv: list[str], workdir: str, limit: float,
+                  env: dict[str, str]) -> dict[str, Any]:
     """In the isolated child: run the planner (same process group), report how it ended."""
     try:
         run = subprocess.run(argv, cwd=workdir, stdin=subprocess.DEVNULL, timeout=limit,
-                             check=False, shell=False)
+                             check=False, shell=False, env={**os.environ, **env})
         code: int | None = run.returncode
     except subprocess.TimeoutExpired:
         code = None
@@ -119,9 +120,9 @@ def plan_file(path: Path) -> Path | None:
 
 
 def run_command(problem: Any, command: tuple[str, ...], limit: float, workdir: str,
-                grace: float) -> _proc.Outcome:
+                grace: float, env: dict[str, str] | None = None) -> _proc.Outcome:
     """Write the problem's PDDL into ``workdir``, run the planner command on it in an
-    isolated process group and read its plan.
+    isolated process group (with ``env`` added to its environment) and read its plan.
 
     Returns an :class:`._proc.Outcome` whose value (when ``ok``) is the same report the
     UP engines give (``up_status``, ``steps``, ``temporal``, ``log``, ``cpu_time``, and
@@ -137,7 +138,8 @@ def run_command(problem: Any, command: tuple[str, ...], limit: float, workdir: s
     values = {"domain": str(work / "domain.pddl"), "problem": str(work / "problem.pddl"),
               "plan": str(work / "plan"), "timeout": str(max(1, int(limit)))}
     argv = render(command, values)
-    outcome = _proc.run_isolated(_run_in_child, (argv, workdir, limit), hard_limit=limit + grace)
+    outcome = _proc.run_isolated(_run_in_child, (argv, workdir, limit, dict(env or {})),
+                                 hard_limit=limit + grace)
     if outcome.kind != _proc.OK:
         return outcome
     code = outcome.value["returncode"]

@@ -2,7 +2,8 @@
 
 Each planner is one YAML file in ``planners/`` (the UP engine name, its
 parameters, a default time limit, the encoding it is meant for, what must be
-installed, notes). :func:`solve` runs the engine in a forked child that leads
+installed, notes), or a planner binary's ``command:`` (see :mod:`._command`; a
+user's YAML may also be named by its path). :func:`solve` runs the engine in a forked child that leads
 its own process group (see :mod:`._proc`), kills the group at a hard limit,
 rebuilds the plan against the caller's problem, and validates it with UP's
 validator and, where installed, VAL. Outcomes are data: a missing planner, a
@@ -332,7 +333,7 @@ def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = No
     try:
         if config.command:
             outcome = _command.run_command(problem, config.command, limit, workdir,
-                                           GRACE_SECONDS)
+                                           GRACE_SECONDS, config.env)
         else:
             outcome = _proc.run_isolated(_solve_in_child, (problem, config, limit, workdir),
                                          hard_limit=limit + GRACE_SECONDS)

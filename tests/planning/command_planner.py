@@ -9,12 +9,14 @@ outside planner would; MODE says what it does next:
 * ``numbered``: writes garbage to ``PLAN.1`` and the text of ARG to ``PLAN.2``, as an
   anytime planner writes improving plans (only the last is read);
 * ``sleep``: starts a child ``sleep 60`` and sleeps (for the time limit and the group kill);
-* ``argv``: writes its own arguments, one per line, to ARG (how the command reached it);
+* ``argv``: writes its own arguments, one per line, to ARG (how the command reached it),
+  then the value of the environment variable ``TOY_PLANNER_ENV``;
 * ``none``: exits with code ARG (default 0) without a plan.
 """
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 import time
@@ -37,7 +39,8 @@ def main() -> int:
         subprocess.Popen(["sleep", "60"])
         time.sleep(60)
     elif mode == "argv":
-        Path(extra).write_text("\n".join(sys.argv[1:]), encoding="utf-8")
+        lines = [*sys.argv[1:], os.environ.get("TOY_PLANNER_ENV", "")]
+        Path(extra).write_text("\n".join(lines), encoding="utf-8")
     elif mode == "none":
         return int(extra or 0)
     elif mode == "solve":

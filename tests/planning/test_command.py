@@ -25,7 +25,7 @@ GOOD_PLAN = "; a comment line\n0: (move l0 l2)\n\n1: (MOVE L2 L3)   ; case does 
 
 
 def _config(tmp_path: Path, mode: str, extra: str = "", timeout: float = 20,
-            name: str = "toy") -> PlannerConfig:
+            name: str = "toy", env: dict[str, str] | None = None) -> PlannerConfig:
     """A YAML planner config in ``tmp_path`` that runs the script in ``mode``."""
     import yaml
 
@@ -34,7 +34,7 @@ def _config(tmp_path: Path, mode: str, extra: str = "", timeout: float = 20,
         command.append(extra)
     path = tmp_path / f"{name}.yaml"
     path.write_text(yaml.safe_dump({"name": name, "command": command, "encoding": "classical",
-                                    "timeout": timeout}), encoding="utf-8")
+                                    "timeout": timeout, "env": env or {}}), encoding="utf-8")
     return get_planner(str(path))
 
 
@@ -74,10 +74,11 @@ def test_the_time_limit_kills_the_planner_and_what_it_started(tmp_path):
 def test_paths_reach_the_planner_as_single_arguments_and_no_shell_runs(tmp_path):
     odd = tmp_path / "a b; touch pwned $(touch pwned2)"
     odd.mkdir()
-    result = solve(tiny_classical(), _config(odd, "argv", "{config_dir}/argv.txt"))
+    result = solve(tiny_classical(), _config(odd, "argv", "{config_dir}/argv.txt",
+                                             env={"TOY_PLANNER_ENV": "from the yaml"}))
     argv = (odd / "argv.txt").read_text(encoding="utf-8").splitlines()
     assert argv[0] == "argv" and argv[1].endswith("domain.pddl")
-    assert argv[4] == f"{odd}/argv.txt"
+    assert argv[4] == f"{odd}/argv.txt" and argv[5] == "from the yaml"
     assert not list(tmp_path.rglob("pwned*")) and not Path("pwned").exists()
     assert result.status == "unsolvable"  # it exited 0 without a plan
 
