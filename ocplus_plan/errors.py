@@ -49,8 +49,3 @@ class UnreadableText(OcplusError):
     def __init__(self, message: str, line: int = 0) -> None:
         super().__init__(message)
         self.line = line
-
-
-class PlanFormatError(UnreadableText):
-    """A plan text (a plan file, a planner's output) cannot be read: the message names the
-    source and the line, and what a line should look like."""

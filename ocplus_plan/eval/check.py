@@ -24,7 +24,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from ..errors import ConfigError, PlanFormatError
+from ..errors import ConfigError, UnreadableText
 
 VERDICT_EXIT = {"valid": 0, "invalid": 4, "unfaithful": 5}
 
@@ -90,7 +90,7 @@ def check_instance_plan(instance_dir: str | Path, encoding: str | None = None,
     out = PlanCheck("valid", str(plan_path), encoding)
     try:
         plan = read_plan(plan_path, compiled.problem)
-    except PlanFormatError as exc:
+    except UnreadableText as exc:
         out.verdict, out.error = "invalid", str(exc)
         return out
     out.actions = _length(plan)
@@ -129,7 +129,7 @@ def check_files(domain: str | Path, problem: str | Path, plan_path: str | Path,
     out = PlanCheck("valid", str(plan_path))
     try:
         plan = read_plan(plan_path, parsed)
-    except PlanFormatError as exc:
+    except UnreadableText as exc:
         out.verdict, out.error = "invalid", str(exc)
         return out
     out.actions = _length(plan)

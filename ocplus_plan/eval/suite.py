@@ -193,7 +193,7 @@ def export_suite(spec: SuiteSpec, out: str | Path,
     from ..planning.language import describe_domain, describe_problem
     from ..planning.model import ENCODINGS
     from ..planning.pddl import domain_text, pddl_texts
-    from ..planning.plan_io import plan_text
+    from ..planning.plan_io import format_plan
 
     bad = [e for e in spec.encodings if e not in ENCODINGS]
     if bad or not spec.encodings:
@@ -251,7 +251,7 @@ def export_suite(spec: SuiteSpec, out: str | Path,
                 entry["reference"] = info
                 if plan is not None:
                     entry["plan"] = f"{enc}.plan"
-                    _write(folder / f"{enc}.plan", plan_text(
+                    _write(folder / f"{enc}.plan", format_plan(
                         plan, f"reference plan of {name} ({enc}) by {info['planner']}"))
                 instance["encodings"][enc] = entry
                 rows.append({"instance": name, "encoding": enc, "preset": preset,

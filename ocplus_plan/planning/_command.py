@@ -34,7 +34,7 @@ import subprocess
 from pathlib import Path
 from typing import Any
 
-from ..errors import PlanFormatError, PlannerError
+from ..errors import PlannerError, UnreadableText
 from . import _proc
 
 PLACEHOLDERS = ("domain", "problem", "plan", "timeout", "config_dir")
@@ -159,7 +159,7 @@ def run_command(problem: Any, command: tuple[str, ...], limit: float, workdir: s
         return outcome
     try:
         plan = read_plan(found, problem)
-    except PlanFormatError as exc:
+    except UnreadableText as exc:
         report["status"] = "invalid"
         report["reason"] = f"the planner's plan file cannot be read: {exc}".replace(
             str(work) + os.sep, "")

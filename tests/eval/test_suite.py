@@ -109,10 +109,11 @@ def test_a_plan_missing_a_step_is_invalid(suite, tmp_path, capsys):
 
 def test_a_garbage_plan_is_invalid_and_names_the_line(suite, tmp_path, capsys):
     bad = tmp_path / "garbage.plan"
-    bad.write_text("0: (move a0 s_1_1 s_1_2)\n{'__import__': 'os'}\n")
+    first = (suite / "p01/classical.plan").read_text().splitlines()[1]  # after the comment
+    bad.write_text(f"{first}\n{{'__import__': 'os'}}\n")
     assert main(["check-plan", str(suite / "p01"), "--plan", str(bad), "--json"]) == 4
     out = json.loads(capsys.readouterr().out)
-    assert "garbage.plan, line 2: cannot read" in out["error"]
+    assert "garbage.plan, line 2: " in out["error"] and "is not a plan step" in out["error"]
 
 
 def test_domain_problem_and_plan_files_are_validated_without_a_replay(suite, capsys):

@@ -6,16 +6,9 @@ import pytest
 
 pytest.importorskip("unified_planning")
 
-from ocplus_plan.errors import PlanFormatError
+from ocplus_plan.errors import UnreadableText
 from ocplus_plan.planning import compile
-from ocplus_plan.planning.plan_io import (
-    MAX_LINE_CHARS,
-    MAX_PLAN_BYTES,
-    parse_plan,
-    parse_plan_text,
-    plan_text,
-    read_plan,
-)
+from ocplus_plan.planning.plan_io import MAX_PLAN_BYTES, format_plan, parse_plan, read_plan
 from ocplus_plan.sim import make_rules, new_state
 
 from .test_engines import tiny_classical, tiny_temporal
@@ -48,68 +41,67 @@ def test_time_stamped_lines_for_a_temporal_problem(kitchen_temporal):
 
 
 def test_a_temporal_line_without_a_duration_names_the_line(kitchen_temporal):
-    with pytest.raises(PlanFormatError, match=r"line 2: a temporal plan line needs"):
+    with pytest.raises(UnreadableText, match=r"line 2: move is durative: give its duration"):
         parse_plan(f"0: {MOVE} [1]\n1: {MOVE}\n", kitchen_temporal)
 
 
 @pytest.mark.parametrize("line, message", [
     ("(fly a0 s_1_1 s_1_2)", "unknown action 'fly'"),
     ("(move a0 s_1_1)", "move takes 3 arguments"),
-    ("(move a0 s_1_1 s_9_9)", "no object named 's_9_9'"),
+    ("(move a0 s_1_1 s_9_9)", "unknown object 's_9_9'"),
     ("(move a0 tomato0 s_1_2)", "'tomato0' is a item"),
-    ("x1: (move a0 s_1_1 s_1_2)", "time 'x1' is not a number"),
-    ("nan: (move a0 s_1_1 s_1_2)", "time 'nan' is not a number"),
-    ("-1: (move a0 s_1_1 s_1_2)", "is not a number"),
-    ("1e999: (move a0 s_1_1 s_1_2)", "too large"),
-    ("0: (move a0 s_1_1 s_1_2) [fast]", "duration 'fast' is not a number"),
-    ("move a0 s_1_1 s_1_2", "cannot read"),
-    ("(move a0 (s_1_1) s_1_2)", "cannot read"),
+    ("x1: (move a0 s_1_1 s_1_2)", "is not a plan step"),
+    ("nan: (move a0 s_1_1 s_1_2)", "is not a plan step"),
+    ("-1: (move a0 s_1_1 s_1_2)", "is not a plan step"),
+    ("0: (move a0 s_1_1 s_1_2) [fast]", "is not a plan step"),
+    ("move a0 s_1_1 s_1_2", "is not a plan step"),
+    ("(move a0 (s_1_1) s_1_2)", "is not a plan step"),
     ("()", "names no action"),
-    ("(move a0 s_1_1 __import__('os'))", "cannot read"),
+    ("(move a0 s_1_1 __import__('os'))", "is not a plan step"),
     ("(move a0 s_1_1 s.1.2)", "not a PDDL name"),
 ])
 def test_a_malformed_line_is_refused_with_its_number(kitchen, line, message):
-    with pytest.raises(PlanFormatError, match=message) as info:
+    with pytest.raises(UnreadableText, match=message) as info:
         parse_plan(f"{MOVE}\n{line}\n", kitchen, "my.plan")
-    assert "my.plan, line 2" in str(info.value)
+    assert "my.plan, line 2" in str(info.value) and info.value.line == 2
 
 
-def test_an_overlong_line_is_refused_before_it_is_matched():
-    with pytest.raises(PlanFormatError, match=r"line 1: .* at most"):
-        parse_plan_text("(" + "a" * (MAX_LINE_CHARS + 1) + ")")
+def test_a_huge_time_is_refused(kitchen_temporal):
+    with pytest.raises(UnreadableText, match="line 1: the start time '1e999' is not a finite"):
+        parse_plan(f"1e999: {MOVE} [1]\n", kitchen_temporal)
 
 
 def test_a_huge_file_is_refused_without_reading_it(tmp_path, kitchen):
     path = tmp_path / "huge.plan"
     path.write_bytes(b"(move a0 s_1_1 s_1_2)\n" * (MAX_PLAN_BYTES // 20))
-    with pytest.raises(PlanFormatError, match="bytes; a plan file has at most"):
+    with pytest.raises(UnreadableText, match="bytes; a plan file has at most"):
         read_plan(path, kitchen)
 
 
 def test_a_binary_file_names_the_line_of_the_first_bad_byte(tmp_path, kitchen):
     path = tmp_path / "bin.plan"
     path.write_bytes(b"(move a0 s_1_1 s_1_2)\n\xff\xfe\n")
-    with pytest.raises(PlanFormatError, match="line 2: not UTF-8"):
+    with pytest.raises(UnreadableText, match="line 2: not UTF-8"):
         read_plan(path, kitchen)
 
 
 def test_a_missing_file_is_a_plan_format_error(tmp_path, kitchen):
-    with pytest.raises(PlanFormatError, match="no such plan file"):
+    with pytest.raises(UnreadableText, match="no such plan file"):
         read_plan(tmp_path / "nope.plan", kitchen)
 
 
 def test_written_plans_read_back_to_the_same_text():
     problem = tiny_classical()
     plan = parse_plan("(move l0 l2)\n(move l2 l3)\n", problem)
-    text = plan_text(plan, "two moves")
+    text = format_plan(plan, "two moves")
     assert text == "; two moves\n0: (move l0 l2)\n1: (move l2 l3)\n"
-    assert plan_text(parse_plan(text, problem), "two moves") == text
+    assert format_plan(parse_plan(text, problem), "two moves") == text
 
 
 def test_written_temporal_plans_keep_exact_times():
     problem = tiny_temporal()
     plan = parse_plan("0: (move l0 l1) [2]\n0: (cook) [3]\n2.001: (move l1 l2) [3]\n", problem)
-    text = plan_text(plan)
+    text = format_plan(plan)
     assert text == ("0.000: (move l0 l1) [2.000]\n0.000: (cook) [3.000]\n"
                     "2.001: (move l1 l2) [3.000]\n")
-    assert plan_text(parse_plan(text, problem)) == text
+    assert format_plan(parse_plan(text, problem)) == text
