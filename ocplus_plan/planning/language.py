@@ -12,9 +12,10 @@ changes.
 The API others build on (the ``text`` observations and the language-model controller
 share these words):
 
-* :func:`cell_words`, :func:`object_words`, :func:`fact_words`: one thing or one fact;
+* :func:`position_words`, :func:`object_words`, :func:`fact_words`: one thing or one fact
+  (cells and places in the words of :mod:`..sim.words`, the kitchen's one vocabulary);
 * :func:`step_words`: one plan action, e.g. "cook 0 picks up onion0 from the onion
-  crate at row 4, column 4 (standing at row 3, column 4)";
+  counter at (row 4, col 4) (standing at the floor at (row 3, col 4))";
 * :func:`describe_domain` (encoding, granularity) and :func:`describe_problem`
   (a :class:`~.compile.Compiled`): whole texts;
 * :func:`kitchen_words`: a fidelity mismatch message with its tuples and object names
@@ -26,15 +27,13 @@ from __future__ import annotations
 import re
 from typing import Any
 
+from ..sim.codes import Cell
+from ..sim.words import CELL_WORDS
 from .model import FLUENTS, SWITCH_FLUENTS, build_domain
 
-#: the cells a ``place`` object can be, by the label its name starts with
-PLACE_WORDS = {
-    "counter": "counter", "board": "cutting board", "pan": "pan", "sink": "sink",
-    "trash": "trash can", "delivery": "serving window", "plate": "plate rack",
-    "tomato": "tomato crate", "lettuce": "lettuce crate", "onion": "onion crate",
-    "steak": "steak crate", "spawn": "floor", "floor": "floor",
-}
+#: what a ``place`` object is, by the label its name starts with (the compiler names
+#: places after their cell code); the words are the kitchen's own (:mod:`..sim.words`)
+PLACE_WORDS = {Cell(code).name.lower(): word for code, word in CELL_WORDS.items()}
 
 TYPE_WORDS = {
     "agent": "a cook",
@@ -140,13 +139,13 @@ def action_template(name: str) -> str:
     return ACTION_WORDS.get(base, name + " with " + "{_args}")
 
 
-def cell_words(rc: tuple[int, int]) -> str:
-    """``(1, 2)`` -> ``row 1, column 2``."""
-    return f"row {rc[0]}, column {rc[1]}"
+def position_words(rc: tuple[int, int]) -> str:
+    """``(1, 2)`` -> ``(row 1, col 2)``, as :func:`..sim.words.at` says a cell."""
+    return f"(row {rc[0]}, col {rc[1]})"
 
 
 def object_words(compiled: Any, name: str) -> str:
-    """What a problem object is in the kitchen, e.g. ``the cutting board at row 1, column 6``."""
+    """What a problem object is in the kitchen, e.g. ``the cutting board at (row 1, col 6)``."""
     n = compiled.names
     if name in n.agents:
         return f"cook {n.agents[name]}"
@@ -155,9 +154,9 @@ def object_words(compiled: Any, name: str) -> str:
     if name in n.cells:
         rc = n.cells[name]
         if name.startswith("s_"):
-            return f"the floor at {cell_words(rc)}"
+            return f"the floor at {position_words(rc)}"
         label = name.rsplit("_", 2)[0]
-        return f"the {PLACE_WORDS.get(label, label)} at {cell_words(rc)}"
+        return f"the {PLACE_WORDS.get(label, label)} at {position_words(rc)}"
     if name in n.orders:
         return "no further order" if n.orders[name] < 0 else f"order {n.orders[name]}"
     if name in n.contents:
@@ -325,12 +324,12 @@ def describe_problem(compiled: Any) -> str:
 
 # ------------------------------------------------------------------ messages
 _TAGS = [
-    (re.compile(r"\('hand', (\d+)\)"), lambda m: f"in cook {m[1]}'s hands"),
+    (re.compile(r"\('hand', (\d+)\)"), lambda m: f"held by cook {m[1]}"),
     (re.compile(r"\('cell', \((\d+), (\d+)\)\)"),
-     lambda m: f"on the cell at {cell_words((int(m[1]), int(m[2])))}"),
+     lambda m: f"on the cell at {position_words((int(m[1]), int(m[2])))}"),
     (re.compile(r"\('plate', (\d+)\)"), lambda m: f"on plate item {m[1]}"),
-    (re.compile(r"\('waiting', None\)"), lambda m: "waiting to respawn"),
-    (re.compile(r"\((\d+), (\d+)\)"), lambda m: cell_words((int(m[1]), int(m[2])))),
+    (re.compile(r"\('waiting', None\)"), lambda m: "waiting to reappear"),
+    (re.compile(r"\((\d+), (\d+)\)"), lambda m: position_words((int(m[1]), int(m[2])))),
 ]
 
 
@@ -353,5 +352,5 @@ def check_complete() -> list[str]:
 
 
 __all__ = ["ACTION_WORDS", "FACT_WORDS", "PLACE_WORDS", "TYPE_WORDS", "action_template",
-           "cell_words", "check_complete", "describe_domain", "describe_problem", "fact_words",
-           "kitchen_words", "object_words", "step_words"]
+           "check_complete", "describe_domain", "describe_problem", "fact_words",
+           "kitchen_words", "object_words", "position_words", "step_words"]

@@ -72,7 +72,7 @@ def test_facts_and_objects_in_words(medium):
     assert object_words(medium, "a1") == "cook 1"
     board = next(n for n in medium.names.cells if n.startswith("board_"))
     r, c = medium.names.cells[board]
-    assert object_words(medium, board) == f"the cutting board at row {r}, column {c}"
+    assert object_words(medium, board) == f"the cutting board at (row {r}, col {c})"
     assert set(FACT_WORDS) >= set(build_domain("classical").fluents)
     assert "move" in ACTION_WORDS
 
@@ -80,12 +80,12 @@ def test_facts_and_objects_in_words(medium):
 def test_a_plan_step_in_words(medium):
     board = next(n for n in medium.names.cells if n.startswith("board_"))
     words = step_words(medium, "chop", ["a1", "tomato0", board, "s_1_2"])
-    assert words.startswith("cook 1 chops tomato0 on the cutting board at row ")
-    assert words.endswith("(standing at the floor at row 1, column 2)")
+    assert words.startswith("cook 1 chops tomato0 on the cutting board at (row ")
+    assert words.endswith("(standing at the floor at (row 1, col 2))")
 
 
 def test_a_mismatch_message_in_kitchen_words(medium):
     text = kitchen_words("tomato0: model says [('cell', (1, 2))], simulator says ('hand', 0); "
                          "a0: model at [(1, 1)]", medium)
-    assert text == ("tomato0: model says [on the cell at row 1, column 2], simulator says in "
-                    "cook 0's hands; cook 0: model at [row 1, column 1]")
+    assert text == ("tomato0: model says [on the cell at (row 1, col 2)], simulator says held "
+                    "by cook 0; cook 0: model at [(row 1, col 1)]")
