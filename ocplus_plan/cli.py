@@ -7,6 +7,9 @@ Exit codes, grouped by meaning (as Fast Downward's driver does):
   1   unexpected internal error (a bug: please report it with the traceback)
   2   bad input: unknown preset / map / planner / agent, malformed map, bad option
   3   an optional dependency is missing (the message names the extra to install)
+  4   check-plan: the plan is invalid (a line cannot be read, or VAL / unified-planning
+      reject it)
+  5   check-plan: the plan is valid but unfaithful (the simulator diverges from it)
   130 interrupted (Ctrl-C); results written so far are kept
 """
 
@@ -32,6 +35,8 @@ COMMANDS: dict[str, str] = {
     "replay": "replay",
     "solve": "solve",
     "pddl": "pddl",
+    "export-suite": "export_suite",
+    "check-plan": "check_plan",
 }
 
 #: Printed by --help and replayed by tests/test_cli.py (each must exit 0, quickly) in a
@@ -44,6 +49,9 @@ EXAMPLES: list[str] = [
     "ocplus solve --list",
     "ocplus pddl --preset medium --seed 0 --step 20 --encoding temporal --out runs/pddl",
     "ocplus pddl --preset hard --seed 0 --encoding temporal --anticipate-switches --out runs/pddl-switches",
+    "ocplus export-suite --presets easy --states 1 --encoding classical "
+    "--planners fast-downward-wastar --timeout 20 --out runs/suite",
+    "ocplus check-plan runs/suite/p01",
     "ocplus eval --preset easy --agents greedy,random --seeds 2 --horizon 50 --quiet "
     "--out runs/eval-example --resume",
 ]

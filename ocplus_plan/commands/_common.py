@@ -18,6 +18,7 @@ import json
 import sys
 from typing import Any
 
+from ..errors import ConfigError
 from ..planning.model import ENCODINGS, GRANULARITIES
 from ..sim.rules import Rules, make_rules
 
@@ -30,22 +31,29 @@ class HelpFormatter(argparse.RawDescriptionHelpFormatter, argparse.ArgumentDefau
 
 def add_kitchen_args(p: argparse.ArgumentParser, *, sweep: bool = False, step: bool = False,
                      horizon: bool = True, presets: str = "easy,medium,hard",
-                     seeds: str = "10", default_horizon: int | None = None) -> None:
+                     seeds: str | None = "10", default_horizon: int | None = None,
+                     grid: bool = False) -> None:
     """``--preset --map --n-agents --seed`` and ``--horizon``.
 
     ``sweep``: ``--preset`` takes a comma-separated list (``--presets`` is the same
-    option) and ``--seeds`` a count, list or range, exclusive with ``--seed``. ``step``
-    adds ``--step`` (random joint actions before compiling a state)."""
+    option) and ``--seeds`` a count, list or range, exclusive with ``--seed`` (no
+    ``--seeds`` when ``seeds`` is None). ``grid`` (with ``sweep``): ``--map`` and
+    ``--n-agents`` take comma-separated lists too, also spelt ``--maps`` and ``--cooks``
+    (the command parses them: :func:`parse_int_list`). ``step`` adds ``--step`` (random
+    joint actions before compiling a state)."""
     g = p.add_argument_group("kitchen")
     if sweep:
         g.add_argument("--preset", "--presets", dest="presets", default=presets,
                        help=f"comma-separated presets ({PRESET_HELP})")
     else:
         g.add_argument("--preset", default="easy", help=PRESET_HELP)
-    g.add_argument("--map", default=None, help="map name or YAML path (None: the preset's)")
-    g.add_argument("--n-agents", type=int, default=None,
-                   help="number of cooks (None: the preset's)")
-    if sweep:
+    g.add_argument("--map", *(["--maps"] if grid else []), default=None,
+                   help="map name or YAML path (None: the preset's)")
+    g.add_argument("--n-agents", *(["--cooks"] if grid else []), type=str if grid else int,
+                   default=None, help="number of cooks (None: the preset's)")
+    if sweep and seeds is None:
+        g.add_argument("--seed", type=int, default=0, help="episode seed")
+    elif sweep:
         which = g.add_mutually_exclusive_group()
         which.add_argument("--seed", type=int, default=None, help="one episode seed")
         which.add_argument("--seeds", default=seeds,
@@ -58,6 +66,18 @@ def add_kitchen_args(p: argparse.ArgumentParser, *, sweep: bool = False, step: b
     if step:
         g.add_argument("--step", type=int, default=0,
                        help="random joint actions to take before compiling")
+
+
+def parse_int_list(text: str, option: str) -> list[int]:
+    """``"1,2"`` -> ``[1, 2]`` for an option that takes a comma-separated list of integers."""
+    try:
+        out = [int(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise ConfigError(f"{option} {text!r}: give comma-separated whole numbers, "
+                          "e.g. 1,2") from None
+    if not out:
+        raise ConfigError(f"{option} is empty; give comma-separated whole numbers, e.g. 1,2")
+    return out
 
 
 def rules_from_args(args: argparse.Namespace, **overrides: Any) -> Rules:
@@ -105,9 +125,15 @@ class _Deprecated(argparse.Action):
         setattr(namespace, self.dest, True if self.nargs == 0 else values)
 
 
-def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False) -> None:
-    """``--encoding --granularity --orders --anticipate-switches`` of the planning compiler."""
-    if auto_encoding:
+def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False,
+                     many: bool = False, switches: bool = True) -> None:
+    """``--encoding --granularity --orders --anticipate-switches`` of the planning compiler
+    (``many``: ``--encoding`` takes a comma-separated list; ``switches``: offer
+    ``--anticipate-switches``)."""
+    if many:
+        p.add_argument("--encoding", "--encodings", dest="encoding", default=",".join(ENCODINGS),
+                       help=f"comma-separated encodings ({' | '.join(ENCODINGS)})")
+    elif auto_encoding:
         p.add_argument("--encoding", choices=("auto", *ENCODINGS), default="auto",
                        help="auto = the encoding the planner is registered for")
     else:
@@ -115,8 +141,9 @@ def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False)
     p.add_argument("--granularity", choices=GRANULARITIES, default=GRANULARITIES[0])
     p.add_argument("--orders", type=int, default=None,
                    help="serve only the first k open orders (default: all)")
-    p.add_argument("--anticipate-switches", action="store_true",
-                   help="temporal only: the coming layout switches as timed initial literals")
+    if switches:
+        p.add_argument("--anticipate-switches", action="store_true",
+                       help="temporal only: the coming layout switches as timed initial literals")
 
 
 def emit(result: Any, args: argparse.Namespace, width: int = 16) -> None:

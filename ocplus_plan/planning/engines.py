@@ -2,7 +2,8 @@
 
 Each planner is one YAML file in ``planners/`` (the UP engine name, its
 parameters, a default time limit, the encoding it is meant for, what must be
-installed, notes). :func:`solve` runs the engine in a forked child that leads
+installed, notes), or a planner binary's ``command:`` (see :mod:`._command`; a
+user's YAML may also be named by its path). :func:`solve` runs the engine in a forked child that leads
 its own process group (see :mod:`._proc`), kills the group at a hard limit,
 rebuilds the plan against the caller's problem, and validates it with UP's
 validator and, where installed, VAL. Outcomes are data: a missing planner, a
@@ -32,7 +33,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..errors import DependencyNotInstalled, PlannerError
-from . import _proc
+from . import _command, _proc
 from .adapt import adapt_for_engine, without_quality_metrics
 from .model import ENCODINGS
 from .validate import plan_from_steps, plan_quality, plan_to_steps, validate_plan
@@ -78,6 +79,8 @@ class PlannerConfig:
     register: str | None = None
     env: dict[str, str] = field(default_factory=dict, hash=False)
     notes: str = ""
+    #: a planner binary instead of a UP engine: the argument list (see :mod:`._command`)
+    command: tuple[str, ...] = ()
 
     @classmethod
     def from_mapping(cls, data: dict[str, Any], source: str = "<dict>") -> PlannerConfig:
@@ -85,10 +88,18 @@ class PlannerConfig:
         if not isinstance(data, dict):
             raise PlannerError(f"{source}: a planner config must be a mapping, got {data!r}")
         known = {"name", "engine", "encoding", "timeout", "params", "requires", "register",
-                 "env", "notes"}
+                 "env", "notes", "command"}
         bad = sorted(set(data) - known)
         if bad:
             raise PlannerError(f"{source}: unknown key(s) {bad}; known keys: {sorted(known)}")
+        command: tuple[str, ...] = ()
+        if "command" in data:
+            if "engine" in data or "register" in data or "params" in data:
+                raise PlannerError(f"{source}: give either 'command' (a planner binary) or "
+                                   "'engine' (a unified-planning engine, with its 'params' "
+                                   "and 'register'), not both")
+            command = _command.parse_command(data["command"], source)
+            data = {**data, "engine": "command"}
         for key in ("name", "engine", "encoding"):
             if not isinstance(data.get(key), str) or not data[key]:
                 raise PlannerError(f"{source}: '{key}' must be a non-empty string")
@@ -108,7 +119,7 @@ class PlannerConfig:
             modules=tuple(requires.get("modules") or ()),
             binaries=tuple(requires.get("binaries") or ()),
             register=data.get("register"), env={str(k): str(v) for k, v in env.items()},
-            notes=str(data.get("notes") or "").strip(),
+            notes=str(data.get("notes") or "").strip(), command=command,
         )
 
 
@@ -169,8 +180,6 @@ def planners_dir() -> Traversable:
 
 def load_registry(directory: str | os.PathLike[str] | None = None) -> dict[str, PlannerConfig]:
     """Read every ``*.yaml`` planner config in ``directory`` (default :func:`planners_dir`)."""
-    import yaml
-
     root = Path(directory) if directory else planners_dir()
     if not root.is_dir():
         raise PlannerError(f"planner configs not found: {root} is not a directory; "
@@ -178,15 +187,23 @@ def load_registry(directory: str | os.PathLike[str] | None = None) -> dict[str, 
     registry: dict[str, PlannerConfig] = {}
     for path in sorted((f for f in root.iterdir() if f.name.endswith(".yaml")),
                        key=lambda f: f.name):
-        try:
-            data = yaml.safe_load(path.read_text(encoding="utf-8"))
-        except yaml.YAMLError as exc:
-            raise PlannerError(f"{path}: not valid YAML: {exc}") from exc
-        config = PlannerConfig.from_mapping(data, str(path))
+        config = load_config(path)
         if config.name in registry:
             raise PlannerError(f"{path}: planner name {config.name!r} is defined twice")
         registry[config.name] = config
     return registry
+
+
+def load_config(path: str | os.PathLike[str] | Traversable) -> PlannerConfig:
+    """One planner YAML file (a shipped one, or a user's: see ``planners/README.md``)."""
+    import yaml
+
+    source = Path(path) if isinstance(path, (str, os.PathLike)) else path
+    try:
+        data = yaml.safe_load(source.read_text(encoding="utf-8"))
+    except yaml.YAMLError as exc:
+        raise PlannerError(f"{path}: not valid YAML: {exc}") from exc
+    return PlannerConfig.from_mapping(data, str(path))
 
 
 @lru_cache(maxsize=1)
@@ -204,11 +221,20 @@ def get_planner(name: str | PlannerConfig) -> PlannerConfig:
     """The config of a registry name; an unknown name raises PlannerError listing all."""
     if isinstance(name, PlannerConfig):
         return name
+    if name.endswith((".yaml", ".yml")):  # a planner YAML of the user's, by path
+        if not Path(name).is_file():
+            raise PlannerError(f"planner config {name} does not exist")
+        return _config_at(str(Path(name).resolve()))
     registry = _default_registry()
     if name not in registry:
         known = ", ".join(sorted(registry))
         raise PlannerError(f"unknown planner {name!r}; known planners: {known}")
     return registry[name]
+
+
+@lru_cache(maxsize=32)
+def _config_at(path: str) -> PlannerConfig:
+    return load_config(path)
 
 
 @dataclass(frozen=True)
@@ -241,6 +267,9 @@ def _availability(config: PlannerConfig) -> Availability:
         if shutil.which(binary) is None:
             return Availability(False, f"the {binary!r} executable is not on PATH "
                                        f"(e.g. apt-get install default-jre-headless for java)")
+    if config.command:
+        problem = _command.program_problem(config.command)
+        return Availability(not problem, problem)
     try:
         _register(config)
     except Exception as exc:  # noqa: BLE001 - reported as data
@@ -302,8 +331,12 @@ def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = No
     # directory, so two solves in one directory (two test runs) corrupt each other's files.
     workdir = tempfile.mkdtemp(prefix="ocplus-solve-")
     try:
-        outcome = _proc.run_isolated(_solve_in_child, (problem, config, limit, workdir),
-                                     hard_limit=limit + GRACE_SECONDS)
+        if config.command:
+            outcome = _command.run_command(problem, config.command, limit, workdir,
+                                           GRACE_SECONDS, config.env)
+        else:
+            outcome = _proc.run_isolated(_solve_in_child, (problem, config, limit, workdir),
+                                         hard_limit=limit + GRACE_SECONDS)
     finally:
         shutil.rmtree(workdir, ignore_errors=True)
     result.planning_time = round(outcome.wall_time, 4)
@@ -319,7 +352,7 @@ def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = No
     report: dict[str, Any] = outcome.value
     result.notes = report["notes"]
     result.cpu_time = report.get("cpu_time")
-    result.status = _UP_STATUS.get(report["up_status"], "error")
+    result.status = report.get("status") or _UP_STATUS.get(report["up_status"], "error")
     result.optimal = report["up_status"] == "SOLVED_OPTIMALLY"
     result.reason = report.get("reason", "")
     if result.status == "unsolvable" and "Traceback (most recent call last)" in report["log"]:
@@ -444,6 +477,7 @@ __all__ = [
     "availability",
     "available_planners",
     "get_planner",
+    "load_config",
     "load_registry",
     "planner_names",
     "planners_dir",

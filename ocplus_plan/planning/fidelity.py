@@ -35,14 +35,22 @@ def sample_states(preset: str, n: int, seed: int = 0, max_steps: int = 120,
                   **rule_overrides: Any) -> list[State]:
     """``n`` reachable states: random rollouts of random length (seeded, reproducible)."""
     rules = make_rules(preset, **rule_overrides)
-    out = []
-    for k in range(n):
-        rng = np.random.default_rng([seed, k])
-        state = new_state(rules, seed * 100_003 + k)
-        for _ in range(int(rng.integers(0, max_steps + 1))):
-            transition(state, rng.integers(0, 5, size=rules.n_agents).tolist())
-        out.append(state)
-    return out
+    return [sample_state(rules, seed, k, max_steps) for k in range(n)]
+
+
+#: how :func:`sample_state` reaches its state, in words (instance manifests quote it)
+SAMPLE_RECIPE = ("episode seed = seed * 100003 + k; rng = numpy.random.default_rng([seed, k]); "
+                 "rng.integers(0, max_steps + 1) uniformly random joint actions, each "
+                 "rng.integers(0, 5, size=n_agents)")
+
+
+def sample_state(rules: Any, seed: int, k: int, max_steps: int = 120) -> State:
+    """The ``k``-th reachable state of :func:`sample_states` for ``rules`` and ``seed``."""
+    rng = np.random.default_rng([seed, k])
+    state = new_state(rules, seed * 100_003 + k)
+    for _ in range(int(rng.integers(0, max_steps + 1))):
+        transition(state, rng.integers(0, 5, size=rules.n_agents).tolist())
+    return state
 
 
 @dataclass
@@ -293,4 +301,4 @@ def _fail(out: Replay, message: str, category: str) -> Replay:
     return out
 
 
-__all__ = ["Replay", "replay", "sample_states"]
+__all__ = ["SAMPLE_RECIPE", "Replay", "replay", "sample_state", "sample_states"]

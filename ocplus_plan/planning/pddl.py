@@ -19,14 +19,13 @@ if TYPE_CHECKING:
     from importlib.resources.abc import Traversable
 
 
-def _writer(compiled: Compiled) -> Any:
-    from unified_planning.io import PDDLWriter
-
-    return PDDLWriter(compiled.problem, needs_requirements=True, rewrite_bool_assignments=False)
-
-
 def problem_texts(compiled: Compiled) -> tuple[str, str]:
-    """(domain text, problem text) of a compiled state.
+    """(domain text, problem text) of a compiled state (see :func:`pddl_texts`)."""
+    return pddl_texts(compiled.problem)
+
+
+def pddl_texts(problem: Any) -> tuple[str, str]:
+    """(domain text, problem text) of a UP problem of the kitchen model.
 
     Requirements: classical files declare ``:action-costs`` for the static functions that
     feed the costs (distances, steps left), as the IPC action-cost domains do and as Fast
@@ -35,9 +34,13 @@ def problem_texts(compiled: Compiled) -> tuple[str, str]:
     not say so, and VAL's ``Parser`` warns ``Undeclared requirement :number-fluents`` at
     every use, so they declare ``:numeric-fluents`` (Kairos, LPG and UP's reader take it).
     """
-    writer = _writer(compiled)
+    from unified_planning.io import PDDLWriter
+
+    from .plan_io import is_temporal
+
+    writer = PDDLWriter(problem, needs_requirements=True, rewrite_bool_assignments=False)
     domain = writer.get_domain()
-    if compiled.encoding == "temporal":
+    if is_temporal(problem):
         domain = declare_numeric_fluents(domain)
     return domain, writer.get_problem()
 
@@ -93,5 +96,5 @@ def read_pddl(domain: str | Path, problem: str | Path) -> Any:
     return PDDLReader().parse_problem(str(domain), str(problem))
 
 
-__all__ = ["declare_numeric_fluents", "domain_path", "domain_text", "problem_texts", "read_pddl",
-           "write_pddl"]
+__all__ = ["declare_numeric_fluents", "domain_path", "domain_text", "pddl_texts", "problem_texts",
+           "read_pddl", "write_pddl"]

@@ -1,0 +1,61 @@
+"""``ocplus check-plan``: check a plan made anywhere, against validators and the simulator.
+
+Give an instance folder of a set written by ``ocplus export-suite`` (``OUT/p01``; the
+plan defaults to its reference plan, ``--plan FILE`` checks yours), or ``--domain``,
+``--problem`` and ``--plan`` files. The plan is an IPC plan file: sequential
+(``(pick a0 tomato0 ...)`` or ``3: (pick ...)``) or time-stamped
+(``0.000: (move a0 s_1_1 s_1_2) [1.000]``). It is parsed (never evaluated; a bad line is
+reported with its number), validated with unified-planning's validator and VAL, and, for
+an instance, replayed in the simulator from the instance's state; the first divergence
+is printed in kitchen words.
+
+Exit codes: 0 valid (and, for an instance, faithful: the simulator did what the plan
+says); 4 invalid (unreadable, or rejected by a validator); 5 unfaithful (valid, but the
+simulator diverges from it); 2 bad input (no such instance or file, an edited problem).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from ._common import HelpFormatter, add_output_args, emit
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("check-plan", help="check a plan file: parse, validate (VAL and "
+                       "unified-planning), replay in the simulator",
+                       description=__doc__, formatter_class=HelpFormatter)
+    p.add_argument("instance", nargs="?", default=None,
+                   help="an instance folder (OUT/pNN) of an exported set")
+    p.add_argument("--plan", default=None,
+                   help="the plan file (default for an instance: its reference plan)")
+    p.add_argument("--encoding", default=None,
+                   help="which of the instance's encodings (default: the first, "
+                        "alphabetically: classical)")
+    p.add_argument("--domain", default=None, help="a PDDL domain file (without an instance)")
+    p.add_argument("--problem", default=None, help="a PDDL problem file (without an instance)")
+    p.add_argument("--no-val", action="store_true", help="validate with unified-planning only")
+    add_output_args(p)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..errors import ConfigError
+    from ..eval.check import check_files, check_instance_plan
+
+    if args.instance is not None:
+        if args.domain or args.problem:
+            raise ConfigError("give an instance folder or --domain/--problem files, not both")
+        result = check_instance_plan(args.instance, args.encoding, args.plan,
+                                     use_val=not args.no_val)
+    else:
+        if not (args.domain and args.problem and args.plan):
+            raise ConfigError("give an instance folder (OUT/pNN), or all of --domain, "
+                              "--problem and --plan")
+        result = check_files(args.domain, args.problem, args.plan, use_val=not args.no_val)
+    out = result.to_dict()
+    if args.json:
+        emit(out, args)
+    else:
+        emit({k: v for k, v in out.items() if v not in (None, "", [])}, args, width=15)
+    return result.exit_code

@@ -1,0 +1,145 @@
+"""Check a plan made anywhere: read it, validate it, replay it in the simulator.
+
+:func:`check_plan` takes a plan file (IPC format, sequential or time-stamped) for an
+instance of an exported set (:mod:`.suite`) or for any domain and problem files:
+
+1. **read**: :mod:`~ocplus_plan.planning.plan_io` parses it against the problem
+   (unknown action, wrong arity, unknown object, bad number, garbage line, oversized
+   file: the verdict is ``invalid`` and the error names the line);
+2. **validate**: unified-planning's validator and VAL (``validate_plan``); either
+   rejecting it makes it ``invalid``;
+3. **replay** (instances only: domain and problem files alone name no simulator
+   state): the fidelity harness runs it in the simulator from the instance's state and
+   compares the two worlds after every action; the first divergence is reported in
+   kitchen words (:func:`~ocplus_plan.planning.language.kitchen_words`) and makes it
+   ``unfaithful``.
+
+Verdicts and the exit codes of ``ocplus check-plan``: ``valid`` 0, ``invalid`` 4,
+``unfaithful`` 5 (see ``ocplus_plan/cli.py``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+from ..errors import ConfigError, UnreadableText
+
+VERDICT_EXIT = {"valid": 0, "invalid": 4, "unfaithful": 5}
+
+
+@dataclass
+class PlanCheck:
+    """The outcome of :func:`check_plan`; ``verdict`` is valid, invalid or unfaithful."""
+
+    verdict: str
+    plan: str
+    encoding: str | None = None
+    actions: int | None = None
+    cost: float | None = None
+    makespan: float | None = None
+    validation: str = ""
+    replayed: bool = False
+    simulator_steps: int | None = None
+    served: list[int] | None = None
+    divergence: str = ""
+    error: str = ""
+
+    @property
+    def exit_code(self) -> int:
+        return VERDICT_EXIT[self.verdict]
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+def _validate(problem: Any, plan: Any, out: PlanCheck, use_val: bool) -> bool:
+    from ..planning.validate import plan_quality, validate_plan
+
+    check = validate_plan(problem, plan, use_val=use_val)
+    out.validation = check.detail
+    quality = plan_quality(problem, plan, with_cost=check.cost is None)
+    out.cost = check.cost if check.cost is not None else quality.cost
+    out.makespan = quality.makespan
+    if check.ok is False:
+        out.verdict = "invalid"
+        return False
+    return True
+
+
+def check_instance_plan(instance_dir: str | Path, encoding: str | None = None,
+                        plan_path: str | Path | None = None, use_val: bool = True) -> PlanCheck:
+    """Check a plan for an exported instance (default: its reference plan of ``encoding``,
+    or of its only / first encoding)."""
+    from ..planning.language import kitchen_words, step_words
+    from ..planning.plan_io import read_plan
+    from .suite import load_instance, replay_plan
+
+    instance = load_instance(instance_dir)
+    encodings = sorted(instance.manifest["encodings"])
+    if encoding is None:
+        encoding = encodings[0]
+    compiled = instance.compiled(encoding)  # unknown encoding / edited problem: ConfigError
+    entry = instance.manifest["encodings"][encoding]
+    if plan_path is None:
+        if "plan" not in entry:
+            raise ConfigError(f"{instance.folder} has no {encoding} reference plan (no "
+                              "planner solved it); give one with --plan")
+        plan_path = instance.folder / entry["plan"]
+    out = PlanCheck("valid", str(plan_path), encoding)
+    try:
+        plan = read_plan(plan_path, compiled.problem)
+    except UnreadableText as exc:
+        out.verdict, out.error = "invalid", str(exc)
+        return out
+    out.actions = _length(plan)
+    if not _validate(compiled.problem, plan, out, use_val):
+        return out
+    replay = replay_plan(compiled, plan, instance.state)
+    out.replayed, out.simulator_steps, out.served = True, replay.steps, replay.served
+    if not replay.ok:
+        out.verdict = "unfaithful"
+        where, mismatch = "", replay.mismatch
+        if plan.kind.name == "SEQUENTIAL_PLAN" and replay.actions:
+            ai = plan.actions[replay.actions - 1]
+            args = [str(p.object()) for p in ai.actual_parameters]
+            where = (f"at plan step {replay.actions - 1} "
+                     f"({step_words(compiled, ai.action.name, args)}): ")
+            mismatch = mismatch.removeprefix(f"{ai}: ")
+        out.divergence = where + kitchen_words(mismatch, compiled) + (
+            f" (kind: {replay.category})" if replay.category else "")
+    return out
+
+
+def check_files(domain: str | Path, problem: str | Path, plan_path: str | Path,
+                use_val: bool = True) -> PlanCheck:
+    """Check a plan against PDDL files alone (validation only; no simulator state)."""
+    from ..planning.pddl import read_pddl
+    from ..planning.plan_io import read_plan
+
+    for path in (domain, problem):
+        if not Path(path).is_file():
+            raise ConfigError(f"{path}: no such file")
+    try:
+        parsed = read_pddl(domain, problem)
+    except Exception as exc:  # noqa: BLE001 - UP's reader raises many kinds
+        raise ConfigError(f"{domain} / {problem}: unified-planning cannot read them "
+                          f"({type(exc).__name__}: {str(exc)[:300]})") from None
+    out = PlanCheck("valid", str(plan_path))
+    try:
+        plan = read_plan(plan_path, parsed)
+    except UnreadableText as exc:
+        out.verdict, out.error = "invalid", str(exc)
+        return out
+    out.actions = _length(plan)
+    _validate(parsed, plan, out, use_val)
+    return out
+
+
+def _length(plan: Any) -> int:
+    return len(plan.timed_actions) if plan.kind.name == "TIME_TRIGGERED_PLAN" else len(
+        plan.actions)
+
+
+__all__ = ["VERDICT_EXIT", "PlanCheck", "check_files", "check_instance_plan"]

@@ -1,0 +1,328 @@
+"""Instance sets in the IPC style, for planners and language models outside the package.
+
+:func:`export_suite` samples reachable kitchen states (random rollouts of
+:func:`~ocplus_plan.planning.fidelity.sample_state`) for every preset, map and number
+of cooks asked for, compiles each in every encoding asked for, solves it with the
+reference planners, and writes::
+
+    OUT/manifest.json              the arguments, the encodings, the instance names
+    OUT/README.txt                 this layout and the formats, for whoever gets the set
+    OUT/<encoding>/domain.pddl     one domain per encoding (the checked-in domains/ one)
+    OUT/<encoding>/domain.txt      the same domain in English
+    OUT/maps/<file>.yaml           copies of map files given by path (names need none)
+    OUT/pNN/manifest.json          preset, map, cooks, seed, sample, step, how the state
+                                   was reached, its hash, the open orders, the goal, the
+                                   lower bound, and per encoding the reference plan's
+                                   planner, engine, cost/makespan, validation, fidelity
+    OUT/pNN/state.json             the simulator state (``State.to_dict``), exact
+    OUT/pNN/<encoding>.pddl        the problem
+    OUT/pNN/<encoding>.txt         the problem in English
+    OUT/pNN/<encoding>.plan        the reference plan, IPC format (absent if none solved)
+    OUT/pNN/<encoding>-domain.pddl only if this instance needs a bigger domain (a plate
+                                   of more than three ingredients)
+
+Same arguments, same bytes: nothing time-dependent (no timings, dates or absolute
+paths) is written, and JSON keys are sorted. The one caveat: a reference planner that
+solves an instance near its time limit may time out on another run (then the reference
+changes); the command's own output (not the set) reports planning times.
+
+The reference plan of an encoding is the best plan (lowest cost, classical; shortest
+makespan, temporal) among the planners of :data:`REFERENCE_PLANNERS` that solved it
+within the time limit and whose plan UP's validator and VAL accepted; ties go to the
+planner listed first. It is also replayed in the simulator
+(:mod:`~ocplus_plan.planning.fidelity`): ``faithful`` says whether the simulator did
+what the plan says.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..errors import ConfigError
+from ..sim.rules import make_rules
+from ..sim.state import State, state_from_dict
+
+#: reference planners per encoding, best first on ties (see the module docstring)
+REFERENCE_PLANNERS: dict[str, tuple[str, ...]] = {
+    "classical": ("fast-downward-bjolp", "fast-downward-wastar"),
+    "temporal": ("kairos",),
+}
+FORMAT = "ocplus-suite/1"
+
+
+@dataclass(frozen=True)
+class SuiteSpec:
+    """What :func:`export_suite` writes (the ``ocplus export-suite`` options)."""
+
+    presets: tuple[str, ...] = ("easy",)
+    maps: tuple[str | None, ...] = (None,)
+    cooks: tuple[int | None, ...] = (None,)  # None: the preset's number of cooks
+    states: int = 1
+    encodings: tuple[str, ...] = ("classical", "temporal")
+    seed: int = 0
+    granularity: str = "stations"
+    orders: int | None = None
+    max_steps: int = 120
+    timeout: float = 60.0
+    planners: dict[str, tuple[str, ...]] = field(default_factory=lambda: dict(REFERENCE_PLANNERS))
+
+    def arguments(self) -> dict[str, Any]:
+        return {"presets": list(self.presets), "maps": list(self.maps), "cooks": list(self.cooks),
+                "states": self.states, "encodings": list(self.encodings), "seed": self.seed,
+                "granularity": self.granularity, "orders": self.orders,
+                "max_steps": self.max_steps, "timeout": self.timeout,
+                "planners": {k: list(v) for k, v in sorted(self.planners.items())}}
+
+
+README = """\
+An instance set of ocplus-plan (a symbolic-planning benchmark on an Overcooked-style
+kitchen simulator), written by `ocplus export-suite`. Layout:
+
+  manifest.json                 how the set was made (`ocplus export-suite` arguments)
+  <encoding>/domain.pddl        the PDDL domain of an encoding (classical: STRIPS with
+                                action costs; temporal: PDDL 2.1 durative actions)
+  <encoding>/domain.txt         the same domain in English, generated from the model
+  pNN/manifest.json             where the state comes from, its orders, the lower bound on
+                                plan quality, and the reference plan of each encoding
+  pNN/<encoding>.pddl           the problem (use <encoding>-domain.pddl if present)
+  pNN/<encoding>.txt            the problem in English
+  pNN/<encoding>.plan           the reference plan in IPC format (sequential: `N: (a x y)`;
+                                temporal: `T: (a x y) [D]`), validated with VAL and
+                                unified-planning
+  pNN/state.json                the simulator state the problem was compiled from
+
+Check any plan against the planner-independent validators and the simulator:
+  ocplus check-plan pNN --encoding classical --plan my.plan
+Exit codes: 0 valid and faithful, 4 invalid, 5 valid but the simulator diverges.
+"""
+
+
+def _dump(data: Any) -> str:
+    return json.dumps(data, indent=1, sort_keys=True) + "\n"
+
+
+def _write(path: Path, text: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text, encoding="utf-8")
+
+
+def _bound(state: State, orders: int | None) -> dict[str, float | None]:
+    from .bounds import plan_bound
+
+    b = plan_bound(state, max_orders=orders)
+    return {k: (None if v == float("inf") else float(v))
+            for k, v in (("cost", b.cost), ("makespan", b.makespan))}
+
+
+def reference_plan(compiled: Any, state: State, planners: tuple[str, ...],
+                   timeout: float) -> tuple[Any, dict[str, Any], list[dict[str, Any]]]:
+    """(best plan or None, what the manifest says about it, one row per planner tried with
+    its planning time for the command's output)."""
+    from ..planning.engines import solve
+
+    best: tuple[float, int, Any] | None = None
+    tried: dict[str, str] = {}
+    rows = []
+    for rank, name in enumerate(planners):
+        result = solve(compiled.problem, name, timeout=timeout)
+        ok = result.solved and result.validated is True
+        tried[name] = result.status if ok or not result.solved else "not validated"
+        rows.append({"planner": name, "status": result.status,
+                     "planning_time": result.planning_time, "reason": result.reason[:200]})
+        if not ok:
+            continue
+        value = result.cost if compiled.encoding == "classical" else result.makespan
+        if value is not None and (best is None or (value, rank) < best[:2]):
+            best = (value, rank, result)
+    info: dict[str, Any] = {"tried": tried}
+    if best is None:
+        return None, info, rows
+    result = best[2]
+    replay = replay_plan(compiled, result.plan, state)
+    info.update(planner=result.planner, engine=result.engine, cost=result.cost,
+                makespan=result.makespan, plan_length=result.plan_length,
+                validated=result.validation_detail, faithful=replay.ok,
+                divergence=replay.mismatch or None)
+    return result.plan, info, rows
+
+
+def replay_plan(compiled: Any, plan: Any, state: State) -> Any:
+    """Replay a plan of ``compiled`` in ``state`` (sequential or time-triggered)."""
+    from ..planning.fidelity import replay
+    from ..planning.fidelity_temporal import replay_temporal
+
+    if plan.kind.name == "TIME_TRIGGERED_PLAN":
+        return replay_temporal(compiled, plan, state)
+    return replay(compiled, plan, state)
+
+
+def _map_entry(spec: str | None, out: Path) -> str | None:
+    """How the manifest names a map: a registry name as is; a file copied into the set."""
+    if spec is None:
+        return None
+    path = Path(spec)
+    if spec.endswith((".yaml", ".yml")) and path.is_file():
+        target = out / "maps" / path.name
+        target.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(path, target)
+        return f"maps/{path.name}"
+    return spec
+
+
+def rules_of(instance: dict[str, Any], root: Path) -> Any:
+    """The rules an instance manifest names (a copied map file is read from the set)."""
+    map_spec = instance["map"]
+    if map_spec is not None and map_spec.startswith("maps/"):
+        map_spec = str(root / map_spec)
+    return make_rules(instance["preset"], map=map_spec, n_agents=instance["n_agents"],
+                      horizon=instance["horizon"])
+
+
+def export_suite(spec: SuiteSpec, out: str | Path,
+                 progress: Any = None) -> list[dict[str, Any]]:
+    """Write the instance set of ``spec`` into ``out`` (see the module docstring).
+
+    Returns one row per instance and encoding (planning times included) for the caller
+    to print; ``progress(message)`` is called as instances are done."""
+    from ..planning import compile
+    from ..planning.fidelity import SAMPLE_RECIPE, sample_state
+    from ..planning.language import describe_domain, describe_problem
+    from ..planning.model import ENCODINGS
+    from ..planning.pddl import domain_text, pddl_texts
+    from ..planning.plan_io import format_plan
+
+    bad = [e for e in spec.encodings if e not in ENCODINGS]
+    if bad or not spec.encodings:
+        raise ConfigError(f"--encoding {','.join(spec.encodings)}: use one or more of "
+                          f"{', '.join(ENCODINGS)}")
+    if spec.states < 1:
+        raise ConfigError(f"--states must be at least 1, got {spec.states}")
+    root = Path(out)
+    if root.exists() and any(root.iterdir()):
+        raise ConfigError(f"--out {root} exists and is not empty; give a new folder (an "
+                          "instance set is written whole, never merged)")
+    root.mkdir(parents=True, exist_ok=True)
+    for enc in spec.encodings:
+        _write(root / enc / "domain.pddl", domain_text(enc, spec.granularity))
+        _write(root / enc / "domain.txt", describe_domain(enc, spec.granularity))
+    names: list[str] = []
+    rows: list[dict[str, Any]] = []
+    combos = [(p, m, c) for p in spec.presets for m in spec.maps for c in spec.cooks]
+    width = max(2, len(str(len(combos) * spec.states)))
+    for preset, map_spec, cooks in combos:
+        rules = make_rules(preset, map=map_spec, **({"n_agents": cooks} if cooks else {}))
+        cooks = rules.n_agents
+        map_entry = _map_entry(map_spec, root)
+        for k in range(spec.states):
+            name = f"p{len(names) + 1:0{width}d}"
+            names.append(name)
+            state = sample_state(rules, spec.seed, k, spec.max_steps)
+            folder = root / name
+            _write(folder / "state.json", _dump(state.to_dict()))
+            instance: dict[str, Any] = {
+                "name": name, "preset": preset, "map": map_entry, "layout": rules.layout.name,
+                "n_agents": cooks, "horizon": rules.horizon, "seed": spec.seed, "sample": k,
+                "max_steps": spec.max_steps, "step": state.t,
+                "reached": f"sample {k} of seed {spec.seed}: {SAMPLE_RECIPE}",
+                "state_hash": state.state_hash(), "granularity": spec.granularity,
+                "orders": [{"id": o.order_id, "recipe": [i.name.lower() for i in o.recipe]}
+                           for o in state.orders],
+                "max_orders": spec.orders, "bound": _bound(state, spec.orders),
+                "encodings": {},
+            }
+            for enc in spec.encodings:
+                compiled = compile(state, encoding=enc, granularity=spec.granularity,
+                                   max_orders=spec.orders)
+                instance["goal_orders"] = list(compiled.goal_orders)
+                domain, problem = pddl_texts(compiled.problem)
+                entry: dict[str, Any] = {"problem": f"{enc}.pddl", "text": f"{enc}.txt",
+                                         "domain": f"../{enc}/domain.pddl"}
+                if domain != (root / enc / "domain.pddl").read_text(encoding="utf-8"):
+                    _write(folder / f"{enc}-domain.pddl", domain)
+                    entry["domain"] = f"{enc}-domain.pddl"
+                _write(folder / f"{enc}.pddl", problem)
+                _write(folder / f"{enc}.txt", describe_problem(compiled))
+                plan, info, tried = reference_plan(compiled, state, spec.planners.get(enc, ()),
+                                                   spec.timeout)
+                entry["reference"] = info
+                if plan is not None:
+                    entry["plan"] = f"{enc}.plan"
+                    _write(folder / f"{enc}.plan", format_plan(
+                        plan, f"reference plan of {name} ({enc}) by {info['planner']}"))
+                instance["encodings"][enc] = entry
+                rows.append({"instance": name, "encoding": enc, "preset": preset,
+                             "n_agents": cooks, "step": state.t, "bound": instance["bound"],
+                             **{k: info.get(k) for k in ("planner", "cost", "makespan",
+                                                         "faithful")},
+                             "tried": tried})
+            _write(folder / "manifest.json", _dump(instance))
+            if progress is not None:
+                progress(f"{name}: {preset}, map {rules.layout.name}, {cooks} cook(s), "
+                         f"step {state.t}")
+    _write(root / "README.txt", README)
+    _write(root / "manifest.json", _dump({
+        "format": FORMAT, "generated_by": "ocplus export-suite", "arguments": spec.arguments(),
+        "encodings": {e: {"domain": f"{e}/domain.pddl", "text": f"{e}/domain.txt"}
+                      for e in spec.encodings},
+        "instances": names}))
+    return rows
+
+
+@dataclass
+class Instance:
+    """One instance of a set, loaded back: its manifest, state and folder."""
+
+    folder: Path
+    manifest: dict[str, Any]
+    state: State
+
+    def compiled(self, encoding: str) -> Any:
+        """The instance compiled again; refused if its problem file no longer matches."""
+        from ..planning import compile
+        from ..planning.pddl import pddl_texts
+
+        entry = self.manifest["encodings"].get(encoding)
+        if entry is None:
+            raise ConfigError(f"instance {self.folder} has no {encoding} encoding; it has "
+                              f"{', '.join(sorted(self.manifest['encodings']))}")
+        compiled = compile(self.state, encoding=encoding,
+                           granularity=self.manifest["granularity"],
+                           max_orders=self.manifest["max_orders"])
+        stored = (self.folder / entry["problem"]).read_text(encoding="utf-8")
+        if pddl_texts(compiled.problem)[1] != stored:
+            raise ConfigError(f"{self.folder / entry['problem']} does not match the instance's "
+                              "state.json (edited by hand, or written by another version); "
+                              "export the set again")
+        return compiled
+
+
+def load_instance(folder: str | Path) -> Instance:
+    """An instance folder written by :func:`export_suite` (bad folders raise ConfigError)."""
+    path = Path(folder)
+    manifest_path = path / "manifest.json"
+    if not manifest_path.is_file():
+        raise ConfigError(f"{path} is not an instance of an ocplus set (no manifest.json); "
+                          "give a folder pNN written by `ocplus export-suite`, or the "
+                          "domain, problem and plan files")
+    try:
+        manifest = json.loads(manifest_path.read_text(encoding="utf-8"))
+        if "instances" in manifest:
+            raise ConfigError(f"{path} is a whole set; give one of its instances, e.g. "
+                              f"{path / manifest['instances'][0]}")
+        rules = rules_of(manifest, path.parent)
+        state = state_from_dict(rules, json.loads((path / "state.json").read_text("utf-8")))
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise ConfigError(f"{path}: cannot read the instance ({type(exc).__name__}: {exc}); "
+                          "export the set again") from None
+    if state.state_hash() != manifest.get("state_hash"):
+        raise ConfigError(f"{path}/state.json does not match its manifest's state_hash; "
+                          "export the set again")
+    return Instance(path, manifest, state)
+
+
+__all__ = ["FORMAT", "REFERENCE_PLANNERS", "Instance", "SuiteSpec", "export_suite",
+           "load_instance", "reference_plan", "replay_plan", "rules_of"]

@@ -1,0 +1,91 @@
+"""The model in English: generated from the model, complete, and about this kitchen."""
+
+from __future__ import annotations
+
+import pytest
+
+pytest.importorskip("unified_planning")
+
+from ocplus_plan.planning import compile
+from ocplus_plan.planning.language import (
+    ACTION_WORDS,
+    FACT_WORDS,
+    action_template,
+    check_complete,
+    describe_domain,
+    describe_problem,
+    fact_words,
+    kitchen_words,
+    object_words,
+    step_words,
+)
+from ocplus_plan.planning.model import ENCODINGS, GRANULARITIES, build_domain
+from ocplus_plan.sim import make_rules, new_state
+
+VARIANTS = [(e, g, False) for e in ENCODINGS for g in GRANULARITIES] + [
+    ("temporal", "stations", True)]
+
+
+@pytest.fixture(scope="module")
+def medium():
+    return compile(new_state(make_rules("medium", n_agents=2), 0), encoding="temporal")
+
+
+def test_every_fluent_of_the_model_has_words():
+    assert check_complete() == []
+
+
+@pytest.mark.parametrize("encoding, granularity, switches", VARIANTS)
+def test_every_action_of_every_domain_has_words(encoding, granularity, switches):
+    dom = build_domain(encoding, granularity, 3, switches)
+    for name, action in dom.actions.items():
+        template = action_template(name)
+        assert not template.endswith("{_args}"), name
+        params = {p.name for p in action.parameters}
+        used = {f for f in params if "{" + f + "}" in template}
+        assert used, name  # the template speaks about this action's own parameters
+
+
+@pytest.mark.parametrize("encoding", ENCODINGS)
+def test_a_domain_text_describes_every_action_with_its_conditions(encoding):
+    text = describe_domain(encoding)
+    dom = build_domain(encoding, "stations")
+    for name, action in dom.actions.items():
+        params = ", ".join(f"{p.name} ({p.type})" for p in action.parameters)
+        assert f"\n{name}({params})\n" in text
+    assert "needs" in text and ("takes" in text if encoding == "classical" else "lasts" in text)
+    assert describe_domain(encoding) == text
+
+
+def test_a_problem_text_names_every_object_and_goal(medium):
+    text = describe_problem(medium)
+    for obj in medium.problem.all_objects:
+        assert f"- {obj.name}: {object_words(medium, obj.name)}" in text
+    for order in medium.goal_orders:
+        assert f"- serve o{order} (order {order}): a plate of" in text
+    assert "- a0 stands at s_" in text and "cook 1" in text
+
+
+def test_facts_and_objects_in_words(medium):
+    assert fact_words("holding", ["a0", "tomato0"]) == "a0 holds tomato0"
+    assert fact_words("dist", ["s_1_1", "s_1_2"], 3) == "walking from s_1_1 to s_1_2 takes 3 steps"
+    assert object_words(medium, "a1") == "cook 1"
+    board = next(n for n in medium.names.cells if n.startswith("board_"))
+    r, c = medium.names.cells[board]
+    assert object_words(medium, board) == f"the cutting board at (row {r}, col {c})"
+    assert set(FACT_WORDS) >= set(build_domain("classical").fluents)
+    assert "move" in ACTION_WORDS
+
+
+def test_a_plan_step_in_words(medium):
+    board = next(n for n in medium.names.cells if n.startswith("board_"))
+    words = step_words(medium, "chop", ["a1", "tomato0", board, "s_1_2"])
+    assert words.startswith("cook 1 chops tomato0 on the cutting board at (row ")
+    assert words.endswith("(standing at the floor at (row 1, col 2))")
+
+
+def test_a_mismatch_message_in_kitchen_words(medium):
+    text = kitchen_words("tomato0: model says [('cell', (1, 2))], simulator says ('hand', 0); "
+                         "a0: model at [(1, 1)]", medium)
+    assert text == ("tomato0: model says [on the cell at (row 1, col 2)], simulator says held "
+                    "by cook 0; cook 0: model at [(row 1, col 1)]")
