@@ -1,61 +1,214 @@
-"""Many independent kitchens stepped together, for learner throughput (numpy only).
+"""Many kitchens of one rule set stepped together as arrays: the batched engine.
 
-:class:`BatchSim` holds ``n_envs`` states of one :class:`Rules`; ``step(actions)`` with an
-``(n_envs, n_agents)`` int array applies :func:`transition` to each and encodes all the
-observations in one vectorised :meth:`VectorEncoder.encode_many` call. Finished episodes
-restart at once (the returned observation is the new episode's first; the last one is in
-:attr:`BatchStep.final_obs`). Episode seeds come from one generator per kitchen,
-``default_rng([seed, env_index])``, so a batch is reproducible from ``seed`` alone.
+:class:`BatchSim` holds ``n_envs`` kitchens (same :class:`Rules`, independent seeds and
+actions) in flat arrays and steps them all with the kernels of
+:mod:`ocplus_plan.sim.batch_kernels`, compiled by numba when the ``fast`` extra is
+installed and run as plain Python otherwise (correct, about a thousand times slower).
+It keeps every agent's vector observation (SPEC section 8, exactly what
+:class:`VectorEncoder` gives) up to date in :attr:`BatchSim.obs`, rewriting only the
+entries that changed.
+
+Two ways to step: :meth:`BatchSim.step` restarts finished kitchens in the same call (the
+observation returned is the new episode's first, the last one is in
+:attr:`BatchStep.final_obs`); :meth:`BatchSim.step_active` and :meth:`BatchSim.reset_envs`
+are the parts it is made of, for callers with their own reset policy (the Gymnasium
+vector env). Episode seeds come from one generator per kitchen, ``default_rng([seed, e])``,
+so a batch is reproducible from ``seed`` alone; :meth:`BatchSim.state` rebuilds any
+kitchen as a :class:`State` (same :meth:`State.state_hash` as :func:`transition` gives).
+
+Design note: this is a second implementation of the rules, kept the same kitchen as
+``step.py`` by a differential property test (``tests/sim/test_batch.py``), not by being
+the one implementation. ``transition`` stays the readable reference: it returns events,
+which planners, the executive and reward shaping read, and its list state is what every
+other layer inspects.
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
+import importlib.util
+import sys
+import types
+from functools import lru_cache
+from typing import Any, NamedTuple
 
 import numpy as np
 
-from ..errors import ConfigError, InvalidActionError
-from .observe import VectorEncoder
+from ..errors import ConfigError, DependencyNotInstalled, InvalidActionError
+from . import batch_kernels as bk
+from .codes import Item
+from .observe import _CH_KIND0, _CH_STATE0, CH_OTHER, CH_PROGRESS, CH_SELF, VectorEncoder
 from .rules import Rules
-from .state import Geometry, State, new_state
-from .step import transition
+from .state import Order, State, geometry_for, new_state
 
 _SEED_HIGH = 2**31 - 1
+_STATIC_CHANNELS = _CH_KIND0  # terrain one-hots and ``unknown`` come first
+_INGREDIENTS = (Item.TOMATO, Item.LETTUCE, Item.ONION, Item.STEAK)
 
 
 class BatchStep(NamedTuple):
-    obs: np.ndarray  # (n_envs, n_agents, size) float32, after any restart
+    obs: np.ndarray  # (n_envs, n_agents, size) float32, after any restart (a view: copy to keep)
     rewards: np.ndarray  # (n_envs, n_agents) float32
     terminated: np.ndarray  # (n_envs,) bool
     truncated: np.ndarray  # (n_envs,) bool
     final_obs: dict[int, np.ndarray]  # env index -> (n_agents, size), for envs that ended
 
 
-class BatchSim:
-    """``n_envs`` kitchens of ``rules`` with vector observations of radius ``obs_radius``."""
+def numba_available() -> bool:
+    return importlib.util.find_spec("numba") is not None
 
-    def __init__(self, rules: Rules, n_envs: int, *, seed: int = 0, obs_radius: int = 0) -> None:
+
+@lru_cache(maxsize=2)
+def kernels(compiled: bool) -> Any:
+    """The kernel module: as written (``compiled=False``), or a copy of it whose functions
+    numba compiled (the entry points over envs run in parallel)."""
+    if not compiled:
+        return bk
+    try:
+        import numba
+    except ImportError as exc:
+        raise DependencyNotInstalled(
+            "the compiled batch engine needs numba: pip install 'ocplus-plan[fast]' "
+            "(or pass compiled=False for the plain-Python kernels)"
+        ) from exc
+    spec = importlib.util.find_spec(bk.__name__)
+    source = spec.loader.get_source(bk.__name__)  # type: ignore[union-attr]
+    mod = types.ModuleType(bk.__name__ + "_compiled")
+    mod.__file__ = bk.__file__
+    sys.modules[mod.__name__] = mod
+    exec(compile(source, bk.__file__, "exec"), mod.__dict__)  # noqa: S102 (our own source)
+    mod.prange = numba.prange
+    for name in bk.KERNELS:
+        parallel = name in ("step_all", "reset_some")
+        setattr(mod, name, numba.njit(cache=True, parallel=parallel)(getattr(mod, name)))
+    return mod
+
+
+def static_arrays(rules: Rules, encoder: VectorEncoder) -> bk.StaticArrays:
+    """The kernels' tables for one rule set and observation encoder."""
+    geo = geometry_for(rules)
+    i64 = np.int64
+    params = np.zeros(16, i64)
+    params[[bk.P_CHOP, bk.P_COOK, bk.P_BURN, bk.P_WASH, bk.P_HORIZON, bk.P_SWITCH_STEP]] = (
+        rules.chop_steps, rules.cook_time, rules.burn_time, rules.wash_steps, rules.horizon,
+        rules.map_switch_step)
+    limit, stop = rules.order_time_limit, rules.stop_after_orders
+    params[bk.P_LIMIT] = -1 if limit is None else limit
+    params[bk.P_STOP] = -1 if stop is None else stop
+    params[bk.P_DIRTY], params[bk.P_DYNAMIC] = rules.dirty_plates, rules.dynamic
+    params[bk.P_SHARED] = rules.reward_mode == "shared"
+    params[bk.P_FIXED] = rules.fixed_orders is not None
+    params[bk.P_RADIUS], params[bk.P_ROWS], params[bk.P_COLS] = (
+        encoder.radius, geo.rows, geo.cols)
+    params[bk.P_HAS_SWITCH] = encoder._has_switch
+    rw = rules.rewards
+    rewards = np.array([rw.subtask_finished, rw.correct_delivery, rw.wrong_delivery,
+                        rw.step_penalty, rw.burned_penalty, rw.order_expired], np.float64)
+    kind_index = np.zeros(16, i64)
+    for j, kind in enumerate((*_INGREDIENTS, Item.PLATE)):
+        kind_index[int(kind)] = j
+    recipe_counts = np.array([[r.count(k) for k in _INGREDIENTS] for r in rules.recipes], i64)
+    fixed = [rules.recipes.index(r) for r in rules.fixed_orders or ()] or [0]
+    cells_w = encoder.window[0] * encoder.window[1]
+    static_size = _STATIC_CHANNELS * cells_w
+    if encoder.radius:
+        static_obs = encoder._padded_ext
+        gather = encoder._gather[:, :static_size]
+    else:
+        static_obs = np.ascontiguousarray(encoder._blank[:, 0, :static_size])
+        gather = np.arange(static_size)[None, :]
+    obs_layout = np.array([
+        cells_w, encoder.window[1], _CH_KIND0, _CH_STATE0, CH_PROGRESS, CH_SELF, CH_OTHER,
+        encoder.grid_size, encoder.grid_size + encoder._order0, static_size], i64)
+    spawn = [geo.flat(r, c) for r, c in rules.layout.spawn_points[: rules.n_agents]]
+    return bk.StaticArrays(
+        params, rewards, np.array(geo.terrains, i64), np.array(geo.walkables, bool),
+        np.array(geo.neighbors, i64), np.array(geo.pans, i64).reshape(-1),
+        np.array(geo.switch_cells, i64).reshape(-1), np.array(geo.item_kind, i64),
+        np.array(geo.item_home, i64), kind_index, np.array(encoder._prog_den, np.float64),
+        recipe_counts, np.array(fixed, i64), np.array(spawn, i64), obs_layout,
+        np.ascontiguousarray(static_obs, np.float32), np.ascontiguousarray(gather, i64))
+
+
+class BatchSim:
+    """``n_envs`` kitchens of ``rules`` with vector observations of radius ``obs_radius``.
+
+    ``compiled``: None uses numba when installed; True requires it (``fast`` extra);
+    False runs the kernels as plain Python.
+    """
+
+    def __init__(self, rules: Rules, n_envs: int, *, seed: int = 0, obs_radius: int = 0,
+                 compiled: bool | None = None) -> None:
         if isinstance(n_envs, bool) or not isinstance(n_envs, int) or n_envs < 1:
             raise ConfigError(f"n_envs must be a positive integer, got {n_envs!r}")
         self.rules = rules
         self.n_envs = n_envs
-        self.n_agents = rules.n_agents
+        self.n_agents = n = rules.n_agents
+        self.compiled = numba_available() if compiled is None else bool(compiled)
+        self._k = kernels(self.compiled)
         self.encoder = VectorEncoder(rules, obs_radius)
-        self._geo = Geometry.build(rules)
-        self._rngs = [np.random.default_rng([seed, e]) for e in range(n_envs)]
-        self.states: list[State] = []
-        self.episodes = np.zeros(n_envs, np.int64)
+        self.static = static_arrays(rules, self.encoder)
+        geo = geometry_for(rules)
+        n_items, n_cells, n_orders = len(geo.item_kind), geo.rows * geo.cols, rules.n_orders
+        self._per_step_draws = n + n_orders  # deliveries + expiries
+        self._queue_len = 2 * self._per_step_draws + n_orders + 8
+        n_entries = 4 * n_items + n + 8 + 6 * n_orders
+        i32, e = np.int32, n_envs
 
-    def _new(self, e: int) -> State:
-        return new_state(self.rules, int(self._rngs[e].integers(_SEED_HIGH)), geometry=self._geo)
+        def z(*shape: int, dtype: Any = i32) -> np.ndarray:
+            return np.zeros((e, *shape), dtype)
+
+        self.arrays = bk.KitchenArrays(
+            t=z(), layout=z(), next_switch=z(), next_order_id=z(), pos=z(n), hand=z(n),
+            cell_item=z(n_cells), item_state=z(n_items), item_progress=z(n_items),
+            item_where=z(n_items), item_loc=z(n_items), item_agent=z(n_items),
+            order_id=z(n_orders), order_recipe=z(n_orders), order_created=z(n_orders),
+            order_deadline=z(n_orders), stats=z(9), queue=z(self._queue_len), queue_pos=z(),
+            rewards=z(n, dtype=np.float64), obs=z(n, self.encoder.size, dtype=np.float32),
+            obs_static_at=np.full((e, n), -1, i32), ent_idx=z(n, n_entries),
+            ent_val=z(n, n_entries, dtype=np.float32), ent_n=z(n))
+        self._seed_rngs = [np.random.default_rng([seed, i]) for i in range(n_envs)]
+        self._draw_rngs: list[np.random.Generator | None] = [None] * n_envs
+        self.seeds = np.zeros(n_envs, np.int64)  # each kitchen's episode seed
+        self._drawn_before = np.zeros(n_envs, np.int64)  # draws no longer in the queue
+        self.episodes = np.zeros(n_envs, np.int64)
+        self._all = np.ones(n_envs, bool)
+        self._started = False
+
+    # ------------------------------------------------------------ public
+    @property
+    def obs(self) -> np.ndarray:
+        """``(n_envs, n_agents, size)`` float32: every agent's current observation (live:
+        the next step rewrites it; copy what you keep)."""
+        return self.arrays.obs
 
     def reset(self) -> np.ndarray:
-        """Start a new episode everywhere; ``(n_envs, n_agents, size)`` observations."""
-        self.states = [self._new(e) for e in range(self.n_envs)]
-        return self.encoder.encode_many(self.states)
+        """Start a new episode everywhere; returns :attr:`obs`."""
+        self.reset_envs(np.arange(self.n_envs))
+        self.episodes[:] = 0
+        return self.arrays.obs
 
-    def step(self, actions: np.ndarray) -> BatchStep:
-        if not self.states:
+    def reset_envs(self, envs: np.ndarray) -> None:
+        """Start the next episode of each listed kitchen (seeded from its own sequence)."""
+        envs = np.asarray(envs, np.int64).reshape(-1)
+        if self.rules.fixed_orders is None:
+            size, n_recipes = self._queue_len, len(self.rules.recipes)
+            for e in envs.tolist():
+                self.seeds[e] = self._seed_rngs[e].integers(_SEED_HIGH)
+                rng = self._draw_rngs[e] = np.random.default_rng(int(self.seeds[e]))
+                self.arrays.queue[e] = rng.integers(n_recipes, size=size)
+        else:
+            for e in envs.tolist():
+                self.seeds[e] = self._seed_rngs[e].integers(_SEED_HIGH)
+        self.arrays.queue_pos[envs] = 0
+        self._drawn_before[envs] = 0
+        self._k.reset_some(self.arrays, self.static, envs)
+        self._started = True
+
+    def step_active(self, actions: np.ndarray, active: np.ndarray | None = None,
+                    ) -> tuple[np.ndarray, np.ndarray]:
+        """Step the kitchens with ``active`` (all when None) without restarting any;
+        returns (terminated, truncated) per kitchen (False where not active)."""
+        if not self._started:
             raise ConfigError("call reset() before step()")
         acts = np.asarray(actions)
         if acts.shape != (self.n_envs, self.n_agents):
@@ -63,26 +216,76 @@ class BatchSim:
                 f"actions must have shape (n_envs, n_agents) = {(self.n_envs, self.n_agents)}, "
                 f"got {acts.shape}"
             )
-        rows = acts.tolist()
-        rewards = np.empty((self.n_envs, self.n_agents), np.float32)
-        terminated = np.zeros(self.n_envs, bool)
-        truncated = np.zeros(self.n_envs, bool)
-        ended = []
-        for e, (state, joint) in enumerate(zip(self.states, rows)):
-            res = transition(state, joint)
-            rewards[e] = res.rewards
-            if res.terminated or res.truncated:
-                terminated[e], truncated[e] = res.terminated, res.truncated
-                ended.append(e)
+        acts = acts.astype(np.int64, copy=False)
+        if acts.size and (acts.min() < 0 or acts.max() > 4):
+            e, a = np.argwhere((acts < 0) | (acts > 4))[0]
+            raise InvalidActionError(
+                f"kitchen {e}, agent {a}: action {acts[e, a]!r} is not one of 0 right, 1 down, "
+                "2 left, 3 up, 4 stay"
+            )
+        act = self._all if active is None else np.asarray(active, bool)
+        self._k.step_all(self.arrays, self.static, acts, act)
+        self._refill_queues()
+        a, p = self.arrays, self.static.params
+        stop = p[bk.P_STOP]
+        terminated = (a.stats[:, bk.COMPLETED] >= stop) & act if stop >= 0 else \
+            np.zeros(self.n_envs, bool)
+        truncated = ~terminated & (a.t >= p[bk.P_HORIZON]) & act
+        return terminated, truncated
+
+    def step(self, actions: np.ndarray) -> BatchStep:
+        """Step every kitchen; finished ones restart at once (see the module note)."""
+        terminated, truncated = self.step_active(actions)
+        rewards = self.arrays.rewards.astype(np.float32)
+        ended = np.flatnonzero(terminated | truncated)
         final: dict[int, np.ndarray] = {}
-        if ended:
-            last = self.encoder.encode_many([self.states[e] for e in ended])
-            for k, e in enumerate(ended):
-                final[e] = last[k]
-                self.states[e] = self._new(e)
-                self.episodes[e] += 1
-        obs = self.encoder.encode_many(self.states)
-        return BatchStep(obs, rewards, terminated, truncated, final)
+        if len(ended):
+            last = self.arrays.obs[ended]
+            final = {int(e): last[j] for j, e in enumerate(ended)}
+            self.reset_envs(ended)
+            self.episodes[ended] += 1
+        return BatchStep(self.arrays.obs, rewards, terminated, truncated, final)
+
+    def state(self, e: int) -> State:
+        """Kitchen ``e`` as a :class:`State` (an independent copy, hash-identical to the
+        state :func:`transition` reaches from the same seed and actions)."""
+        a, rules = self.arrays, self.rules
+        s = new_state(rules, int(self.seeds[e]))
+        for name in ("cell_item", "item_state", "item_progress", "item_where", "item_loc",
+                     "item_agent"):
+            setattr(s, name, getattr(a, name)[e].tolist())
+        s.agent_pos, s.agent_hand = a.pos[e].tolist(), a.hand[e].tolist()
+        s.t, s.layout_index = int(a.t[e]), int(a.layout[e])
+        s.next_switch, s.next_order_id = int(a.next_switch[e]), int(a.next_order_id[e])
+        s.orders = [Order(int(i), rules.recipes[r], int(c), int(d)) for i, r, c, d in zip(
+            a.order_id[e], a.order_recipe[e], a.order_created[e], a.order_deadline[e])]
+        s.stats = dict(zip(bk.STAT_NAMES, a.stats[e].tolist()))
+        rng = np.random.default_rng(int(self.seeds[e]))
+        drawn = int(self._drawn_before[e] + a.queue_pos[e])
+        if rules.fixed_orders is None and drawn:
+            rng.integers(len(rules.recipes), size=drawn)
+        s.rng = rng
+        return s
+
+    def memory_per_kitchen(self) -> int:
+        """Bytes held per kitchen: state, observations and the kernels' bookkeeping."""
+        return sum(x.nbytes for x in self.arrays) // self.n_envs
+
+    # ------------------------------------------------------------ internals
+    def _refill_queues(self) -> None:
+        """Top up the recipe queues that a next step could run dry (rare: a draw is a
+        delivery or an expired order)."""
+        if self.rules.fixed_orders is not None:
+            return
+        a, q = self.arrays, self._queue_len
+        low = np.flatnonzero(a.queue_pos > q - self._per_step_draws)
+        n_recipes = len(self.rules.recipes)
+        for e in low.tolist():
+            used = int(a.queue_pos[e])
+            a.queue[e, : q - used] = a.queue[e, used:].copy()
+            a.queue[e, q - used :] = self._draw_rngs[e].integers(n_recipes, size=used)
+            a.queue_pos[e] = 0
+            self._drawn_before[e] += used
 
 
-__all__ = ["BatchSim", "BatchStep"]
+__all__ = ["BatchSim", "BatchStep", "kernels", "numba_available", "static_arrays"]
