@@ -116,7 +116,7 @@ def static_arrays(rules: Rules, encoder: VectorEncoder) -> bk.StaticArrays:
     else:
         static_obs = np.ascontiguousarray(encoder._blank[:, 0, :static_size])
         gather = np.arange(static_size)[None, :]
-    obs_layout = np.array([
+    view = np.array([
         cells_w, encoder.window[1], _CH_KIND0, _CH_STATE0, CH_PROGRESS, CH_SELF, CH_OTHER,
         encoder.grid_size, encoder.grid_size + encoder._order0, static_size], i64)
     spawn = [geo.flat(r, c) for r, c in rules.layout.spawn_points[: rules.n_agents]]
@@ -125,7 +125,7 @@ def static_arrays(rules: Rules, encoder: VectorEncoder) -> bk.StaticArrays:
         np.array(geo.neighbors, i64), np.array(geo.pans, i64).reshape(-1),
         np.array(geo.switch_cells, i64).reshape(-1), np.array(geo.item_kind, i64),
         np.array(geo.item_home, i64), kind_index, np.array(encoder._prog_den, np.float64),
-        recipe_counts, np.array(fixed, i64), np.array(spawn, i64), obs_layout,
+        recipe_counts, np.array(fixed, i64), np.array(spawn, i64), view,
         np.ascontiguousarray(static_obs, np.float32), np.ascontiguousarray(gather, i64))
 
 
@@ -158,14 +158,12 @@ class BatchSim:
             return np.zeros((e, *shape), dtype)
 
         self.arrays = bk.KitchenArrays(
-            t=z(), layout=z(), next_switch=z(), next_order_id=z(), pos=z(n), hand=z(n),
-            cell_item=z(n_cells), item_state=z(n_items), item_progress=z(n_items),
-            item_where=z(n_items), item_loc=z(n_items), item_agent=z(n_items),
-            order_id=z(n_orders), order_recipe=z(n_orders), order_created=z(n_orders),
-            order_deadline=z(n_orders), stats=z(9), queue=z(self._queue_len), queue_pos=z(),
+            clock=z(5), agents=z(2, n), cells=z(n_cells), items=z(5, n_items),
+            orders=z(4, n_orders), stats=z(9), queue=z(self._queue_len),
             rewards=z(n, dtype=np.float64), obs=z(n, self.encoder.size, dtype=np.float32),
-            obs_static_at=np.full((e, n), -1, i32), ent_idx=z(n, n_entries),
-            ent_val=z(n, n_entries, dtype=np.float32), ent_n=z(n))
+            static_at=np.full((e, n), -1, i32), ent_idx=z(n + 1, n_entries),
+            ent_val=z(n + 1, n_entries, dtype=np.float32), ent_n=z(n),
+            scratch=z(3, n, dtype=np.int64))
         self._seed_rngs = [np.random.default_rng([seed, i]) for i in range(n_envs)]
         self._draw_rngs: list[np.random.Generator | None] = [None] * n_envs
         self.seeds = np.zeros(n_envs, np.int64)  # each kitchen's episode seed
@@ -199,7 +197,7 @@ class BatchSim:
         else:
             for e in envs.tolist():
                 self.seeds[e] = self._seed_rngs[e].integers(_SEED_HIGH)
-        self.arrays.queue_pos[envs] = 0
+        self.arrays.clock[envs, bk.C_QPOS] = 0
         self._drawn_before[envs] = 0
         self._k.reset_some(self.arrays, self.static, envs)
         self._started = True
@@ -230,7 +228,7 @@ class BatchSim:
         stop = p[bk.P_STOP]
         terminated = (a.stats[:, bk.COMPLETED] >= stop) & act if stop >= 0 else \
             np.zeros(self.n_envs, bool)
-        truncated = ~terminated & (a.t >= p[bk.P_HORIZON]) & act
+        truncated = ~terminated & (a.clock[:, bk.C_T] >= p[bk.P_HORIZON]) & act
         return terminated, truncated
 
     def step(self, actions: np.ndarray) -> BatchStep:
@@ -251,17 +249,15 @@ class BatchSim:
         state :func:`transition` reaches from the same seed and actions)."""
         a, rules = self.arrays, self.rules
         s = new_state(rules, int(self.seeds[e]))
-        for name in ("cell_item", "item_state", "item_progress", "item_where", "item_loc",
-                     "item_agent"):
-            setattr(s, name, getattr(a, name)[e].tolist())
-        s.agent_pos, s.agent_hand = a.pos[e].tolist(), a.hand[e].tolist()
-        s.t, s.layout_index = int(a.t[e]), int(a.layout[e])
-        s.next_switch, s.next_order_id = int(a.next_switch[e]), int(a.next_order_id[e])
-        s.orders = [Order(int(i), rules.recipes[r], int(c), int(d)) for i, r, c, d in zip(
-            a.order_id[e], a.order_recipe[e], a.order_created[e], a.order_deadline[e])]
+        s.cell_item = a.cells[e].tolist()
+        (s.item_state, s.item_progress, s.item_where, s.item_loc,
+         s.item_agent) = a.items[e].tolist()
+        s.agent_pos, s.agent_hand = a.agents[e].tolist()
+        s.t, s.layout_index, s.next_switch, s.next_order_id, used = a.clock[e].tolist()
+        s.orders = [Order(i, rules.recipes[r], c, d) for i, r, c, d in zip(*a.orders[e].tolist())]
         s.stats = dict(zip(bk.STAT_NAMES, a.stats[e].tolist()))
         rng = np.random.default_rng(int(self.seeds[e]))
-        drawn = int(self._drawn_before[e] + a.queue_pos[e])
+        drawn = int(self._drawn_before[e]) + used
         if rules.fixed_orders is None and drawn:
             rng.integers(len(rules.recipes), size=drawn)
         s.rng = rng
@@ -278,13 +274,13 @@ class BatchSim:
         if self.rules.fixed_orders is not None:
             return
         a, q = self.arrays, self._queue_len
-        low = np.flatnonzero(a.queue_pos > q - self._per_step_draws)
+        low = np.flatnonzero(a.clock[:, bk.C_QPOS] > q - self._per_step_draws)
         n_recipes = len(self.rules.recipes)
         for e in low.tolist():
-            used = int(a.queue_pos[e])
+            used = int(a.clock[e, bk.C_QPOS])
             a.queue[e, : q - used] = a.queue[e, used:].copy()
             a.queue[e, q - used :] = self._draw_rngs[e].integers(n_recipes, size=used)
-            a.queue_pos[e] = 0
+            a.clock[e, bk.C_QPOS] = 0
             self._drawn_before[e] += used
 
 

@@ -2,23 +2,28 @@
 at a time, written in the subset of Python that numba compiles.
 
 Plain Python as it stands (the fallback, and what ``numba`` compiles: see
-:func:`ocplus_plan.sim.batch.kernels`). Every function reads and writes arrays whose first
-axis is the env: ``k`` holds the per-env state (:class:`KitchenArrays`), ``g`` the static
-tables of one rule set (:class:`StaticArrays`). The functions follow ``step.py`` rule for
-rule and in the same order (bumps in agent order, waiting respawns, simultaneous moves,
-pans, layout switch, expiry, horizon); a differential property test
-(``tests/sim/test_batch.py``) holds the two to the same kitchen, bit for bit.
+:func:`ocplus_plan.sim.batch.kernels`). The state of ``E`` kitchens lives in a few integer
+arrays whose first axis is the env (:class:`KitchenArrays`); the tables of one rule set in
+:class:`StaticArrays`. The functions follow ``step.py`` rule for rule and in the same order
+(bumps in agent order, waiting respawns, simultaneous moves, pans, layout switch, expiry);
+a differential property test (``tests/sim/test_batch.py``) holds the two to the same
+kitchen, bit for bit.
 
-Orders draw no random numbers here: each env carries a queue of recipe indices drawn in
-advance from its episode generator (``k.queue``, read from ``k.queue_pos``), which the
-Python side refills; a draw is one queue read.
+Design notes (profiled with numba 0.68):
 
-Observations are kept, not rebuilt: ``k.obs`` holds every agent's vector observation
-(SPEC section 8, exactly :class:`ocplus_plan.sim.observe.VectorEncoder`'s) and each step
-lists the observation's dynamic entries (index, value) in a fixed order and touches only
-those that differ from the previous step's list (kept in ``k.ent_idx`` / ``k.ent_val``).
-Entries add (several items on a plate share a count cell); only counts, small integers,
-ever share an index, so adding and taking away is exact in float32.
+* helpers take the arrays one by one plus the env index ``e``, never the named tuples:
+  passing a tuple of twenty arrays to a compiled function, or taking an attribute of it,
+  costs more than the rule it serves, and reference counting on shared arrays makes the
+  two threads fight; the entry points unpack the tuples once per call;
+* orders draw no random numbers here: each env carries a queue of recipe indices drawn
+  in advance from its episode generator (``queue``, read at ``clock[e, C_QPOS]``), which
+  the Python side refills; a draw is one queue read;
+* observations are kept, not rebuilt: ``obs`` holds every agent's vector observation
+  (SPEC section 8, exactly :class:`ocplus_plan.sim.observe.VectorEncoder`'s) and each
+  step lists the observation's dynamic entries (index, value) in a fixed order and touches
+  only those that differ from the previous step's list (all stale ones are taken away
+  before new ones are added). Entries add (several items on a plate share a count cell);
+  only counts, small integers, ever share an index, so this is exact in float32.
 """
 
 from __future__ import annotations
@@ -30,28 +35,31 @@ import numpy as np
 prange = range  # numba.prange when compiled
 
 # codes (sim/codes.py), repeated as plain ints so the compiled kernels see constants
-_FLOOR, _COUNTER, _SPAWN = 0, 1, 2
-_BOARD, _DELIVERY, _PAN, _SINK, _TRASH = 6, 7, 9, 11, 12
+_COUNTER = 1
 _TOMATO, _LETTUCE, _PLATE_KIND, _ONION, _STEAK = 3, 4, 5, 8, 10
+_BOARD, _DELIVERY, _PAN, _SINK, _TRASH = 6, 7, 9, 11, 12
 _FRESH, _CHOPPED, _COOKED, _BURNT, _CLEAN, _DIRTY = 0, 1, 2, 3, 4, 5
 _CELL, _HAND, _PLATE, _WAITING = 0, 1, 2, 3
 _STAY = 4
-# stats columns, in the order of State.stats
+# columns and rows of the state arrays
+C_T, C_LAYOUT, C_SWITCH, C_ORDER_ID, C_QPOS = range(5)  # clock (E, 5)
+A_POS, A_HAND = range(2)  # agents (E, 2, n_agents)
+I_STATE, I_PROG, I_WHERE, I_LOC, I_OWNER = range(5)  # items (E, 5, n_items)
+O_ID, O_RECIPE, O_CREATED, O_DEADLINE = range(4)  # orders (E, 4, n_orders), oldest first
 DISHES, COMPLETED, EXPIRED, BURNS, WRONG, CHOPS, COOKS, WASHES, SWITCHES = range(9)
 STAT_NAMES = ("dishes_served", "orders_completed", "orders_expired", "burns",
               "wrong_deliveries", "chops", "cooks", "washes", "layout_switches")
-# params columns (ints)
+# params (ints) and reward values (floats)
 (P_CHOP, P_COOK, P_BURN, P_WASH, P_HORIZON, P_LIMIT, P_STOP, P_DIRTY, P_DYNAMIC,
  P_SWITCH_STEP, P_SHARED, P_FIXED, P_RADIUS, P_ROWS, P_COLS, P_HAS_SWITCH) = range(16)
-# reward columns (floats)
 R_SUBTASK, R_CORRECT, R_WRONG, R_STEP, R_BURNED, R_EXPIRED = range(6)
-# obs layout columns (ints): channel starts and feature offsets
-(O_CELLS, O_WW, O_KIND0, O_STATE0, O_PROG, O_SELF, O_OTHER, O_FEAT, O_ORDER0,
- O_STATIC) = range(10)
+# observation layout: window cells and width, channel starts, feature offsets, static size
+(V_CELLS, V_WW, V_KIND0, V_STATE0, V_PROG, V_SELF, V_OTHER, V_FEAT, V_ORDER0,
+ V_STATIC) = range(10)
 
 
 class StaticArrays(NamedTuple):
-    """What one rule set fixes (see :meth:`ocplus_plan.sim.batch.BatchSim` for the build)."""
+    """What one rule set fixes (built by :func:`ocplus_plan.sim.batch.static_arrays`)."""
 
     params: np.ndarray  # int64 (16,)
     rewards: np.ndarray  # float64 (6,)
@@ -60,258 +68,263 @@ class StaticArrays(NamedTuple):
     nbrs: np.ndarray  # int64 (cells, 4)
     pans: np.ndarray  # int64 (n_pans,)
     switch_cells: np.ndarray  # int64 (n,)
-    item_kind: np.ndarray  # int64 (items,)
-    item_home: np.ndarray  # int64 (items,)
+    kind: np.ndarray  # int64 (items,) item kind
+    home: np.ndarray  # int64 (items,) spawn tile
     kind_index: np.ndarray  # int64 (16,): item kind -> 0..4 (tomato lettuce onion steak plate)
-    prog_den: np.ndarray  # float64 (items,)
-    recipe_counts: np.ndarray  # int64 (recipes, 4)
+    prog_den: np.ndarray  # float64 (items,) what the progress channel divides by
+    recipes: np.ndarray  # int64 (recipes, 4) ingredient counts
     fixed: np.ndarray  # int64 (n_fixed,) recipe indices of the fixed orders
     spawn: np.ndarray  # int64 (agents,)
-    obs_layout: np.ndarray  # int64 (10,)
-    static_obs: np.ndarray  # float32 (layouts, padded cells * static channels + 1)
-    static_gather: np.ndarray  # int64 (cells, static size of one agent's window)
+    obs_layout: np.ndarray  # int64 (10,) observation layout (V_*)
+    static_obs: np.ndarray  # float32 (layouts, padded static planes + 1)
+    static_gather: np.ndarray  # int64 (cells or 1, static size of one agent's observation)
 
 
 class KitchenArrays(NamedTuple):
-    """The state of ``E`` kitchens (first axis), plus their observations."""
+    """The state of ``E`` kitchens (first axis), their observations and scratch space."""
 
-    t: np.ndarray  # (E,)
-    layout: np.ndarray
-    next_switch: np.ndarray
-    next_order_id: np.ndarray
-    pos: np.ndarray  # (E, agents)
-    hand: np.ndarray
-    cell_item: np.ndarray  # (E, cells)
-    item_state: np.ndarray  # (E, items)
-    item_progress: np.ndarray
-    item_where: np.ndarray
-    item_loc: np.ndarray
-    item_agent: np.ndarray
-    order_id: np.ndarray  # (E, n_orders), oldest first
-    order_recipe: np.ndarray
-    order_created: np.ndarray
-    order_deadline: np.ndarray
+    clock: np.ndarray  # (E, 5) C_*
+    agents: np.ndarray  # (E, 2, agents) A_*
+    cells: np.ndarray  # (E, cells) item id lying there, -1
+    items: np.ndarray  # (E, 5, items) I_*
+    orders: np.ndarray  # (E, 4, n_orders) O_*
     stats: np.ndarray  # (E, 9)
     queue: np.ndarray  # (E, Q) recipe indices drawn ahead
-    queue_pos: np.ndarray  # (E,)
     rewards: np.ndarray  # float64 (E, agents), the last step's
     obs: np.ndarray  # float32 (E, agents, size)
-    obs_static_at: np.ndarray  # (E, agents): layout * cells + cell whose static part is in obs
-    ent_idx: np.ndarray  # (E, agents, K)
-    ent_val: np.ndarray  # float32 (E, agents, K)
+    static_at: np.ndarray  # (E, agents): layout * cells + cell whose static part is in obs
+    ent_idx: np.ndarray  # (E, agents + 1, K): last entries per agent; the last row is scratch
+    ent_val: np.ndarray  # float32 (E, agents + 1, K)
     ent_n: np.ndarray  # (E, agents)
+    scratch: np.ndarray  # int64 (E, 3, agents): move targets, status, chain
 
 
 # ---------------------------------------------------------------- entry points
 def step_all(k, g, actions, active):
-    """One step of every env ``e`` with ``active[e]``; then their observations."""
+    """One step of every env ``e`` with ``active[e]``, then their observations."""
+    clock, agents, cells, items, orders = k.clock, k.agents, k.cells, k.items, k.orders
+    stats, queue, rewards, scratch = k.stats, k.queue, k.rewards, k.scratch
+    p, rw, terrain, walk, nbrs = g.params, g.rewards, g.terrain, g.walk, g.nbrs
+    kind, home, kidx, recipes = g.kind, g.home, g.kind_index, g.recipes
+    pans, switch_cells = g.pans, g.switch_cells
+    obs, static_at, ent_idx, ent_val, ent_n = k.obs, k.static_at, k.ent_idx, k.ent_val, k.ent_n
+    view, prog_den, static_obs, gather = g.obs_layout, g.prog_den, g.static_obs, g.static_gather
     for e in prange(len(active)):
         if active[e]:
-            step_env(k, g, e, actions[e])
-            observe_env(k, g, e)
+            step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewards,
+                     scratch, p, rw, terrain, walk, nbrs, kind, home, kidx, recipes, pans,
+                     switch_cells)
+            observe_env(e, clock, agents, items, orders, obs, static_at, ent_idx, ent_val,
+                        ent_n, p, view, kind, kidx, prog_den, recipes, static_obs, gather,
+                        terrain.shape[1])
 
 
 def reset_some(k, g, envs):
     """Start a new episode in each listed env (its queue already holds the new draws)."""
+    clock, agents, cells, items, orders = k.clock, k.agents, k.cells, k.items, k.orders
+    p, kind, home, spawn, fixed = g.params, g.kind, g.home, g.spawn, g.fixed
+    obs, static_at, ent_idx, ent_val, ent_n = k.obs, k.static_at, k.ent_idx, k.ent_val, k.ent_n
+    stats, queue, rewards, kidx, recipes = k.stats, k.queue, k.rewards, g.kind_index, g.recipes
+    view, prog_den, static_obs, gather = g.obs_layout, g.prog_den, g.static_obs, g.static_gather
+    n_cells = g.terrain.shape[1]
     for j in prange(len(envs)):
-        reset_env(k, g, envs[j])
-        observe_env(k, g, envs[j])
+        e = envs[j]
+        clock[e, C_T] = 0
+        clock[e, C_LAYOUT] = 0
+        clock[e, C_SWITCH] = p[P_SWITCH_STEP]
+        clock[e, C_ORDER_ID] = 0
+        for a in range(agents.shape[2]):
+            agents[e, A_POS, a] = spawn[a]
+            agents[e, A_HAND, a] = -1
+            rewards[e, a] = 0.0
+        for c in range(cells.shape[1]):
+            cells[e, c] = -1
+        for i in range(items.shape[2]):
+            items[e, I_STATE, i] = _CLEAN if kind[i] == _PLATE_KIND else _FRESH
+            items[e, I_PROG, i] = 0
+            items[e, I_WHERE, i] = _CELL
+            items[e, I_LOC, i] = home[i]
+            items[e, I_OWNER, i] = -1
+            cells[e, home[i]] = i
+        for s in range(stats.shape[1]):
+            stats[e, s] = 0
+        for o in range(orders.shape[2]):
+            if p[P_FIXED]:
+                recipe = fixed[clock[e, C_ORDER_ID] % len(fixed)]
+            else:
+                recipe = draw(e, clock, queue)
+            put_order(e, o, recipe, clock, orders, p)
+        observe_env(e, clock, agents, items, orders, obs, static_at, ent_idx, ent_val, ent_n,
+                    p, view, kind, kidx, prog_den, recipes, static_obs, gather, n_cells)
 
 
-def reset_env(k, g, e):
-    p = g.params
-    k.t[e] = 0
-    k.layout[e] = 0
-    k.next_switch[e] = p[P_SWITCH_STEP]
-    k.next_order_id[e] = 0
-    for a in range(len(g.spawn)):
-        k.pos[e, a] = g.spawn[a]
-        k.hand[e, a] = -1
-        k.rewards[e, a] = 0.0
-    k.cell_item[e, :] = -1
-    for i in range(len(g.item_kind)):
-        k.item_state[e, i] = _CLEAN if g.item_kind[i] == _PLATE_KIND else _FRESH
-        k.item_progress[e, i] = 0
-        k.item_where[e, i] = _CELL
-        k.item_loc[e, i] = g.item_home[i]
-        k.item_agent[e, i] = -1
-        k.cell_item[e, g.item_home[i]] = i
-    k.stats[e, :] = 0
-    for o in range(k.order_id.shape[1]):
-        recipe = g.fixed[k.next_order_id[e] % len(g.fixed)] if p[P_FIXED] else draw(k, e)
-        put_order(k, g, e, o, recipe)
-
-
-def draw(k, e):
-    r = k.queue[e, k.queue_pos[e]]
-    k.queue_pos[e] += 1
+# ---------------------------------------------------------------- orders
+def draw(e, clock, queue):
+    r = queue[e, clock[e, C_QPOS]]
+    clock[e, C_QPOS] += 1
     return r
 
 
-def put_order(k, g, e, slot, recipe):
-    k.order_id[e, slot] = k.next_order_id[e]
-    k.order_recipe[e, slot] = recipe
-    k.order_created[e, slot] = k.t[e]
-    limit = g.params[P_LIMIT]
-    k.order_deadline[e, slot] = k.t[e] + limit if limit >= 0 else -1
-    k.next_order_id[e] += 1
+def put_order(e, slot, recipe, clock, orders, p):
+    t = clock[e, C_T]
+    orders[e, O_ID, slot] = clock[e, C_ORDER_ID]
+    orders[e, O_RECIPE, slot] = recipe
+    orders[e, O_CREATED, slot] = t
+    orders[e, O_DEADLINE, slot] = t + p[P_LIMIT] if p[P_LIMIT] >= 0 else -1
+    clock[e, C_ORDER_ID] += 1
 
 
-def replace_order(k, g, e, slot):
+def replace_order(e, slot, clock, orders, queue, p):
     """Drop order ``slot`` (later ones move up) and append its replacement."""
-    recipe = k.order_recipe[e, slot]
-    last = k.order_id.shape[1] - 1
+    recipe = orders[e, O_RECIPE, slot]
+    last = orders.shape[2] - 1
     for o in range(slot, last):
-        k.order_id[e, o] = k.order_id[e, o + 1]
-        k.order_recipe[e, o] = k.order_recipe[e, o + 1]
-        k.order_created[e, o] = k.order_created[e, o + 1]
-        k.order_deadline[e, o] = k.order_deadline[e, o + 1]
-    put_order(k, g, e, last, recipe if g.params[P_FIXED] else draw(k, e))
+        for f in range(4):
+            orders[e, f, o] = orders[e, f, o + 1]
+    put_order(e, last, recipe if p[P_FIXED] else draw(e, clock, queue), clock, orders, p)
+
+
+def expire_orders(e, clock, orders, stats, queue, rewards, p, rw):
+    n = rewards.shape[1]
+    share = rw[R_EXPIRED] / n
+    slot = 0
+    for _ in range(orders.shape[2]):  # the orders open before this check, in order
+        dl = orders[e, O_DEADLINE, slot]
+        if 0 <= dl <= clock[e, C_T]:
+            stats[e, EXPIRED] += 1
+            for a in range(n):
+                rewards[e, a] += share
+            replace_order(e, slot, clock, orders, queue, p)
+        else:
+            slot += 1
 
 
 # ---------------------------------------------------------------- the step
-def step_env(k, g, e, acts):
-    p = g.params
-    n = k.pos.shape[1]
+def step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewards, scratch,
+             p, rw, terrain, walk, nbrs, kind, home, kidx, recipes, pans, switch_cells):
+    n = agents.shape[2]
     for a in range(n):
-        k.rewards[e, a] = g.rewards[R_STEP]
-    lay = k.layout[e]
-    targets = np.full(n, -1, np.int64)
+        rewards[e, a] = rw[R_STEP]
+    lay = clock[e, C_LAYOUT]
     moving = False
     for a in range(n):
-        act = acts[a]
+        scratch[e, 0, a] = -1
+        act = actions[e, a]
         if act == _STAY:
             continue
-        tgt = g.nbrs[k.pos[e, a], act]
+        tgt = nbrs[agents[e, A_POS, a], act]
         if tgt < 0:
             continue
-        if g.walk[lay, tgt]:
-            targets[a] = tgt
+        if walk[lay, tgt]:
+            scratch[e, 0, a] = tgt
             moving = True
         else:
-            interact(k, g, e, a, tgt)
+            interact(e, a, tgt, clock, agents, cells, items, orders, stats, queue, rewards,
+                     p, rw, terrain[lay, tgt], kind, home, kidx, recipes)
     waiting = False
-    for i in range(k.item_where.shape[1]):
-        if k.item_where[e, i] == _WAITING:
+    for i in range(items.shape[2]):
+        if items[e, I_WHERE, i] == _WAITING:
             waiting = True
     if waiting:
-        for i in range(k.item_where.shape[1]):
-            if k.item_where[e, i] == _WAITING and k.cell_item[e, k.item_loc[e, i]] < 0:
-                k.cell_item[e, k.item_loc[e, i]] = i
-                k.item_where[e, i] = _CELL
+        for i in range(items.shape[2]):
+            at = items[e, I_LOC, i]
+            if items[e, I_WHERE, i] == _WAITING and cells[e, at] < 0:
+                cells[e, at] = i
+                items[e, I_WHERE, i] = _CELL
     if moving:
-        resolve_moves(k, e, targets)
-    for j in range(len(g.pans)):
-        it = k.cell_item[e, g.pans[j]]
+        resolve_moves(e, agents, scratch)
+    for j in range(len(pans)):
+        it = cells[e, pans[j]]
         if it >= 0:
-            tick_pan(k, g, e, it)
-    k.t[e] += 1
-    if p[P_DYNAMIC]:
-        maybe_switch(k, g, e)
+            tick_pan(e, it, items, stats, rewards, p, rw)
+    clock[e, C_T] += 1
+    if p[P_DYNAMIC] and clock[e, C_T] >= clock[e, C_SWITCH] and terrain.shape[0] > 1:
+        maybe_switch(e, clock, agents, cells, stats, p, terrain, walk, switch_cells)
     if p[P_LIMIT] >= 0:
-        expire_orders(k, g, e)
+        expire_orders(e, clock, orders, stats, queue, rewards, p, rw)
     if p[P_SHARED]:
         total = 0.0
         for a in range(n):
-            total += k.rewards[e, a]
+            total += rewards[e, a]
         for a in range(n):
-            k.rewards[e, a] = total
+            rewards[e, a] = total
 
 
-def resolve_moves(k, e, targets):
-    """Simultaneous moves (step._resolve_moves): contested cells, swaps and cycles block."""
-    n = len(targets)
-    status = np.full(n, 2, np.int64)  # 0 undecided, 1 moves, 2 stays
-    for a in range(n):
-        if targets[a] >= 0:
+def resolve_moves(e, agents, scratch):
+    """Simultaneous moves (step._resolve_moves): contested cells, swaps and cycles block.
+    ``scratch[e]`` rows: targets (filled by the caller), status, chain."""
+    n = agents.shape[2]
+    for a in range(n):  # status: 0 undecided, 1 moves, 2 stays (or not a mover)
+        scratch[e, 1, a] = 2
+        if scratch[e, 0, a] >= 0:
             same = 0
             for b in range(n):
-                if targets[b] == targets[a]:
+                if scratch[e, 0, b] == scratch[e, 0, a]:
                     same += 1
             if same == 1:
-                status[a] = 0
-    chain = np.empty(n, np.int64)
+                scratch[e, 1, a] = 0
     for a in range(n):
-        if status[a] != 0:
+        if scratch[e, 1, a] != 0:
             continue
-        chain[0] = a
+        scratch[e, 2, 0] = a
         length = 1
-        b = occupant(k, e, targets[a])
-        while b >= 0 and status[b] == 0 and not in_chain(chain, length, b):
-            chain[length] = b
+        b = occupant(e, scratch[e, 0, a], agents)
+        while b >= 0 and scratch[e, 1, b] == 0 and not in_chain(e, length, b, scratch):
+            scratch[e, 2, length] = b
             length += 1
-            b = occupant(k, e, targets[b])
-        ok = b < 0 or status[b] == 1
+            b = occupant(e, scratch[e, 0, b], agents)
+        ok = b < 0 or scratch[e, 1, b] == 1
         for c in range(length):
-            status[chain[c]] = 1 if ok else 2
+            scratch[e, 1, scratch[e, 2, c]] = 1 if ok else 2
     for a in range(n):
-        if status[a] == 1:
-            k.pos[e, a] = targets[a]
+        if scratch[e, 1, a] == 1:
+            agents[e, A_POS, a] = scratch[e, 0, a]
 
 
-def occupant(k, e, cell):
-    for a in range(k.pos.shape[1]):
-        if k.pos[e, a] == cell:
+def occupant(e, cell, agents):
+    for a in range(agents.shape[2]):
+        if agents[e, A_POS, a] == cell:
             return a
     return -1
 
 
-def in_chain(chain, length, b):
+def in_chain(e, length, b, scratch):
     for c in range(length):
-        if chain[c] == b:
+        if scratch[e, 2, c] == b:
             return True
     return False
 
 
-def tick_pan(k, g, e, it):
-    p = g.params
-    ticks = k.item_progress[e, it] + 1
-    k.item_progress[e, it] = ticks
-    st = k.item_state[e, it]
-    owner = k.item_agent[e, it]
+def tick_pan(e, it, items, stats, rewards, p, rw):
+    ticks = items[e, I_PROG, it] + 1
+    items[e, I_PROG, it] = ticks
+    st = items[e, I_STATE, it]
+    owner = items[e, I_OWNER, it]
     if st == _FRESH and p[P_COOK] - ticks <= 0:
-        k.item_state[e, it] = _COOKED
-        k.stats[e, COOKS] += 1
+        items[e, I_STATE, it] = _COOKED
+        stats[e, COOKS] += 1
         if owner >= 0:
-            k.rewards[e, owner] += g.rewards[R_SUBTASK]
+            rewards[e, owner] += rw[R_SUBTASK]
         st = _COOKED
     if st != _BURNT and p[P_BURN] + 1 - ticks <= 0:
-        k.item_state[e, it] = _BURNT
-        k.stats[e, BURNS] += 1
+        items[e, I_STATE, it] = _BURNT
+        stats[e, BURNS] += 1
         if owner >= 0:
-            k.rewards[e, owner] += g.rewards[R_BURNED]
+            rewards[e, owner] += rw[R_BURNED]
 
 
-def maybe_switch(k, g, e):
-    if k.t[e] < k.next_switch[e] or g.terrain.shape[0] < 2:
-        return
-    old = k.layout[e]
+def maybe_switch(e, clock, agents, cells, stats, p, terrain, walk, switch_cells):
+    old = clock[e, C_LAYOUT]
     new = 1 - old
-    for j in range(len(g.switch_cells)):
-        f = g.switch_cells[j]
-        if not g.walk[new, f] and occupant(k, e, f) >= 0:
+    for j in range(len(switch_cells)):
+        f = switch_cells[j]
+        if not walk[new, f] and occupant(e, f, agents) >= 0:
             return
-        if (g.terrain[old, f] == _COUNTER and g.terrain[new, f] != _COUNTER
-                and k.cell_item[e, f] >= 0):
+        if terrain[old, f] == _COUNTER and terrain[new, f] != _COUNTER and cells[e, f] >= 0:
             return
-    k.layout[e] = new
-    k.next_switch[e] = k.t[e] + g.params[P_SWITCH_STEP]
-    k.stats[e, SWITCHES] += 1
-
-
-def expire_orders(k, g, e):
-    n = k.pos.shape[1]
-    share = g.rewards[R_EXPIRED] / n
-    slot = 0
-    for _ in range(k.order_id.shape[1]):  # the orders open before this check, in order
-        dl = k.order_deadline[e, slot]
-        if 0 <= dl <= k.t[e]:
-            k.stats[e, EXPIRED] += 1
-            for a in range(n):
-                k.rewards[e, a] += share
-            replace_order(k, g, e, slot)
-        else:
-            slot += 1
+    clock[e, C_LAYOUT] = new
+    clock[e, C_SWITCH] = clock[e, C_T] + p[P_SWITCH_STEP]
+    stats[e, SWITCHES] += 1
 
 
 # ---------------------------------------------------------------- bumps (queries.bump_effect)
@@ -319,328 +332,302 @@ def is_veg(kind):
     return kind == _TOMATO or kind == _LETTUCE or kind == _ONION
 
 
-def plateable(k, g, e, it):
-    kind = g.item_kind[it]
-    st = k.item_state[e, it]
-    return (is_veg(kind) and st == _CHOPPED) or (kind == _STEAK and st == _COOKED)
+def plateable(e, it, items, kind):
+    st = items[e, I_STATE, it]
+    return (is_veg(kind[it]) and st == _CHOPPED) or (kind[it] == _STEAK and st == _COOKED)
 
 
-def fresh_veg(k, g, e, it):
-    return is_veg(g.item_kind[it]) and k.item_state[e, it] == _FRESH
+def fresh_veg(e, it, items, kind):
+    return is_veg(kind[it]) and items[e, I_STATE, it] == _FRESH
 
 
-def has_contents(k, e, plate):
-    for i in range(k.item_where.shape[1]):
-        if k.item_where[e, i] == _PLATE and k.item_loc[e, i] == plate:
-            return True
-    return False
+def on_plate(e, i, plate, items):
+    return items[e, I_WHERE, i] == _PLATE and items[e, I_LOC, i] == plate
 
 
-def interact(k, g, e, a, cell):
-    """Agent ``a`` bumps the non-walkable ``cell`` (queries.bump_effect, then step._interact)."""
-    code = g.terrain[k.layout[e], cell]
-    held = k.hand[e, a]
-    here = k.cell_item[e, cell]
+def interact(e, a, cell, clock, agents, cells, items, orders, stats, queue, rewards, p, rw,
+             code, kind, home, kidx, recipes):
+    """Agent ``a`` bumps the non-walkable ``cell`` of terrain ``code``."""
+    held = agents[e, A_HAND, a]
+    here = cells[e, cell]
     if code == _COUNTER or code == _TOMATO or code == _LETTUCE or code == _PLATE_KIND \
-            or code == _ONION or code == _STEAK:
+            or code == _ONION or code == _STEAK or code == _PAN:
         if held < 0:
             if here >= 0:
-                pick(k, e, a, cell, here)
-        elif here < 0:
-            put(k, e, a, cell, held)
-        else:
-            plate_exchange(k, g, e, a, cell, held, here)
+                pick(e, a, cell, here, agents, cells, items)
+        elif here >= 0:
+            plate_exchange(e, a, cell, held, here, agents, cells, items, kind)
+        elif code != _PAN:
+            put(e, a, cell, held, agents, cells, items)
+        elif kind[held] == _STEAK and (items[e, I_STATE, held] == _FRESH
+                                       or items[e, I_STATE, held] == _COOKED):
+            put(e, a, cell, held, agents, cells, items)
     elif code == _BOARD:
         if held < 0:
             if here >= 0:
-                if fresh_veg(k, g, e, here):
-                    advance(k, g, e, a, here, g.params[P_CHOP], _CHOPPED, CHOPS)
+                if fresh_veg(e, here, items, kind):
+                    advance(e, a, here, p[P_CHOP], _CHOPPED, CHOPS, items, stats, rewards, rw)
                 else:
-                    pick(k, e, a, cell, here)
-        elif here < 0:
-            if fresh_veg(k, g, e, held):
-                put(k, e, a, cell, held)
-        else:
-            plate_exchange(k, g, e, a, cell, held, here)
-    elif code == _PAN:
-        if held < 0:
-            if here >= 0:
-                pick(k, e, a, cell, here)
-        elif here < 0:
-            st = k.item_state[e, held]
-            if g.item_kind[held] == _STEAK and (st == _FRESH or st == _COOKED):
-                put(k, e, a, cell, held)
-        else:
-            plate_exchange(k, g, e, a, cell, held, here)
+                    pick(e, a, cell, here, agents, cells, items)
+        elif here >= 0:
+            plate_exchange(e, a, cell, held, here, agents, cells, items, kind)
+        elif fresh_veg(e, held, items, kind):
+            put(e, a, cell, held, agents, cells, items)
     elif code == _SINK:
         if held < 0:
             if here >= 0:
-                if k.item_state[e, here] == _DIRTY:
-                    advance(k, g, e, a, here, g.params[P_WASH], _CLEAN, WASHES)
+                if items[e, I_STATE, here] == _DIRTY:
+                    advance(e, a, here, p[P_WASH], _CLEAN, WASHES, items, stats, rewards, rw)
                 else:
-                    pick(k, e, a, cell, here)
-        elif here < 0 and k.item_state[e, held] == _DIRTY:
-            put(k, e, a, cell, held)
+                    pick(e, a, cell, here, agents, cells, items)
+        elif here < 0 and items[e, I_STATE, held] == _DIRTY:
+            put(e, a, cell, held, agents, cells, items)
     elif code == _DELIVERY:
         if held >= 0:
-            deliver(k, g, e, a, held)
-    elif code == _TRASH:
-        if held >= 0:
-            if g.item_kind[held] == _PLATE_KIND:
-                if has_contents(k, e, held):  # an empty plate: nothing to throw away
-                    for i in range(k.item_where.shape[1]):
-                        if k.item_where[e, i] == _PLATE and k.item_loc[e, i] == held:
-                            send_home(k, g, e, i, _FRESH)
-            else:
-                k.hand[e, a] = -1
-                send_home(k, g, e, held, _FRESH)
+            deliver(e, a, held, clock, agents, cells, items, orders, stats, queue, rewards, p,
+                    rw, kind, home, kidx, recipes)
+    elif code == _TRASH and held >= 0:
+        if kind[held] != _PLATE_KIND:
+            agents[e, A_HAND, a] = -1
+            send_home(e, held, _FRESH, cells, items, home)
+        else:  # the plate is emptied (an empty one: nothing to throw away)
+            for i in range(items.shape[2]):
+                if on_plate(e, i, held, items):
+                    send_home(e, i, _FRESH, cells, items, home)
 
 
-def plate_exchange(k, g, e, a, cell, held, here):
-    if g.item_kind[here] == _PLATE_KIND and k.item_state[e, here] == _CLEAN \
-            and plateable(k, g, e, held):
-        k.hand[e, a] = -1
-        k.item_where[e, held] = _PLATE
-        k.item_loc[e, held] = here
-    elif g.item_kind[held] == _PLATE_KIND and k.item_state[e, held] == _CLEAN \
-            and plateable(k, g, e, here):
-        k.cell_item[e, cell] = -1
-        k.item_where[e, here] = _PLATE
-        k.item_loc[e, here] = held
-        k.item_agent[e, here] = a
+def plate_exchange(e, a, cell, held, here, agents, cells, items, kind):
+    if kind[here] == _PLATE_KIND and items[e, I_STATE, here] == _CLEAN \
+            and plateable(e, held, items, kind):
+        agents[e, A_HAND, a] = -1
+        items[e, I_WHERE, held] = _PLATE
+        items[e, I_LOC, held] = here
+    elif kind[held] == _PLATE_KIND and items[e, I_STATE, held] == _CLEAN \
+            and plateable(e, here, items, kind):
+        cells[e, cell] = -1
+        items[e, I_WHERE, here] = _PLATE
+        items[e, I_LOC, here] = held
+        items[e, I_OWNER, here] = a
 
 
-def pick(k, e, a, cell, it):
-    k.cell_item[e, cell] = -1
-    k.hand[e, a] = it
-    k.item_where[e, it] = _HAND
-    k.item_loc[e, it] = a
-    k.item_agent[e, it] = a
+def pick(e, a, cell, it, agents, cells, items):
+    cells[e, cell] = -1
+    agents[e, A_HAND, a] = it
+    items[e, I_WHERE, it] = _HAND
+    items[e, I_LOC, it] = a
+    items[e, I_OWNER, it] = a
 
 
-def put(k, e, a, cell, it):
-    k.hand[e, a] = -1
-    k.cell_item[e, cell] = it
-    k.item_where[e, it] = _CELL
-    k.item_loc[e, it] = cell
+def put(e, a, cell, it, agents, cells, items):
+    agents[e, A_HAND, a] = -1
+    cells[e, cell] = it
+    items[e, I_WHERE, it] = _CELL
+    items[e, I_LOC, it] = cell
 
 
-def advance(k, g, e, a, it, needed, done_state, stat):
-    k.item_progress[e, it] += 1
-    k.item_agent[e, it] = a
-    if k.item_progress[e, it] >= needed:
-        k.item_state[e, it] = done_state
-        k.item_progress[e, it] = 0
-        k.stats[e, stat] += 1
-        k.rewards[e, a] += g.rewards[R_SUBTASK]
+def advance(e, a, it, needed, done_state, stat, items, stats, rewards, rw):
+    items[e, I_PROG, it] += 1
+    items[e, I_OWNER, it] = a
+    if items[e, I_PROG, it] >= needed:
+        items[e, I_STATE, it] = done_state
+        items[e, I_PROG, it] = 0
+        stats[e, stat] += 1
+        rewards[e, a] += rw[R_SUBTASK]
 
 
-def send_home(k, g, e, it, state):
-    home = g.item_home[it]
-    k.item_state[e, it] = state
-    k.item_progress[e, it] = 0
-    k.item_agent[e, it] = -1
-    k.item_loc[e, it] = home
-    if k.cell_item[e, home] < 0:
-        k.cell_item[e, home] = it
-        k.item_where[e, it] = _CELL
+def send_home(e, it, state, cells, items, home):
+    h = home[it]
+    items[e, I_STATE, it] = state
+    items[e, I_PROG, it] = 0
+    items[e, I_OWNER, it] = -1
+    items[e, I_LOC, it] = h
+    if cells[e, h] < 0:
+        cells[e, h] = it
+        items[e, I_WHERE, it] = _CELL
     else:
-        k.item_where[e, it] = _WAITING
+        items[e, I_WHERE, it] = _WAITING
 
 
-def deliver(k, g, e, a, held):
+def deliver(e, a, held, clock, agents, cells, items, orders, stats, queue, rewards, p, rw,
+            kind, home, kidx, recipes):
     slot = -1
-    if g.item_kind[held] == _PLATE_KIND:
-        slot = matching_order(k, g, e, held)
+    if kind[held] == _PLATE_KIND:
+        slot = matching_order(e, held, items, orders, kind, kidx, recipes)
     if slot < 0:
-        k.stats[e, WRONG] += 1
-        k.rewards[e, a] += g.rewards[R_WRONG]
+        stats[e, WRONG] += 1
+        rewards[e, a] += rw[R_WRONG]
         return
-    k.stats[e, DISHES] += 1
-    k.stats[e, COMPLETED] += 1
-    k.rewards[e, a] += g.rewards[R_CORRECT]
-    for i in range(k.item_where.shape[1]):
-        if k.item_where[e, i] == _PLATE and k.item_loc[e, i] == held:
-            send_home(k, g, e, i, _FRESH)
-    k.hand[e, a] = -1
-    send_home(k, g, e, held, _DIRTY if g.params[P_DIRTY] else _CLEAN)
-    replace_order(k, g, e, slot)
+    stats[e, DISHES] += 1
+    stats[e, COMPLETED] += 1
+    rewards[e, a] += rw[R_CORRECT]
+    for i in range(items.shape[2]):
+        if on_plate(e, i, held, items):
+            send_home(e, i, _FRESH, cells, items, home)
+    agents[e, A_HAND, a] = -1
+    send_home(e, held, _DIRTY if p[P_DIRTY] else _CLEAN, cells, items, home)
+    replace_order(e, slot, clock, orders, queue, p)
 
 
-def matching_order(k, g, e, plate):
+def matching_order(e, plate, items, orders, kind, kidx, recipes):
     """The slot of the oldest order the plate serves (orders.plate_recipe / matching_order)."""
-    if k.item_state[e, plate] != _CLEAN:
+    if items[e, I_STATE, plate] != _CLEAN:
         return -1
-    counts = np.zeros(4, np.int64)
-    empty = True
-    for i in range(k.item_where.shape[1]):
-        if k.item_where[e, i] == _PLATE and k.item_loc[e, i] == plate:
-            if not plateable(k, g, e, i):
+    c0 = c1 = c2 = c3 = 0
+    for i in range(items.shape[2]):
+        if on_plate(e, i, plate, items):
+            if not plateable(e, i, items, kind):
                 return -1
-            counts[g.kind_index[g.item_kind[i]]] += 1
-            empty = False
-    if empty:
+            j = kidx[kind[i]]
+            if j == 0:
+                c0 += 1
+            elif j == 1:
+                c1 += 1
+            elif j == 2:
+                c2 += 1
+            else:
+                c3 += 1
+    if c0 + c1 + c2 + c3 == 0:
         return -1
-    for o in range(k.order_id.shape[1]):
-        r = k.order_recipe[e, o]
-        same = True
-        for j in range(4):
-            if g.recipe_counts[r, j] != counts[j]:
-                same = False
-        if same:
+    for o in range(orders.shape[2]):
+        r = orders[e, O_RECIPE, o]
+        if recipes[r, 0] == c0 and recipes[r, 1] == c1 and recipes[r, 2] == c2 \
+                and recipes[r, 3] == c3:
             return o
     return -1
 
 
 # ---------------------------------------------------------------- observations
-def observe_env(k, g, e):
+def observe_env(e, clock, agents, items, orders, obs, static_at, ent_idx, ent_val, ent_n, p,
+                view, kind, kidx, prog_den, recipes, static_obs, gather, n_cells):
     """Bring every agent's observation of env ``e`` up to date (see the module note)."""
-    ol = g.obs_layout
-    n = k.pos.shape[1]
-    cells_m = g.terrain.shape[1]
-    size_k = k.ent_idx.shape[2]
-    idx = np.empty(size_k, np.int64)
-    val = np.empty(size_k, np.float32)
-    for a in range(n):
-        at = k.layout[e] * cells_m + k.pos[e, a]
-        if g.params[P_RADIUS] == 0:
-            at = k.layout[e] * cells_m
-        if k.obs_static_at[e, a] != at:  # a new layout, or (window) a new agent cell
-            src = g.static_gather[k.pos[e, a] if g.params[P_RADIUS] else 0]
-            for j in range(ol[O_STATIC]):
-                k.obs[e, a, j] = g.static_obs[k.layout[e], src[j]]
-            k.obs_static_at[e, a] = at
-        m = entries(k, g, e, a, idx, val)
-        apply_entries(k, e, a, idx, val, m)
+    lay = clock[e, C_LAYOUT]
+    scratch = ent_idx.shape[1] - 1
+    for a in range(agents.shape[2]):
+        me = agents[e, A_POS, a]
+        at = lay * n_cells + (me if p[P_RADIUS] else 0)
+        if static_at[e, a] != at:  # a new layout, or (window) a new agent cell
+            row = me if p[P_RADIUS] else 0
+            for j in range(view[V_STATIC]):
+                obs[e, a, j] = static_obs[lay, gather[row, j]]
+            static_at[e, a] = at
+        m = entries(e, a, me, clock, agents, items, orders, ent_idx, ent_val, scratch, p,
+                    view, kind, kidx, prog_den, recipes)
+        old_n = ent_n[e, a]
+        for j in range(old_n):  # take the stale entries away first, then add the new ones
+            if j >= m or ent_idx[e, a, j] != ent_idx[e, scratch, j] \
+                    or ent_val[e, a, j] != ent_val[e, scratch, j]:
+                obs[e, a, ent_idx[e, a, j]] -= ent_val[e, a, j]
+        for j in range(m):
+            x, v = ent_idx[e, scratch, j], ent_val[e, scratch, j]
+            if j >= old_n or ent_idx[e, a, j] != x or ent_val[e, a, j] != v:
+                obs[e, a, x] += v
+                ent_idx[e, a, j] = x
+                ent_val[e, a, j] = v
+        ent_n[e, a] = m
 
 
-def apply_entries(k, e, a, idx, val, m):
-    old_n = k.ent_n[e, a]
-    same = min(m, old_n)
-    for j in range(same):
-        if k.ent_idx[e, a, j] != idx[j] or k.ent_val[e, a, j] != val[j]:
-            k.obs[e, a, k.ent_idx[e, a, j]] -= k.ent_val[e, a, j]
-    for j in range(same, old_n):
-        k.obs[e, a, k.ent_idx[e, a, j]] -= k.ent_val[e, a, j]
-    for j in range(m):
-        if j >= old_n or k.ent_idx[e, a, j] != idx[j] or k.ent_val[e, a, j] != val[j]:
-            k.obs[e, a, idx[j]] += val[j]
-            k.ent_idx[e, a, j] = idx[j]
-            k.ent_val[e, a, j] = val[j]
-    k.ent_n[e, a] = m
-
-
-def local_index(g, agent_cell, cell):
-    """``cell``'s index in the window of an agent on ``agent_cell`` (-1 outside it)."""
-    p = g.params
-    r = p[P_RADIUS]
+def window_index(me, cell, r, cols, ww):
+    """``cell``'s index in the window of an agent on ``me`` (-1 outside it); r = 0: itself."""
     if r == 0:
         return cell
-    cols = p[P_COLS]
-    dr = cell // cols - agent_cell // cols
-    dc = cell % cols - agent_cell % cols
+    dr = cell // cols - me // cols
+    dc = cell % cols - me % cols
     if dr < -r or dr > r or dc < -r or dc > r:
         return -1
-    return (dr + r) * g.obs_layout[O_WW] + dc + r
+    return (dr + r) * ww + dc + r
 
 
-def item_cell(k, e, i):
-    """The map cell an item is drawn on (holder's cell, plate's cell), -1 while waiting."""
-    w = k.item_where[e, i]
-    loc = k.item_loc[e, i]
-    if w == _CELL:
-        return loc
-    if w == _HAND:
-        return k.pos[e, loc]
-    if w == _PLATE:
-        if k.item_where[e, loc] == _CELL:
-            return k.item_loc[e, loc]
-        return k.pos[e, k.item_loc[e, loc]]
-    return -1
-
-
-def entries(k, g, e, a, idx, val):
-    """Agent ``a``'s dynamic observation entries, in a fixed order; returns their number."""
-    ol = g.obs_layout
-    p = g.params
-    cells = ol[O_CELLS]
-    me = k.pos[e, a]
+def entries(e, a, me, clock, agents, items, orders, idx, val, row, p, view, kind, kidx,
+            prog_den, recipes):
+    """Agent ``a``'s dynamic observation entries, in a fixed order, into ``idx[e, row]`` /
+    ``val[e, row]``; returns their number (VectorEncoder._entries, value for value)."""
+    cells = view[V_CELLS]
+    r, cols, ww = p[P_RADIUS], p[P_COLS], view[V_WW]
     m = 0
-    for i in range(k.item_where.shape[1]):
-        cell = item_cell(k, e, i)
-        if cell < 0:
+    for i in range(items.shape[2]):
+        w = items[e, I_WHERE, i]
+        loc = items[e, I_LOC, i]
+        if w == _CELL:
+            cell = loc
+        elif w == _HAND:
+            cell = agents[e, A_POS, loc]
+        elif w == _PLATE:
+            if items[e, I_WHERE, loc] == _CELL:
+                cell = items[e, I_LOC, loc]
+            else:
+                cell = agents[e, A_POS, items[e, I_LOC, loc]]
+        else:
             continue
-        at = local_index(g, me, cell)
+        at = window_index(me, cell, r, cols, ww)
         if at < 0:
             continue
-        idx[m] = (ol[O_KIND0] + g.kind_index[g.item_kind[i]]) * cells + at
-        val[m] = 1.0
-        idx[m + 1] = (ol[O_STATE0] + k.item_state[e, i]) * cells + at
-        val[m + 1] = 1.0
+        idx[e, row, m] = (view[V_KIND0] + kidx[kind[i]]) * cells + at
+        val[e, row, m] = 1.0
+        idx[e, row, m + 1] = (view[V_STATE0] + items[e, I_STATE, i]) * cells + at
+        val[e, row, m + 1] = 1.0
         m += 2
-        prog = k.item_progress[e, i]
-        if prog != 0 and k.item_where[e, i] != _PLATE:
-            idx[m] = ol[O_PROG] * cells + at
-            val[m] = min(1.0, prog / g.prog_den[i])
+        prog = items[e, I_PROG, i]
+        if prog != 0 and w != _PLATE:
+            idx[e, row, m] = view[V_PROG] * cells + at
+            val[e, row, m] = min(1.0, prog / prog_den[i])
             m += 1
-    for b in range(k.pos.shape[1]):
-        at = local_index(g, me, k.pos[e, b])
+    for b in range(agents.shape[2]):
+        at = window_index(me, agents[e, A_POS, b], r, cols, ww)
         if at >= 0:
-            idx[m] = (ol[O_SELF] if b == a else ol[O_OTHER]) * cells + at
-            val[m] = 1.0
+            idx[e, row, m] = (view[V_SELF] if b == a else view[V_OTHER]) * cells + at
+            val[e, row, m] = 1.0
             m += 1
-    fb = ol[O_FEAT]
-    held = k.hand[e, a]
+    fb = view[V_FEAT]
+    held = agents[e, A_HAND, a]
     if held >= 0:
-        kind = g.item_kind[held]
-        idx[m] = fb + g.kind_index[kind]
-        idx[m + 1] = fb + 5 + k.item_state[e, held]
-        val[m] = 1.0
-        val[m + 1] = 1.0
+        idx[e, row, m] = fb + kidx[kind[held]]
+        idx[e, row, m + 1] = fb + 5 + items[e, I_STATE, held]
+        val[e, row, m] = 1.0
+        val[e, row, m + 1] = 1.0
         m += 2
-        if kind == _PLATE_KIND:
-            for i in range(k.item_where.shape[1]):
-                if k.item_where[e, i] == _PLATE and k.item_loc[e, i] == held:
-                    idx[m] = fb + 11 + g.kind_index[g.item_kind[i]]
-                    val[m] = 1.0
+        if kind[held] == _PLATE_KIND:
+            for i in range(items.shape[2]):
+                if on_plate(e, i, held, items):
+                    idx[e, row, m] = fb + 11 + kidx[kind[i]]
+                    val[e, row, m] = 1.0
                     m += 1
-    rows, cols = p[P_ROWS], p[P_COLS]
-    idx[m] = fb + 15
-    val[m] = (me // cols) / max(1, rows - 1)
-    idx[m + 1] = fb + 16
-    val[m + 1] = (me % cols) / max(1, cols - 1)
-    idx[m + 2] = fb + 17
-    val[m + 2] = k.t[e] / p[P_HORIZON]
-    idx[m + 3] = fb + 18
-    val[m + 3] = k.layout[e]
+    t = clock[e, C_T]
+    idx[e, row, m] = fb + 15
+    val[e, row, m] = (me // cols) / max(1, p[P_ROWS] - 1)
+    idx[e, row, m + 1] = fb + 16
+    val[e, row, m + 1] = (me % cols) / max(1, cols - 1)
+    idx[e, row, m + 2] = fb + 17
+    val[e, row, m + 2] = t / p[P_HORIZON]
+    idx[e, row, m + 3] = fb + 18
+    val[e, row, m + 3] = clock[e, C_LAYOUT]
     m += 4
     if p[P_HAS_SWITCH]:
-        idx[m] = fb + 19
-        val[m] = min(1.0, max(0, k.next_switch[e] - k.t[e]) / p[P_SWITCH_STEP])
+        idx[e, row, m] = fb + 19
+        val[e, row, m] = min(1.0, max(0, clock[e, C_SWITCH] - t) / p[P_SWITCH_STEP])
         m += 1
-    for o in range(k.order_id.shape[1]):
-        ob = ol[O_ORDER0] + 6 * o
-        r = k.order_recipe[e, o]
+    for o in range(orders.shape[2]):
+        ob = view[V_ORDER0] + 6 * o
+        rec = orders[e, O_RECIPE, o]
         for j in range(4):
-            if g.recipe_counts[r, j]:
-                idx[m] = ob + j
-                val[m] = g.recipe_counts[r, j]
+            if recipes[rec, j]:
+                idx[e, row, m] = ob + j
+                val[e, row, m] = recipes[rec, j]
                 m += 1
-        idx[m] = ob + 4
-        val[m] = 1.0
+        idx[e, row, m] = ob + 4
+        val[e, row, m] = 1.0
         m += 1
-        dl = k.order_deadline[e, o]
+        dl = orders[e, O_DEADLINE, o]
         if p[P_LIMIT] >= 0 and dl >= 0:
-            idx[m] = ob + 5
-            val[m] = min(1.0, max(0, dl - k.t[e]) / p[P_LIMIT])
+            idx[e, row, m] = ob + 5
+            val[e, row, m] = min(1.0, max(0, dl - t) / p[P_LIMIT])
             m += 1
     return m
 
 
 KERNELS = (
-    "step_all", "reset_some", "reset_env", "draw", "put_order", "replace_order", "step_env",
-    "resolve_moves", "occupant", "in_chain", "tick_pan", "maybe_switch", "expire_orders",
-    "is_veg", "plateable", "fresh_veg", "has_contents", "interact", "plate_exchange", "pick",
-    "put", "advance", "send_home", "deliver", "matching_order", "observe_env",
-    "apply_entries", "local_index", "item_cell", "entries",
+    "step_all", "reset_some", "draw", "put_order", "replace_order", "expire_orders",
+    "step_env", "resolve_moves", "occupant", "in_chain", "tick_pan", "maybe_switch", "is_veg",
+    "plateable", "fresh_veg", "on_plate", "interact", "plate_exchange", "pick", "put",
+    "advance", "send_home", "deliver", "matching_order", "observe_env", "window_index",
+    "entries",
 )
