@@ -78,7 +78,7 @@ def kernels(compiled: bool) -> Any:
     exec(compile(source, bk.__file__, "exec"), mod.__dict__)  # noqa: S102 (our own source)
     mod.prange = numba.prange
     for name in bk.KERNELS:
-        parallel = name in ("step_all", "reset_some")
+        parallel = name in ("step_all", "reset_some", "observe_some")
         setattr(mod, name, numba.njit(cache=True, parallel=parallel)(getattr(mod, name)))
     return mod
 
@@ -166,7 +166,9 @@ class BatchSim:
             scratch=z(3, n, dtype=np.int64))
         self._seed_rngs = [np.random.default_rng([seed, i]) for i in range(n_envs)]
         self._draw_rngs: list[np.random.Generator | None] = [None] * n_envs
-        self.seeds = np.zeros(n_envs, np.int64)  # each kitchen's episode seed
+        #: per kitchen: its episode's RNG state before the episode's first draw
+        self._rng_start: list[dict[str, Any] | None] = [None] * n_envs
+        self.seeds: list[int | None] = [None] * n_envs  # each kitchen's episode seed
         self._drawn_before = np.zeros(n_envs, np.int64)  # draws no longer in the queue
         self.episodes = np.zeros(n_envs, np.int64)
         self._all = np.ones(n_envs, bool)
@@ -188,19 +190,42 @@ class BatchSim:
     def reset_envs(self, envs: np.ndarray) -> None:
         """Start the next episode of each listed kitchen (seeded from its own sequence)."""
         envs = np.asarray(envs, np.int64).reshape(-1)
-        if self.rules.fixed_orders is None:
-            size, n_recipes = self._queue_len, len(self.rules.recipes)
-            for e in envs.tolist():
-                self.seeds[e] = self._seed_rngs[e].integers(_SEED_HIGH)
-                rng = self._draw_rngs[e] = np.random.default_rng(int(self.seeds[e]))
-                self.arrays.queue[e] = rng.integers(n_recipes, size=size)
-        else:
-            for e in envs.tolist():
-                self.seeds[e] = self._seed_rngs[e].integers(_SEED_HIGH)
-        self.arrays.clock[envs, bk.C_QPOS] = 0
-        self._drawn_before[envs] = 0
+        for e in envs.tolist():
+            self.seeds[e] = int(self._seed_rngs[e].integers(_SEED_HIGH))
+            self._start_draws(e, np.random.default_rng(self.seeds[e]))
         self._k.reset_some(self.arrays, self.static, envs)
         self._started = True
+
+    def load(self, e: int, state: State) -> None:
+        """Put a copy of ``state`` (of these rules) into kitchen ``e``: its episode goes on
+        from there, drawing orders from the state's generator."""
+        if state.rules != self.rules:
+            raise ConfigError("the state belongs to other rules than this batch's")
+        a = self.arrays
+        a.cells[e] = state.cell_item
+        a.items[e] = (state.item_state, state.item_progress, state.item_where, state.item_loc,
+                      state.item_agent)
+        a.agents[e] = (state.agent_pos, state.agent_hand)
+        a.clock[e] = (state.t, state.layout_index, state.next_switch, state.next_order_id, 0)
+        index = {r: i for i, r in enumerate(self.rules.recipes)}
+        a.orders[e] = np.array([(o.order_id, index[o.recipe], o.created, o.deadline)
+                                for o in state.orders]).T
+        a.stats[e] = [state.stats[name] for name in bk.STAT_NAMES]
+        self.seeds[e] = state.seed
+        rng = np.random.Generator(np.random.PCG64())
+        rng.bit_generator.state = state.rng_state()
+        self._start_draws(e, rng)
+        self._k.observe_some(self.arrays, self.static, np.array([e], np.int64))
+        self._started = True
+
+    def _start_draws(self, e: int, rng: np.random.Generator) -> None:
+        """Kitchen ``e``'s orders now come from ``rng``: fill its queue from it."""
+        self._rng_start[e] = rng.bit_generator.state
+        if self.rules.fixed_orders is None:
+            self.arrays.queue[e] = rng.integers(len(self.rules.recipes), size=self._queue_len)
+        self._draw_rngs[e] = rng
+        self.arrays.clock[e, bk.C_QPOS] = 0
+        self._drawn_before[e] = 0
 
     def step_active(self, actions: np.ndarray, active: np.ndarray | None = None,
                     ) -> tuple[np.ndarray, np.ndarray]:
@@ -218,7 +243,7 @@ class BatchSim:
         if acts.size and (acts.min() < 0 or acts.max() > 4):
             e, a = np.argwhere((acts < 0) | (acts > 4))[0]
             raise InvalidActionError(
-                f"kitchen {e}, agent {a}: action {acts[e, a]!r} is not one of 0 right, 1 down, "
+                f"kitchen {e}, agent {a}: action {int(acts[e, a])} is not one of 0 right, 1 down, "
                 "2 left, 3 up, 4 stay"
             )
         act = self._all if active is None else np.asarray(active, bool)
@@ -248,7 +273,7 @@ class BatchSim:
         """Kitchen ``e`` as a :class:`State` (an independent copy, hash-identical to the
         state :func:`transition` reaches from the same seed and actions)."""
         a, rules = self.arrays, self.rules
-        s = new_state(rules, int(self.seeds[e]))
+        s = new_state(rules, self.seeds[e])
         s.cell_item = a.cells[e].tolist()
         (s.item_state, s.item_progress, s.item_where, s.item_loc,
          s.item_agent) = a.items[e].tolist()
@@ -256,7 +281,8 @@ class BatchSim:
         s.t, s.layout_index, s.next_switch, s.next_order_id, used = a.clock[e].tolist()
         s.orders = [Order(i, rules.recipes[r], c, d) for i, r, c, d in zip(*a.orders[e].tolist())]
         s.stats = dict(zip(bk.STAT_NAMES, a.stats[e].tolist()))
-        rng = np.random.default_rng(int(self.seeds[e]))
+        rng = np.random.Generator(np.random.PCG64())
+        rng.bit_generator.state = self._rng_start[e]
         drawn = int(self._drawn_before[e]) + used
         if rules.fixed_orders is None and drawn:
             rng.integers(len(rules.recipes), size=drawn)

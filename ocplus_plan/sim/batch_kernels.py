@@ -124,7 +124,7 @@ def reset_some(k, g, envs):
     clock, agents, cells, items, orders = k.clock, k.agents, k.cells, k.items, k.orders
     p, kind, home, spawn, fixed = g.params, g.kind, g.home, g.spawn, g.fixed
     obs, static_at, ent_idx, ent_val, ent_n = k.obs, k.static_at, k.ent_idx, k.ent_val, k.ent_n
-    stats, queue, rewards, kidx, recipes = k.stats, k.queue, k.rewards, g.kind_index, g.recipes
+    stats, queue, kidx, recipes = k.stats, k.queue, g.kind_index, g.recipes
     view, prog_den, static_obs, gather = g.obs_layout, g.prog_den, g.static_obs, g.static_gather
     n_cells = g.terrain.shape[1]
     for j in prange(len(envs)):
@@ -136,7 +136,6 @@ def reset_some(k, g, envs):
         for a in range(agents.shape[2]):
             agents[e, A_POS, a] = spawn[a]
             agents[e, A_HAND, a] = -1
-            rewards[e, a] = 0.0
         for c in range(cells.shape[1]):
             cells[e, c] = -1
         for i in range(items.shape[2]):
@@ -156,6 +155,15 @@ def reset_some(k, g, envs):
             put_order(e, o, recipe, clock, orders, p)
         observe_env(e, clock, agents, items, orders, obs, static_at, ent_idx, ent_val, ent_n,
                     p, view, kind, kidx, prog_den, recipes, static_obs, gather, n_cells)
+
+
+def observe_some(k, g, envs):
+    """Bring the observations of the listed envs up to date (after a state was loaded)."""
+    for j in prange(len(envs)):
+        observe_env(envs[j], k.clock, k.agents, k.items, k.orders, k.obs, k.static_at,
+                    k.ent_idx, k.ent_val, k.ent_n, g.params, g.obs_layout, g.kind,
+                    g.kind_index, g.prog_den, g.recipes, g.static_obs, g.static_gather,
+                    g.terrain.shape[1])
 
 
 # ---------------------------------------------------------------- orders
@@ -625,7 +633,7 @@ def entries(e, a, me, clock, agents, items, orders, idx, val, row, p, view, kind
 
 
 KERNELS = (
-    "step_all", "reset_some", "draw", "put_order", "replace_order", "expire_orders",
+    "step_all", "reset_some", "observe_some", "draw", "put_order", "replace_order", "expire_orders",
     "step_env", "resolve_moves", "occupant", "in_chain", "tick_pan", "maybe_switch", "is_veg",
     "plateable", "fresh_veg", "on_plate", "interact", "plate_exchange", "pick", "put",
     "advance", "send_home", "deliver", "matching_order", "observe_env", "window_index",

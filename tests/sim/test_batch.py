@@ -1,0 +1,175 @@
+"""The batched engine is the same kitchen as ``transition``: a differential property test
+steps a batch and one reference state per kitchen with the same seeds and actions and
+compares state hashes, observations, rewards and episode ends at every step (every
+preset, radius 0 and a window, resets, layout switches, expiries, fixed orders, shared
+rewards), on the compiled kernels (``fast`` extra) and on the plain-Python ones."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from ocplus_plan.agents.greedy import GreedyAgent
+from ocplus_plan.errors import ConfigError, DependencyNotInstalled, InvalidActionError
+from ocplus_plan.sim import make_rules, new_state, transition
+from ocplus_plan.sim.batch import BatchSim, kernels, numba_available
+from ocplus_plan.sim.observe import VectorEncoder
+
+needs_numba = pytest.mark.skipif(not numba_available(),
+                                 reason="numba is not installed (the 'fast' extra)")
+
+# short processes, switches and horizons so that a few dozen steps see every rule
+QUICK = dict(chop_steps=2, cook_time=3, burn_time=6, wash_steps=2, map_switch_step=4)
+
+
+@st.composite
+def kitchens(draw, presets=("easy", "medium", "hard")):
+    preset = draw(st.sampled_from(presets))
+    overrides = dict(QUICK, horizon=draw(st.integers(8, 40)))
+    if draw(st.booleans()):
+        overrides["order_time_limit"] = draw(st.integers(2, 12))
+    if draw(st.booleans()):
+        overrides["reward_mode"] = "shared"
+    if draw(st.booleans()):
+        overrides["fixed_orders"] = True
+    if preset == "hard" and draw(st.booleans()):
+        overrides["stop_after_orders"] = 1
+    n_agents = draw(st.integers(1, 2)) if preset != "hard" else 2
+    radius = draw(st.sampled_from([0, 2]))
+    return make_rules(preset, n_agents=n_agents, **overrides), radius, draw(st.integers(0, 99))
+
+
+def compare(rules, radius: int, seed: int, steps: int, n_envs: int, compiled: bool,
+            noise: float = 0.25) -> dict[str, int]:
+    """Step ``n_envs`` kitchens both ways (greedy cooks, a share of random actions) and
+    assert equality at every step; returns the summed stats of the finished episodes."""
+    sim = BatchSim(rules, n_envs, seed=seed, obs_radius=radius, compiled=compiled)
+    obs = sim.reset()
+    enc = VectorEncoder(rules, radius)
+    refs = [new_state(rules, int(sim.seeds[e])) for e in range(n_envs)]
+    cooks = [GreedyAgent(seed + e) for e in range(n_envs)]
+    for e in range(n_envs):
+        cooks[e].reset(refs[e])
+        np.testing.assert_array_equal(obs[e], enc.encode(refs[e]))
+    rng = np.random.default_rng(seed)
+    totals: dict[str, int] = {}
+    for _ in range(steps):
+        acts = np.array([cooks[e].act(refs[e]) for e in range(n_envs)])
+        random = rng.random(acts.shape) < noise
+        acts[random] = rng.integers(0, 5, size=int(random.sum()))
+        out = sim.step(acts)
+        for e in range(n_envs):
+            res = transition(refs[e], acts[e].tolist())
+            assert sim.arrays.rewards[e].tolist() == res.rewards  # float64, exactly
+            assert (out.terminated[e], out.truncated[e]) == (res.terminated, res.truncated)
+            if res.terminated or res.truncated:
+                np.testing.assert_array_equal(out.final_obs[e], enc.encode(refs[e]))
+                for k, v in refs[e].stats.items():
+                    totals[k] = totals.get(k, 0) + v
+                refs[e] = new_state(rules, int(sim.seeds[e]))
+                cooks[e].reset(refs[e])
+            assert sim.state(e).state_hash() == refs[e].state_hash()
+            np.testing.assert_array_equal(out.obs[e], enc.encode(refs[e]))
+    return totals
+
+
+@needs_numba
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(kitchens())
+def test_compiled_batch_is_the_same_kitchen_as_transition(kitchen):
+    rules, radius, seed = kitchen
+    compare(rules, radius, seed, steps=45, n_envs=3, compiled=True)
+
+
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(kitchens())
+def test_plain_python_batch_is_the_same_kitchen_as_transition(kitchen):
+    rules, radius, seed = kitchen
+    compare(rules, radius, seed, steps=30, n_envs=2, compiled=False)
+
+
+def test_the_differential_run_reaches_every_rule():
+    """The property tests are not vacuous: these cooks deliver, chop, cook, burn, wash,
+    switch layouts and let orders expire (compiled when available)."""
+    rules = make_rules("hard", **dict(QUICK, horizon=100, order_time_limit=45, burn_time=4))
+    totals = compare(rules, 0, 1, steps=200, n_envs=4, compiled=numba_available(), noise=0.1)
+    seen = {k for k, v in totals.items() if v}
+    assert {"dishes_served", "washes", "chops", "cooks", "burns", "layout_switches",
+            "orders_expired"} <= seen, totals
+
+
+@pytest.mark.parametrize("compiled", [pytest.param(True, marks=needs_numba), False])
+def test_a_loaded_state_goes_on_as_in_transition(compiled):
+    """A kitchen can start from any state: here a cook holding an empty plate by the
+    serving window, which is refused (the wrong delivery the greedy cooks never make)."""
+    rules = make_rules("hard")
+    state = new_state(rules, 7)
+    plate = state.geo.item_kind.index(5)
+    state.cell_item[state.item_loc[plate]] = -1
+    state.agent_hand[0], state.item_where[plate], state.item_loc[plate] = plate, 1, 0
+    state.agent_pos[0] = state.geo.flat(4, 1)  # mapC's delivery is at (4, 0)
+    sim = BatchSim(rules, 2, compiled=compiled)
+    sim.reset()
+    sim.load(1, state)
+    enc = VectorEncoder(rules)
+    np.testing.assert_array_equal(sim.obs[1], enc.encode(state))
+    for joint in ([2, 4], [1, 2], [3, 3]):
+        out = sim.step(np.array([[4, 4], joint]))
+        res = transition(state, joint)
+        assert sim.state(1).state_hash() == state.state_hash()
+        assert sim.arrays.rewards[1].tolist() == res.rewards
+        np.testing.assert_array_equal(out.obs[1], enc.encode(state))
+    assert state.stats["wrong_deliveries"] == 1
+    with pytest.raises(ConfigError, match="other rules"):
+        sim.load(0, new_state(make_rules("easy"), 0))
+
+
+def test_batch_is_reproducible_from_its_seed_and_kitchens_differ():
+    rules = make_rules("easy", n_agents=2)
+    a, b = BatchSim(rules, 3, seed=1, compiled=False), BatchSim(rules, 3, seed=1, compiled=False)
+    np.testing.assert_array_equal(a.reset(), b.reset())
+    assert a.seeds == b.seeds and len(set(a.seeds)) == 3
+
+
+def test_batch_checks_its_input():
+    rules = make_rules("easy", n_agents=2)
+    sim = BatchSim(rules, 2, compiled=False)
+    with pytest.raises(ConfigError, match="reset"):
+        sim.step(np.zeros((2, 2), int))
+    sim.reset()
+    with pytest.raises(InvalidActionError, match="shape"):
+        sim.step(np.zeros((3, 2), int))
+    with pytest.raises(InvalidActionError, match="kitchen 1, agent 0: action 7"):
+        sim.step(np.array([[0, 0], [7, 0]]))
+    with pytest.raises(ConfigError, match="n_envs"):
+        BatchSim(rules, 0)
+
+
+def test_compiled_kernels_without_numba_name_the_extra(monkeypatch):
+    import builtins
+
+    real_import = builtins.__import__
+
+    def no_numba(name, *args, **kwargs):
+        if name == "numba":
+            raise ImportError("no numba here")
+        return real_import(name, *args, **kwargs)
+
+    kernels.cache_clear()
+    monkeypatch.setattr(builtins, "__import__", no_numba)
+    try:
+        with pytest.raises(DependencyNotInstalled, match=r"ocplus-plan\[fast\]"):
+            kernels(True)
+    finally:
+        monkeypatch.undo()
+        kernels.cache_clear()
+
+
+def test_memory_per_kitchen_is_reported_and_a_window_is_smaller():
+    rules = make_rules("hard")
+    whole, window = BatchSim(rules, 4, compiled=False), BatchSim(rules, 4, obs_radius=2,
+                                                                  compiled=False)
+    obs_bytes = 2 * window.encoder.size * 4
+    assert obs_bytes < window.memory_per_kitchen() < whole.memory_per_kitchen()
