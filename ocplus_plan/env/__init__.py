@@ -8,6 +8,8 @@ nothing heavy is imported until ``gymnasium.make``)::
     import ocplus_plan.env  # noqa: F401  (registers the ids)
     env = gym.make("OvercookedPlus-v0", preset="hard", n_agent=2, obs_radius=2)
     obs, info = env.reset(seed=0)
+    kitchens = gym.make_vec("OvercookedPlus-v0", num_envs=1024,
+                            vectorization_mode="vector_entry_point", preset="hard")
 
 ``parallel_env(...)`` returns the PettingZoo view (needs pettingzoo). This package
 never imports unified_planning, pygame, torch or matplotlib.
@@ -31,11 +33,19 @@ REGISTRY: dict[str, tuple[str, dict[str, Any]]] = {
 }
 
 
+#: ids whose ``gymnasium.make_vec(..., vectorization_mode="vector_entry_point")`` steps all
+#: kitchens in the batched engine (:mod:`ocplus_plan.env.vector_env`)
+VECTOR_ENTRY_POINT = "ocplus_plan.env.vector_env:OvercookedPlusVectorEnv"
+VECTOR_IDS = ("OvercookedPlus-v0", "Overcooked-Plus")
+
+
 def register_envs() -> None:
     """Register every id of :data:`REGISTRY` with Gymnasium (idempotent)."""
     for env_id, (entry_point, kwargs) in REGISTRY.items():
         if env_id not in gymnasium.registry:
-            gymnasium.register(env_id, entry_point=entry_point, kwargs=dict(kwargs))
+            vector = VECTOR_ENTRY_POINT if env_id in VECTOR_IDS else None
+            gymnasium.register(env_id, entry_point=entry_point, kwargs=dict(kwargs),
+                               vector_entry_point=vector)
 
 
 def parallel_env(preset: str = "hard", **kwargs: Any) -> Any:

@@ -164,7 +164,7 @@ class BatchSim:
             static_at=np.full((e, n), -1, i32), ent_idx=z(n + 1, n_entries),
             ent_val=z(n + 1, n_entries, dtype=np.float32), ent_n=z(n),
             scratch=z(3, n, dtype=np.int64))
-        self._seed_rngs = [np.random.default_rng([seed, i]) for i in range(n_envs)]
+        self.reseed(seed)
         self._draw_rngs: list[np.random.Generator | None] = [None] * n_envs
         #: per kitchen: its episode's RNG state before the episode's first draw
         self._rng_start: list[dict[str, Any] | None] = [None] * n_envs
@@ -175,6 +175,10 @@ class BatchSim:
         self._started = False
 
     # ------------------------------------------------------------ public
+    def reseed(self, seed: int) -> None:
+        """Restart the kitchens' episode-seed sequences from ``seed`` (next resets use it)."""
+        self._seed_rngs = [np.random.default_rng([seed, i]) for i in range(self.n_envs)]
+
     @property
     def obs(self) -> np.ndarray:
         """``(n_envs, n_agents, size)`` float32: every agent's current observation (live:

@@ -1,0 +1,133 @@
+"""``gymnasium.make_vec("OvercookedPlus-v0", num_envs=N, vectorization_mode="vector_entry_point")``:
+N kitchens in one :class:`gymnasium.vector.VectorEnv`, stepped by the batched engine.
+
+Every kitchen is an :class:`~ocplus_plan.env.gym_env.OvercookedPlusEnv` in ``vector``
+mode with the same keywords, spaces and rewards (the same rules, bit for bit: the engine
+is held to ``transition`` by ``tests/sim/test_batch.py``), stepped together by
+:class:`ocplus_plan.sim.batch.BatchSim` instead of one by one.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from gymnasium import spaces
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+
+from ..errors import ConfigError
+from ..sim.batch import BatchSim
+from .core import parse_env_kwargs
+
+
+class OvercookedPlusVectorEnv(VectorEnv):
+    """``num_envs`` Overcooked Plus kitchens (same keywords as ``OvercookedPlus-v0``).
+
+    **Spaces** (per kitchen, batched on a first axis of ``num_envs``): observations a
+    ``Tuple`` of one ``Box`` float32 per cook (the ``vector`` encoding of the ``obs_radius``
+    window); actions ``MultiDiscrete([5] * n_agents)``; the reward is the team's (the sum
+    over cooks, or once the shared reward), or per cook with ``reward_scope="per_agent"``
+    (then ``(num_envs, n_agents)`` float64).
+
+    **Autoreset**: ``autoreset_mode`` is ``AutoresetMode.NEXT_STEP`` (Gymnasium's default:
+    the step after an episode ends resets that kitchen and ignores its action) or
+    ``SAME_STEP`` (the kitchen restarts in the step that ended it; the last observation
+    is in ``info["final_obs"]``, masked by ``info["_final_obs"]``).
+
+    **Copies**: with ``copy=True`` (default) each returned observation is a fresh array;
+    ``copy=False`` returns views of the engine's live buffer, rewritten by the next step
+    (several times faster at a thousand kitchens: copy what you keep).
+
+    Only the ``vector`` mode without communication or rendering is batched; the engine
+    reports no per-step events (``info`` is empty); use the single env for those.
+    """
+
+    def __init__(self, num_envs: int = 1, preset: str = "hard", *,
+                 autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
+                 copy: bool = True, reward_scope: str = "team",
+                 max_episode_steps: int | None = None, compiled: bool | None = None,
+                 **kwargs: Any) -> None:
+        if max_episode_steps is not None:
+            kwargs.setdefault("horizon", max_episode_steps)
+        rules, config = parse_env_kwargs(preset, **kwargs)
+        if config.mode != "vector" or config.comm is not None or config.render_mode is not None:
+            raise ConfigError(
+                "the vector env batches the 'vector' observation mode without communication "
+                "or rendering; use gymnasium.make_vec(..., vectorization_mode='sync') for "
+                f"mode={config.mode!r}, communication or render_mode"
+            )
+        if reward_scope not in ("team", "per_agent"):
+            raise ConfigError(f"reward_scope must be 'team' or 'per_agent', got {reward_scope!r}")
+        mode = AutoresetMode(autoreset_mode)
+        if mode not in (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP):
+            raise ConfigError(f"autoreset_mode must be NEXT_STEP or SAME_STEP, got {mode!r}")
+        self.rules = rules
+        self.num_envs = num_envs
+        self.sim = BatchSim(rules, num_envs, obs_radius=config.obs_radius, compiled=compiled)
+        self.n_agents = n = rules.n_agents
+        enc = self.sim.encoder
+        box = spaces.Box(enc.low, enc.high, shape=(enc.size,), dtype=np.float32)
+        self.single_observation_space = spaces.Tuple([box] * n)
+        self.single_action_space = spaces.MultiDiscrete([5] * n)
+        self.observation_space = batch_space(self.single_observation_space, num_envs)
+        self.action_space = batch_space(self.single_action_space, num_envs)
+        self.metadata = {"autoreset_mode": mode}
+        self.render_mode = None
+        self.copy = copy
+        self.reward_scope = reward_scope
+        self._needs_reset = np.zeros(num_envs, bool)
+        self._shared = rules.reward_mode == "shared"
+
+    def reset(self, *, seed: int | list[int] | None = None,
+              options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
+        """Start every kitchen anew. ``seed`` (an int) reseeds the kitchens' episode-seed
+        sequences (kitchen ``e`` draws from ``default_rng([seed, e])``)."""
+        super().reset(seed=seed)
+        if isinstance(seed, list):
+            raise ConfigError("seed must be one int for all kitchens (each gets its own stream)")
+        if seed is None and not self.sim.episodes.any() and not self._needs_reset.any():
+            seed = int(self.np_random.integers(2**31 - 1))
+        if seed is not None:
+            self.sim.reseed(seed)
+        self.sim.reset()
+        self._needs_reset[:] = False
+        return self._obs(), {}
+
+    def step(self, actions: Any) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, dict]:
+        acts = np.asarray(actions)
+        info: dict[str, Any] = {}
+        if self.metadata["autoreset_mode"] == AutoresetMode.NEXT_STEP:
+            restart = np.flatnonzero(self._needs_reset)
+            terminated, truncated = self.sim.step_active(acts, ~self._needs_reset)
+            if len(restart):
+                self.sim.reset_envs(restart)
+            rewards = self._rewards()
+            rewards[restart] = 0.0
+            self._needs_reset = terminated | truncated
+        else:
+            out = self.sim.step(acts)
+            terminated, truncated, rewards = out.terminated, out.truncated, self._rewards()
+            if out.final_obs:
+                mask = np.zeros(self.num_envs, bool)
+                mask[list(out.final_obs)] = True
+                final = np.empty(self.num_envs, object)
+                for e, o in out.final_obs.items():
+                    final[e] = tuple(o.copy())
+                info = {"final_obs": final, "_final_obs": mask}
+        return self._obs(), rewards, terminated, truncated, info
+
+    def _rewards(self) -> np.ndarray:
+        r = self.sim.arrays.rewards
+        if self.reward_scope == "per_agent":
+            return r.copy()
+        return r[:, 0].copy() if self._shared else r.sum(axis=1)
+
+    def _obs(self) -> tuple[np.ndarray, ...]:
+        obs = self.sim.obs
+        if self.copy:
+            obs = obs.copy()
+        return tuple(obs[:, a] for a in range(self.n_agents))
+
+
+__all__ = ["OvercookedPlusVectorEnv"]
