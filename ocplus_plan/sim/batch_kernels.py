@@ -32,7 +32,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-prange = range  # numba.prange when compiled
 
 # codes (sim/codes.py), repeated as plain ints so the compiled kernels see constants
 _COUNTER = 1
@@ -100,8 +99,9 @@ class KitchenArrays(NamedTuple):
 
 
 # ---------------------------------------------------------------- entry points
-def step_all(k, g, actions, active):
-    """One step of every env ``e`` with ``active[e]``, then their observations."""
+def step_range(k, g, actions, active, start, stop):
+    """One step of every env ``e`` in ``start .. stop - 1`` with ``active[e]``, then their
+    observations (compiled without the GIL: threads step disjoint ranges)."""
     clock, agents, cells, items, orders = k.clock, k.agents, k.cells, k.items, k.orders
     stats, queue, rewards, scratch = k.stats, k.queue, k.rewards, k.scratch
     p, rw, terrain, walk, nbrs = g.params, g.rewards, g.terrain, g.walk, g.nbrs
@@ -109,7 +109,7 @@ def step_all(k, g, actions, active):
     pans, switch_cells = g.pans, g.switch_cells
     obs, static_at, ent_idx, ent_val, ent_n = k.obs, k.static_at, k.ent_idx, k.ent_val, k.ent_n
     view, prog_den, static_obs, gather = g.obs_layout, g.prog_den, g.static_obs, g.static_gather
-    for e in prange(len(active)):
+    for e in range(start, stop):
         if active[e]:
             step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewards,
                      scratch, p, rw, terrain, walk, nbrs, kind, home, kidx, recipes, pans,
@@ -120,14 +120,15 @@ def step_all(k, g, actions, active):
 
 
 def reset_some(k, g, envs):
-    """Start a new episode in each listed env (its queue already holds the new draws)."""
+    """Start a new episode in each listed env (its queue already holds the new draws; a
+    few envs a step: one thread)."""
     clock, agents, cells, items, orders = k.clock, k.agents, k.cells, k.items, k.orders
     p, kind, home, spawn, fixed = g.params, g.kind, g.home, g.spawn, g.fixed
     obs, static_at, ent_idx, ent_val, ent_n = k.obs, k.static_at, k.ent_idx, k.ent_val, k.ent_n
     stats, queue, kidx, recipes = k.stats, k.queue, g.kind_index, g.recipes
     view, prog_den, static_obs, gather = g.obs_layout, g.prog_den, g.static_obs, g.static_gather
     n_cells = g.terrain.shape[1]
-    for j in prange(len(envs)):
+    for j in range(len(envs)):
         e = envs[j]
         clock[e, C_T] = 0
         clock[e, C_LAYOUT] = 0
@@ -159,7 +160,7 @@ def reset_some(k, g, envs):
 
 def observe_some(k, g, envs):
     """Bring the observations of the listed envs up to date (after a state was loaded)."""
-    for j in prange(len(envs)):
+    for j in range(len(envs)):
         observe_env(envs[j], k.clock, k.agents, k.items, k.orders, k.obs, k.static_at,
                     k.ent_idx, k.ent_val, k.ent_n, g.params, g.obs_layout, g.kind,
                     g.kind_index, g.prog_den, g.recipes, g.static_obs, g.static_gather,
@@ -633,7 +634,7 @@ def entries(e, a, me, clock, agents, items, orders, idx, val, row, p, view, kind
 
 
 KERNELS = (
-    "step_all", "reset_some", "observe_some", "draw", "put_order", "replace_order", "expire_orders",
+    "step_range", "reset_some", "observe_some", "draw", "put_order", "replace_order", "expire_orders",
     "step_env", "resolve_moves", "occupant", "in_chain", "tick_pan", "maybe_switch", "is_veg",
     "plateable", "fresh_veg", "on_plate", "interact", "plate_exchange", "pick", "put",
     "advance", "send_home", "deliver", "matching_order", "observe_env", "window_index",

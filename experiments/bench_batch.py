@@ -1,0 +1,166 @@
+"""Batched kitchens: env-steps/s against the number of kitchens, ours beside JaxMARL.
+
+Ours: :class:`ocplus_plan.sim.batch.BatchSim` (hard preset, MapC, 2 cooks, whole-map vector
+observations of every cook kept up to date), compiled with numba (the ``fast`` extra), and
+the Gymnasium vector env over it (``make_vec(..., vectorization_mode="vector_entry_point")``,
+``copy=True`` and ``copy=False``). JaxMARL Overcooked V1 and V2 (the ``compare`` extra, CPU
+jax): ``jit(vmap(step))`` inside ``lax.scan`` over random actions, compile time excluded;
+each step's observations are summed into the scan output so XLA cannot drop them. Random
+uniform actions everywhere; medians of ``--runs`` rounds. One JSON line per measurement.
+
+    python experiments/bench_batch.py                      # all systems, 1 ... 4096 kitchens
+    python experiments/bench_batch.py --plot experiments/figures/batch_scaling.png
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import time
+from typing import Any
+
+import numpy as np
+
+from ocplus_plan.sim import make_rules
+
+KITCHENS = (1, 4, 16, 64, 256, 1024, 4096)
+
+
+def _load() -> str:
+    return " ".join(f"{x:.2f}" for x in os.getloadavg())
+
+
+def bench_ours(n_envs: int, env_steps: int, runs: int, system: str) -> dict[str, Any]:
+    from ocplus_plan.sim.batch import BatchSim
+
+    rules = make_rules("hard", n_agents=2)
+    steps = max(20, env_steps // n_envs)
+    actions = np.random.default_rng(0).integers(0, 5, size=(64, n_envs, 2))
+    if system == "ours_batchsim":
+        sim = BatchSim(rules, n_envs, seed=0, compiled=True)
+        sim.reset()
+        step, memory = sim.step, sim.memory_per_kitchen()
+    else:
+        import gymnasium as gym
+
+        import ocplus_plan.env  # noqa: F401
+
+        venv = gym.make_vec("OvercookedPlus-v0", num_envs=n_envs,
+                            vectorization_mode="vector_entry_point", preset="hard",
+                            n_agents=2, copy=system == "ours_vector_env_copy", compiled=True)
+        venv.reset(seed=0)
+        step, memory = venv.step, venv.sim.memory_per_kitchen()
+    step(actions[0])  # compiled kernels load from the cache (or compile) here
+    rates = []
+    for _ in range(runs):
+        t0 = time.perf_counter()
+        for i in range(steps):
+            step(actions[i % 64])
+        rates.append(steps * n_envs / (time.perf_counter() - t0))
+    return {"bench": "batch", "system": system, "preset": "hard", "map": rules.layout.name,
+            "n_agents": 2, "n_envs": n_envs, "env_steps": steps * n_envs, "runs": runs,
+            "env_steps_per_s_median": round(statistics.median(rates)),
+            "bytes_per_kitchen": memory, "load": _load(), "python": platform.python_version()}
+
+
+def bench_jaxmarl(name: str, n_envs: int, env_steps: int, runs: int) -> dict[str, Any]:
+    import jax
+    import jax.numpy as jnp
+    import jaxmarl
+
+    env = jaxmarl.make(name)
+    steps = max(20, env_steps // n_envs)
+    n_actions = env.action_space(env.agents[0]).n
+
+    def rollout(key: Any) -> Any:
+        keys = jax.random.split(key, n_envs + 1)
+        _, state = jax.vmap(env.reset)(keys[1:])
+
+        def body(carry: Any, _: Any) -> Any:
+            state, key = carry
+            key, k_act, k_step = jax.random.split(key, 3)
+            acts = {a: jax.random.randint(jax.random.fold_in(k_act, i), (n_envs,), 0, n_actions)
+                    for i, a in enumerate(env.agents)}
+            obs, state, rew, done, _ = jax.vmap(env.step)(jax.random.split(k_step, n_envs),
+                                                          state, acts)
+            used = sum(jnp.sum(o, dtype=jnp.float32) for o in obs.values())
+            return (state, key), used + rew[env.agents[0]].sum()
+
+        return jax.lax.scan(body, (state, keys[0]), None, length=steps)[1]
+
+    run = jax.jit(rollout)
+    run(jax.random.PRNGKey(0)).block_until_ready()  # compile
+    rates = []
+    for r in range(runs):
+        t0 = time.perf_counter()
+        run(jax.random.PRNGKey(r + 1)).block_until_ready()
+        rates.append(steps * n_envs / (time.perf_counter() - t0))
+    _, state = env.reset(jax.random.PRNGKey(0))
+    state_bytes = sum(x.nbytes for x in jax.tree_util.tree_leaves(state))
+    obs, _ = env.reset(jax.random.PRNGKey(0))
+    obs_bytes = sum(o.nbytes for o in obs.values())
+    return {"bench": "batch", "system": f"jaxmarl_{name}", "n_agents": 2, "n_envs": n_envs,
+            "env_steps": steps * n_envs, "runs": runs,
+            "env_steps_per_s_median": round(statistics.median(rates)),
+            "bytes_per_kitchen": state_bytes + obs_bytes, "jax": jax.__version__,
+            "jaxmarl": getattr(jaxmarl, "__version__", "?"), "load": _load()}
+
+
+def plot(rows: list[dict[str, Any]], path: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for system in dict.fromkeys(r["system"] for r in rows):
+        pts = [(r["n_envs"], r["env_steps_per_s_median"]) for r in rows if r["system"] == system]
+        ax.plot(*zip(*pts), marker="o", label=system)
+    ax.set_xscale("log", base=2)
+    ax.set_yscale("log")
+    ax.set_xlabel("kitchens stepped together")
+    ax.set_ylabel("env-steps / s (2 cooks each)")
+    ax.set_title("Batched kitchens on 2 CPU cores (random actions, obs of every cook)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--env-steps", type=int, default=400_000, help="per round and size")
+    ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--kitchens", type=int, nargs="+", default=list(KITCHENS))
+    ap.add_argument("--systems", nargs="+", default=[
+        "ours_batchsim", "ours_vector_env", "ours_vector_env_copy", "jaxmarl_overcooked",
+        "jaxmarl_overcooked_v2"])
+    ap.add_argument("--plot", default=None, help="write the steps/s plot here (matplotlib)")
+    args = ap.parse_args()
+    rows = []
+    for system in args.systems:
+        if system.startswith("jaxmarl_"):
+            try:
+                import jaxmarl  # noqa: F401
+            except ImportError as exc:
+                print(json.dumps({"bench": "batch", "system": system,
+                                  "skipped": f"jaxmarl is not installed ({exc}); "
+                                             "pip install 'ocplus-plan[compare]'"}), flush=True)
+                continue
+        for n_envs in args.kitchens:
+            if system.startswith("jaxmarl_"):
+                row = bench_jaxmarl(system.removeprefix("jaxmarl_"), n_envs, args.env_steps,
+                                    args.runs)
+            else:
+                row = bench_ours(n_envs, args.env_steps, args.runs, system)
+            rows.append(row)
+            print(json.dumps(row), flush=True)
+    if args.plot:
+        plot(rows, args.plot)
+
+
+if __name__ == "__main__":
+    main()
