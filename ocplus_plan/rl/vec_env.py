@@ -5,10 +5,14 @@ and exposes ``n_kitchens * n_agents`` slots (slot ``j * n_agents + a`` is agent 
 kitchen ``j``). One PPO policy acts for every slot, so every agent is driven by the same
 network from its own observation, and every agent's experience trains it.
 
-It steps the simulator directly (no gymnasium wrapper per kitchen): the simulator is the
-single source of truth and this keeps the per-step overhead to one transition and one
-encoding per kitchen. Episodes end at the rules' horizon; a kitchen then resets with
-the next seed of its own deterministic sequence. Finished episodes are queued in
+Two engines step the kitchens. ``engine="loop"`` (default) runs ``transition`` and the
+encoder per kitchen: every observation kind, the full reward shaping (it reads the
+step's events) and curricula. ``engine="batch"`` steps all kitchens in the batched
+engine (:class:`ocplus_plan.sim.batch.BatchSim`, the same rules bit for bit): ``grid``
+observations, one rule set, and of the shaping only the subtask part (counted per agent
+by the engine), so the other :class:`Shaping` weights must be 0. Episodes end at the
+rules' horizon; a kitchen then resets with the next seed of its own deterministic
+sequence (the two engines draw different seeds). Finished episodes are queued in
 :attr:`KitchenVecEnv.finished` for the logging callback.
 
 Imports stable-baselines3 at module level: import it only where the ``rl`` extra is
@@ -25,6 +29,7 @@ from gymnasium import spaces
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
 from ..errors import ConfigError
+from ..sim.batch import BatchSim
 from ..sim.rules import Rules
 from ..sim.state import State, new_state
 from ..sim.step import transition
@@ -53,6 +58,7 @@ class KitchenVecEnv(VecEnv):
         shaping: Shaping | None = None,
         team_reward: bool = True,
         reward_scale: float = 0.02,
+        engine: str = "loop",
     ) -> None:
         rule_list = [rules] if isinstance(rules, Rules) else list(rules)
         if not rule_list:
@@ -91,6 +97,7 @@ class KitchenVecEnv(VecEnv):
         #: id(rules) -> a name for the episode log (curriculum stages); default: the preset
         self.rule_labels: dict[int, str] = {}
         self.shapers = [RewardShaper(shaping or Shaping()) for _ in range(n_kitchens)]
+        self.batch = self._batch_engine(engine, shaping or Shaping(), seed)
         self.states: list[State] = []
         self._game_return = [0.0] * n_kitchens
         self._train_return = np.zeros((n_kitchens, self.n_agents))
@@ -133,8 +140,33 @@ class KitchenVecEnv(VecEnv):
         state = self.states[kitchen]
         return self._encoder(state.rules).encode_all(state)
 
+    def _batch_engine(self, engine: str, shaping: Shaping, seed: int) -> BatchSim | None:
+        if engine == "loop":
+            return None
+        if engine != "batch":
+            raise ConfigError(f"engine must be 'loop' or 'batch', got {engine!r}")
+        others = {k: v for k, v in vars(shaping).items() if k != "subtask_scale" and v}
+        if self._obs_kind != "grid" or len(self.rule_list) != 1 or others:
+            raise ConfigError(
+                "engine='batch' takes obs='grid', one rule set and shaping with only "
+                f"subtask_scale (got obs={self._obs_kind!r}, {len(self.rule_list)} rule sets, "
+                f"shaping weights {others}); use engine='loop' for the others"
+            )
+        self._subtask_scale = shaping.subtask_scale
+        self._grid_scale = self._encoder(self.rule_list[0])._scale
+        return BatchSim(self.rule_list[0], self.n_kitchens, seed=seed,
+                        obs_radius=self._obs_radius)
+
+    def _batch_obs(self) -> np.ndarray:
+        return (self.batch.obs * self._grid_scale).reshape(self.num_envs, self.obs_size)
+
     # ------------------------------------------------------------ VecEnv API
     def reset(self) -> np.ndarray:
+        if self.batch is not None:
+            self.batch.reset()
+            self._game_return = [0.0] * self.n_kitchens
+            self._train_return[:] = 0.0
+            return self._batch_obs()
         self.states = [self._new_episode(j) for j in range(self.n_kitchens)]
         return np.concatenate([self._encode(j) for j in range(self.n_kitchens)])
 
@@ -142,6 +174,8 @@ class KitchenVecEnv(VecEnv):
         self._actions = np.asarray(actions, dtype=np.int64).reshape(-1)
 
     def step_wait(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
+        if self.batch is not None:
+            return self._step_batch()
         n = self.n_agents
         obs = np.empty((self.num_envs, self.obs_size), dtype=np.float32)
         rewards = np.zeros(self.num_envs, dtype=np.float32)
@@ -183,6 +217,47 @@ class KitchenVecEnv(VecEnv):
                 self.states[j] = self._new_episode(j)
             obs[lo : lo + n] = self._encode(j)
         return obs, rewards * self.reward_scale, dones, infos
+
+    def _step_batch(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
+        """:meth:`step_wait` on the batched engine (the same bookkeeping, as arrays)."""
+        n, sim = self.n_agents, self.batch
+        terminated, truncated = sim.step_active(self._actions.reshape(self.n_kitchens, n))
+        game = sim.arrays.rewards
+        subtask = sim.arrays.subtasks * self.rule_list[0].rewards.subtask_finished
+        true, shaped = game - subtask, self._subtask_scale * subtask
+        if self.team_reward:
+            r = true.sum(axis=1, keepdims=True) + self.shaping_coef * shaped
+        else:
+            r = true + self.shaping_coef * shaped
+        self._train_return += r
+        game_total = game.sum(axis=1)
+        infos: list[dict[str, Any]] = [{} for _ in range(self.num_envs)]
+        dones = np.repeat(terminated | truncated, n)
+        for j in range(self.n_kitchens):
+            self._game_return[j] += float(game_total[j])
+        ended = np.flatnonzero(terminated | truncated)
+        if len(ended):
+            final = self._batch_obs()
+            for j in ended.tolist():
+                steps = int(sim.arrays.clock[j, 0])
+                self.finished.append({
+                    "kitchen": j, "preset": self.rule_list[0].preset,
+                    "rules": self.rule_labels.get(id(self.rule_list[0]),
+                                                  self.rule_list[0].preset),
+                    "map": self.rule_list[0].layout.name, "seed": sim.seeds[j],
+                    "steps": steps, "game_reward": self._game_return[j],
+                    "train_return": float(self._train_return[j].mean()),
+                    "dishes": int(sim.arrays.stats[j, 0]), "shaping_coef": self.shaping_coef,
+                })
+                for a in range(n):
+                    infos[j * n + a]["terminal_observation"] = final[j * n + a]
+                    infos[j * n + a]["episode"] = {"r": float(self._train_return[j, a]),
+                                                   "l": steps}
+                self._game_return[j] = 0.0
+                self._train_return[j] = 0.0
+            sim.reset_envs(ended)
+        rewards = r.reshape(-1).astype(np.float32)
+        return self._batch_obs(), rewards * self.reward_scale, dones, infos
 
     def close(self) -> None:
         self.states = []

@@ -167,7 +167,7 @@ class BatchSim:
         self.arrays = bk.KitchenArrays(
             clock=z(5), agents=z(2, n), cells=z(n_cells), items=z(5, n_items),
             orders=z(4, n_orders), stats=z(9), queue=z(self._queue_len),
-            rewards=z(n, dtype=np.float64), obs=z(n, self.encoder.size, dtype=np.float32),
+            rewards=z(n, dtype=np.float64), subtasks=z(n), obs=z(n, self.encoder.size, dtype=np.float32),
             static_at=np.full((e, n), -1, i32), ent_idx=z(n + 1, n_entries),
             ent_val=z(n + 1, n_entries, dtype=np.float32), ent_n=z(n),
             scratch=z(3, n, dtype=np.int64))

@@ -90,6 +90,7 @@ class KitchenArrays(NamedTuple):
     stats: np.ndarray  # (E, 9)
     queue: np.ndarray  # (E, Q) recipe indices drawn ahead
     rewards: np.ndarray  # float64 (E, agents), the last step's
+    subtasks: np.ndarray  # (E, agents): chops, washes and cooks each finished in the last step
     obs: np.ndarray  # float32 (E, agents, size)
     static_at: np.ndarray  # (E, agents): layout * cells + cell whose static part is in obs
     ent_idx: np.ndarray  # (E, agents + 1, K): last entries per agent; the last row is scratch
@@ -103,7 +104,7 @@ def step_range(k, g, actions, active, start, stop):
     """One step of every env ``e`` in ``start .. stop - 1`` with ``active[e]``, then their
     observations (compiled without the GIL: threads step disjoint ranges)."""
     clock, agents, cells, items, orders = k.clock, k.agents, k.cells, k.items, k.orders
-    stats, queue, rewards, scratch = k.stats, k.queue, k.rewards, k.scratch
+    stats, queue, rewards, scratch, subtasks = k.stats, k.queue, k.rewards, k.scratch, k.subtasks
     p, rw, terrain, walk, nbrs = g.params, g.rewards, g.terrain, g.walk, g.nbrs
     kind, home, kidx, recipes = g.kind, g.home, g.kind_index, g.recipes
     pans, switch_cells = g.pans, g.switch_cells
@@ -112,8 +113,8 @@ def step_range(k, g, actions, active, start, stop):
     for e in range(start, stop):
         if active[e]:
             step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewards,
-                     scratch, p, rw, terrain, walk, nbrs, kind, home, kidx, recipes, pans,
-                     switch_cells)
+                     subtasks, scratch, p, rw, terrain, walk, nbrs, kind, home, kidx, recipes,
+                     pans, switch_cells)
             observe_env(e, clock, agents, items, orders, obs, static_at, ent_idx, ent_val,
                         ent_n, p, view, kind, kidx, prog_den, recipes, static_obs, gather,
                         terrain.shape[1])
@@ -209,11 +210,12 @@ def expire_orders(e, clock, orders, stats, queue, rewards, p, rw):
 
 
 # ---------------------------------------------------------------- the step
-def step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewards, scratch,
-             p, rw, terrain, walk, nbrs, kind, home, kidx, recipes, pans, switch_cells):
+def step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewards, subtasks,
+             scratch, p, rw, terrain, walk, nbrs, kind, home, kidx, recipes, pans, switch_cells):
     n = agents.shape[2]
     for a in range(n):
         rewards[e, a] = rw[R_STEP]
+        subtasks[e, a] = 0
     lay = clock[e, C_LAYOUT]
     moving = False
     for a in range(n):
@@ -229,7 +231,7 @@ def step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewa
             moving = True
         else:
             interact(e, a, tgt, clock, agents, cells, items, orders, stats, queue, rewards,
-                     p, rw, terrain[lay, tgt], kind, home, kidx, recipes)
+                     subtasks, p, rw, terrain[lay, tgt], kind, home, kidx, recipes)
     waiting = False
     for i in range(items.shape[2]):
         if items[e, I_WHERE, i] == _WAITING:
@@ -245,7 +247,7 @@ def step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewa
     for j in range(len(pans)):
         it = cells[e, pans[j]]
         if it >= 0:
-            tick_pan(e, it, items, stats, rewards, p, rw)
+            tick_pan(e, it, items, stats, rewards, subtasks, p, rw)
     clock[e, C_T] += 1
     if p[P_DYNAMIC] and clock[e, C_T] >= clock[e, C_SWITCH] and terrain.shape[0] > 1:
         maybe_switch(e, clock, agents, cells, stats, p, terrain, walk, switch_cells)
@@ -304,7 +306,7 @@ def in_chain(e, length, b, scratch):
     return False
 
 
-def tick_pan(e, it, items, stats, rewards, p, rw):
+def tick_pan(e, it, items, stats, rewards, subtasks, p, rw):
     ticks = items[e, I_PROG, it] + 1
     items[e, I_PROG, it] = ticks
     st = items[e, I_STATE, it]
@@ -314,6 +316,7 @@ def tick_pan(e, it, items, stats, rewards, p, rw):
         stats[e, COOKS] += 1
         if owner >= 0:
             rewards[e, owner] += rw[R_SUBTASK]
+            subtasks[e, owner] += 1
         st = _COOKED
     if st != _BURNT and p[P_BURN] + 1 - ticks <= 0:
         items[e, I_STATE, it] = _BURNT
@@ -354,8 +357,8 @@ def on_plate(e, i, plate, items):
     return items[e, I_WHERE, i] == _PLATE and items[e, I_LOC, i] == plate
 
 
-def interact(e, a, cell, clock, agents, cells, items, orders, stats, queue, rewards, p, rw,
-             code, kind, home, kidx, recipes):
+def interact(e, a, cell, clock, agents, cells, items, orders, stats, queue, rewards, subtasks,
+             p, rw, code, kind, home, kidx, recipes):
     """Agent ``a`` bumps the non-walkable ``cell`` of terrain ``code``."""
     held = agents[e, A_HAND, a]
     here = cells[e, cell]
@@ -375,7 +378,8 @@ def interact(e, a, cell, clock, agents, cells, items, orders, stats, queue, rewa
         if held < 0:
             if here >= 0:
                 if fresh_veg(e, here, items, kind):
-                    advance(e, a, here, p[P_CHOP], _CHOPPED, CHOPS, items, stats, rewards, rw)
+                    advance(e, a, here, p[P_CHOP], _CHOPPED, CHOPS, items, stats, rewards,
+                            subtasks, rw)
                 else:
                     pick(e, a, cell, here, agents, cells, items)
         elif here >= 0:
@@ -386,7 +390,8 @@ def interact(e, a, cell, clock, agents, cells, items, orders, stats, queue, rewa
         if held < 0:
             if here >= 0:
                 if items[e, I_STATE, here] == _DIRTY:
-                    advance(e, a, here, p[P_WASH], _CLEAN, WASHES, items, stats, rewards, rw)
+                    advance(e, a, here, p[P_WASH], _CLEAN, WASHES, items, stats, rewards,
+                            subtasks, rw)
                 else:
                     pick(e, a, cell, here, agents, cells, items)
         elif here < 0 and items[e, I_STATE, held] == _DIRTY:
@@ -434,7 +439,7 @@ def put(e, a, cell, it, agents, cells, items):
     items[e, I_LOC, it] = cell
 
 
-def advance(e, a, it, needed, done_state, stat, items, stats, rewards, rw):
+def advance(e, a, it, needed, done_state, stat, items, stats, rewards, subtasks, rw):
     items[e, I_PROG, it] += 1
     items[e, I_OWNER, it] = a
     if items[e, I_PROG, it] >= needed:
@@ -442,6 +447,7 @@ def advance(e, a, it, needed, done_state, stat, items, stats, rewards, rw):
         items[e, I_PROG, it] = 0
         stats[e, stat] += 1
         rewards[e, a] += rw[R_SUBTASK]
+        subtasks[e, a] += 1
 
 
 def send_home(e, it, state, cells, items, home):

@@ -160,3 +160,38 @@ def test_grid_observations_and_curriculum_switch():
     # ... a grid env cannot: the map size changes the observation
     with pytest.raises(ConfigError, match="curriculum rule set"):
         venv.set_rules(make_rules("hard", n_agents=1, reward_mode="individual"))
+
+
+def test_batch_engine_vec_env_matches_its_kitchens_and_trains(tmp_path: Path):
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.logger import configure
+
+    from ocplus_plan.rl.obs import GridEncoder
+    from ocplus_plan.rl.shaping import Shaping
+
+    rules = make_rules("easy", n_agents=2, horizon=5, reward_mode="individual")
+    only_subtasks = Shaping(stage=0, useful_plate=0, carry_fresh=0, carry_ready=0, carry_dish=0)
+    venv = KitchenVecEnv(rules, n_kitchens=3, seed=0, obs="grid", shaping=only_subtasks,
+                         engine="batch")
+    obs = venv.reset()
+    enc = GridEncoder(rules)
+    for j in range(3):
+        np.testing.assert_array_equal(obs[2 * j : 2 * j + 2], enc.encode_all(venv.batch.state(j)))
+    for t in range(5):
+        venv.step_async(np.full(6, 4))
+        obs, rew, dones, infos = venv.step_wait()
+        assert dones.all() == (t == 4)
+    assert len(venv.finished) == 3 and all("terminal_observation" in i for i in infos)
+    assert np.allclose(rew, 2 * -0.1 * venv.reward_scale)
+    model = PPO("MlpPolicy", venv, n_steps=8, batch_size=24, n_epochs=1, seed=0, device="cpu")
+    model.set_logger(configure(str(tmp_path), []))  # SB3's default logs into TMPDIR
+    model.learn(48)
+    assert model.num_timesteps >= 48
+
+
+def test_batch_engine_refuses_what_it_cannot_compute():
+    rules = make_rules("easy", n_agents=2, reward_mode="individual")
+    with pytest.raises(ConfigError, match="engine='loop'"):
+        KitchenVecEnv(rules, obs="grid", engine="batch")  # default shaping has more terms
+    with pytest.raises(ConfigError, match="engine must be"):
+        KitchenVecEnv(rules, engine="fast")

@@ -173,3 +173,18 @@ def test_memory_per_kitchen_is_reported_and_a_window_is_smaller():
                                                                   compiled=False)
     obs_bytes = 2 * window.encoder.size * 4
     assert obs_bytes < window.memory_per_kitchen() < whole.memory_per_kitchen()
+
+
+@needs_numba
+def test_threads_step_disjoint_kitchens_to_the_same_result():
+    rules = make_rules("hard", **QUICK)
+    one, two = (BatchSim(rules, 300, seed=4, compiled=True, threads=t) for t in (1, 2))
+    one.reset()
+    two.reset()
+    rng = np.random.default_rng(0)
+    for _ in range(40):
+        acts = rng.integers(0, 5, size=(300, 2))
+        a, b = one.step(acts), two.step(acts)
+        np.testing.assert_array_equal(a.obs, b.obs)
+    assert [one.state(e).state_hash() for e in (0, 150, 299)] == \
+        [two.state(e).state_hash() for e in (0, 150, 299)]
