@@ -1,5 +1,5 @@
 """Steps per second of the raw transition, per preset, with random actions; and of the
-Gymnasium env (``--only env``) and the batched simulator (``--only batch``).
+Gymnasium env (``--only env``). Batched kitchens: ``experiments/bench_batch.py``.
 
 Median of 5 runs of N steps each on one core (actions drawn up front so the
 timing is the transition alone; episodes restart with ``new_state`` at the
@@ -12,7 +12,7 @@ the transition, in the observation encoder, and in the env's own bookkeeping (ve
 mode also reports the from-scratch encoder's cost, ``us_encoder_scratch_cpu``, next to
 the env's incremental one).
 
-    python experiments/bench_sim.py [--steps 50000] [--runs 5] [--only transition|env|batch]
+    python experiments/bench_sim.py [--steps 50000] [--runs 5] [--only transition|env]
 """
 
 from __future__ import annotations
@@ -54,8 +54,6 @@ ENV_CONFIGS = [
     ("hard", 1, "vector", 0), ("hard", 2, "vector", 0), ("hard", 2, "vector", 2),
     ("hard", 1, "rgb", 0), ("hard", 2, "rgb", 0), ("hard", 2, "rgb", 2),
 ]
-#: (preset, n_agents, n_envs) of the batched-simulator benchmark
-BATCH_CONFIGS = [("hard", 2, 1), ("hard", 2, 16), ("hard", 2, 64)]
 
 
 def _env_split(env, actions: list, runs: int) -> dict:
@@ -135,33 +133,11 @@ def bench_env(preset: str, n_agents: int, mode: str, radius: int, steps: int, ru
     }
 
 
-def bench_batch(preset: str, n_agents: int, n_envs: int, steps: int, runs: int) -> dict:
-    from ocplus_plan.sim.batch import BatchSim
-
-    rules = make_rules(preset, n_agents=n_agents)
-    batches = max(1, steps // n_envs)
-    actions = np.random.default_rng(0).integers(0, 5, size=(batches, n_envs, n_agents))
-    rates = []
-    for run in range(runs):
-        sim = BatchSim(rules, n_envs, seed=run)
-        sim.reset()
-        t0 = time.perf_counter()
-        for joint in actions:
-            sim.step(joint)
-        rates.append(batches * n_envs / (time.perf_counter() - t0))
-    return {
-        "bench": "batch", "preset": preset, "map": rules.layout.name, "n_agents": n_agents,
-        "n_envs": n_envs, "env_steps": batches * n_envs, "runs": runs,
-        "env_steps_per_s_median": round(statistics.median(rates)),
-        "env_steps_per_s_min": round(min(rates)), "python": platform.python_version(),
-    }
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=50_000)
     ap.add_argument("--runs", type=int, default=5)
-    ap.add_argument("--only", choices=("transition", "env", "batch"), default=None,
+    ap.add_argument("--only", choices=("transition", "env"), default=None,
                     help="run one section (default: all)")
     args = ap.parse_args()
     if args.only in (None, "transition"):
@@ -171,9 +147,6 @@ def main() -> None:
         for preset, n, mode, radius in ENV_CONFIGS:
             steps = args.steps if mode == "vector" else max(1, args.steps // 5)
             print(json.dumps(bench_env(preset, n, mode, radius, steps, args.runs)), flush=True)
-    if args.only in (None, "batch"):
-        for preset, n, n_envs in BATCH_CONFIGS:
-            print(json.dumps(bench_batch(preset, n, n_envs, args.steps, args.runs)), flush=True)
 
 
 if __name__ == "__main__":

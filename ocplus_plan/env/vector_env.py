@@ -77,6 +77,7 @@ class OvercookedPlusVectorEnv(VectorEnv):
         self.copy = copy
         self.reward_scope = reward_scope
         self._needs_reset = np.zeros(num_envs, bool)
+        self._seeded = False
         self._shared = rules.reward_mode == "shared"
 
     def reset(self, *, seed: int | list[int] | None = None,
@@ -86,10 +87,11 @@ class OvercookedPlusVectorEnv(VectorEnv):
         super().reset(seed=seed)
         if isinstance(seed, list):
             raise ConfigError("seed must be one int for all kitchens (each gets its own stream)")
-        if seed is None and not self.sim.episodes.any() and not self._needs_reset.any():
+        if seed is None and not self._seeded:  # a first reset without a seed: draw one
             seed = int(self.np_random.integers(2**31 - 1))
         if seed is not None:
             self.sim.reseed(seed)
+            self._seeded = True
         self.sim.reset()
         self._needs_reset[:] = False
         return self._obs(), {}

@@ -30,6 +30,7 @@ from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
 from ..errors import ConfigError
 from ..sim.batch import BatchSim
+from ..sim.batch_kernels import C_T, DISHES
 from ..sim.rules import Rules
 from ..sim.state import State, new_state
 from ..sim.step import transition
@@ -239,7 +240,7 @@ class KitchenVecEnv(VecEnv):
         if len(ended):
             final = self._batch_obs()
             for j in ended.tolist():
-                steps = int(sim.arrays.clock[j, 0])
+                steps = int(sim.arrays.clock[j, C_T])
                 self.finished.append({
                     "kitchen": j, "preset": self.rule_list[0].preset,
                     "rules": self.rule_labels.get(id(self.rule_list[0]),
@@ -247,7 +248,8 @@ class KitchenVecEnv(VecEnv):
                     "map": self.rule_list[0].layout.name, "seed": sim.seeds[j],
                     "steps": steps, "game_reward": self._game_return[j],
                     "train_return": float(self._train_return[j].mean()),
-                    "dishes": int(sim.arrays.stats[j, 0]), "shaping_coef": self.shaping_coef,
+                    "dishes": int(sim.arrays.stats[j, DISHES]),
+                    "shaping_coef": self.shaping_coef,
                 })
                 for a in range(n):
                     infos[j * n + a]["terminal_observation"] = final[j * n + a]
