@@ -119,6 +119,9 @@ class OvercookedPlusVectorEnv(VectorEnv):
                 info = {"final_obs": final, "_final_obs": mask}
         return self._obs(), rewards, terminated, truncated, info
 
+    def close_extras(self, **kwargs: Any) -> None:
+        self.sim.close()
+
     def _rewards(self) -> np.ndarray:
         r = self.sim.arrays.rewards
         if self.reward_scope == "per_agent":

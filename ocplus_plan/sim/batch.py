@@ -301,6 +301,12 @@ class BatchSim:
         s.rng = rng
         return s
 
+    def close(self) -> None:
+        """Stop the stepping threads (a later step starts them again)."""
+        if self._pool is not None:
+            self._pool.shutdown()
+            self._pool = None
+
     def memory_per_kitchen(self) -> int:
         """Bytes held per kitchen: state, observations and the kernels' bookkeeping."""
         return sum(x.nbytes for x in self.arrays) // self.n_envs

@@ -188,3 +188,5 @@ def test_threads_step_disjoint_kitchens_to_the_same_result():
         np.testing.assert_array_equal(a.obs, b.obs)
     assert [one.state(e).state_hash() for e in (0, 150, 299)] == \
         [two.state(e).state_hash() for e in (0, 150, 299)]
+    two.close()
+    assert two._pool is None
