@@ -41,10 +41,11 @@ times are estimates (collisions are ignored) used only to order and assign.
 from __future__ import annotations
 
 import copy
+import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
-from ..sim.codes import Cell
+from ..sim.codes import Cell, Item, ItemState, Where
 from ..sim.queries import (
     distances,
     interaction_spots,
@@ -321,7 +322,8 @@ LOOKAHEAD = 4
 
 def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
              agents: Sequence[int], oracle: DistanceOracle | None = None,
-             lookahead: int = LOOKAHEAD, swap_stations: bool = True) -> list[PlanStep]:
+             lookahead: int = LOOKAHEAD, swap_stations: bool = True,
+             reorder_dishes: bool = True) -> list[PlanStep]:
     """Reassign and reorder a sequential plan's steps over ``agents`` (see the module doc).
 
     ``steps`` are in plan order, each with its hand effect (TAKE, RELEASE, KEEP) and the
@@ -339,17 +341,114 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
     must be chopped one after the other. Each stay of an item on a station (from the step
     that puts it there to the one that takes it off) may move to another station of the
     same kind that is free over that stretch of the plan (:func:`station_stays`); a stay is
-    moved when the plain rule's schedule then ends better. A plan with steps of cooks
-    outside ``agents`` is left as it is."""
+    moved when the plain rule's schedule then ends better.
+
+    ``reorder_dishes``: the plan's dishes are also scheduled in every other order they can
+    be served in (:func:`dish_orders`), and the schedule that ends best is kept. A plan with
+    steps of cooks outside ``agents`` is left as it is."""
     agents = tuple(agents)
     if not agents or any(s.agent not in agents for s, _, _ in steps):
         return _in_plan_order(steps)
     oracle = oracle or DistanceOracle(state.geo)
-    steps = list(steps)
-    if swap_stations:
-        steps = _best_stations(steps, state, agents, oracle, lookahead)
-    out = _Scheduler(steps, state, agents, oracle, lookahead).run()
-    return _in_plan_order(steps) if out is None else out[0]
+    best = None
+    for order in dish_orders(list(steps), state) if reorder_dishes else [list(steps)]:
+        if swap_stations:
+            order = _best_stations(order, state, agents, oracle, lookahead)
+        out = _Scheduler(order, state, agents, oracle, lookahead).run()
+        if out is not None and (best is None or out[1] < best[1]):
+            best = out
+    return _in_plan_order(steps) if best is None else best[0]
+
+
+#: at most this many dishes are put in every order (their permutations are each scheduled)
+MAX_DISHES_REORDERED = 3
+
+
+def dish_orders(steps: list[tuple[PlanStep, str, int]],
+                state: State) -> list[list[tuple[PlanStep, str, int]]]:
+    """The plan, and the same plan with its dishes served in every other order.
+
+    A plan for several orders serves them in an order the planner chose for nothing but
+    its cost; with one plate, the dish served first holds the plate and the other waits,
+    even when its ingredients are ready first. A *dish group* is every step that handles
+    one delivered dish's ingredients, and the steps that carry its plate from the plate's
+    previous delivery to this one. Groups can be played in any order when they share no
+    ingredient (an ingredient served twice is the same respawned item), every step belongs
+    to a group (steps after the last delivery stay last), every plate starts empty and clean
+    at its spawn tile and plates come back clean (no dirty plates): each group then starts
+    from what the plan's start offers and leaves its stations as it found them. Otherwise
+    only the plan itself is returned."""
+    rules = state.rules
+    delivers = [i for i, (s, _, _) in enumerate(steps) if s.kind == "deliver"]
+    if len(delivers) < 2 or len(delivers) > MAX_DISHES_REORDERED or rules.dirty_plates:
+        return [steps]
+    plates = {i for i, kind in enumerate(state.geo.item_kind) if kind == int(Item.PLATE)}
+    for q in plates:
+        if (state.item_where[q] != int(Where.CELL) or state.item_loc[q] != state.geo.item_home[q]
+                or state.item_state[q] != int(ItemState.CLEAN)
+                or any(state.item_where[i] == int(Where.PLATE) and state.item_loc[i] == q
+                       for i in range(len(state.item_where)))):
+            return [steps]
+    dish_of: dict[int, int] = {}  # ingredient -> its dish (index into delivers)
+    for k, i in enumerate(delivers):
+        for item in steps[i][0].items:
+            if item in plates:
+                continue
+            if item in dish_of:
+                return [steps]  # served twice: the second dish waits for the respawn
+            dish_of[item] = k
+    last = delivers[-1]
+    groups: list[list[int]] = [[] for _ in delivers]
+    for i, (step, _, _) in enumerate(steps[: last + 1]):
+        ingredients = {dish_of.get(item, -1) for item in step.items if item not in plates}
+        if ingredients:
+            if len(ingredients) != 1 or -1 in ingredients:
+                return [steps]
+            groups[ingredients.pop()].append(i)
+            continue
+        held = [item for item in step.items if item in plates]
+        if not held:
+            return [steps]
+        # a plate alone: it belongs to the tour that ends with its next delivery
+        k = next((k for k, d in enumerate(delivers) if d >= i and held[0] in steps[d][0].items),
+                 None)
+        if k is None:
+            return [steps]
+        groups[k].append(i)
+    tail = steps[last + 1:]
+    out = [steps]
+    for perm in itertools.permutations(range(len(delivers))):
+        if list(perm) != sorted(perm):
+            order = [steps[i] for k in perm for i in groups[k]] + tail
+            if _cells_agree(order, state):
+                out.append(order)
+    return out
+
+
+def _cells_agree(steps: Sequence[tuple[PlanStep, str, int]], state: State) -> bool:
+    """Does every step find its cell as it needs it, played in this order from ``state``
+    (something to pick up or chop there, room to put something down)?"""
+    on = {c: i for c, i in enumerate(state.cell_item) if i >= 0}
+    plates = {i for i, kind in enumerate(state.geo.item_kind) if kind == int(Item.PLATE)}
+    for step, _, _ in steps:
+        here = on.get(step.target)
+        if step.kind == "putdown":
+            if here is not None:
+                return False
+            on[step.target] = step.items[0]
+        elif step.kind in ("pickup", "chop", "wash"):
+            if here is None or here not in step.items:
+                return False
+            if step.kind == "pickup":
+                del on[step.target]
+        elif step.kind == "plate" and here is not None and here not in plates:
+            if here not in step.items:
+                return False
+            del on[step.target]  # a plate in the hand took it
+        elif step.kind == "deliver":  # the plate and its ingredients respawn
+            for item in step.items:  # (one whose tile is taken waits: a later pick fails)
+                on.setdefault(state.geo.item_home[item], item)
+    return True
 
 
 #: station kinds whose cells are interchangeable for the schedule
@@ -453,4 +552,5 @@ def _resources(step: PlanStep) -> list[tuple[str, int]]:
     return [("c", step.target), *(("i", i) for i in step.items)]
 
 
-__all__ = ["KEEP", "RELEASE", "TAKE", "Segment", "Stay", "schedule", "segments", "station_stays"]
+__all__ = ["KEEP", "RELEASE", "TAKE", "Segment", "Stay", "dish_orders", "schedule", "segments",
+           "station_stays"]

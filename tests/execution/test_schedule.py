@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import random
 import warnings
+from dataclasses import replace
 
 import pytest
 
@@ -17,6 +18,7 @@ from ocplus_plan.execution.schedule import (
     KEEP,
     RELEASE,
     TAKE,
+    dish_orders,
     schedule,
     segments,
     station_stays,
@@ -272,3 +274,57 @@ def test_scheduled_fast_downward_plans_keep_every_step_and_every_resource_order(
                     holding = True
                 elif e == RELEASE:
                     holding = False
+
+
+def _two_dishes(state):
+    """Onion served first in the plan, then the lettuce, which lies chopped on board (1,6)."""
+    from ocplus_plan.sim.codes import ItemState
+
+    lettuce, onion, plate = _item_at(state, 0, 4), _item_at(state, 4, 4), _item_at(state, 2, 0)
+    board, window, plate_tile = _cell(state, 1, 6), _cell(state, 4, 2), _cell(state, 2, 0)
+    state.cell_item[_cell(state, 0, 4)] = -1
+    state.cell_item[board] = lettuce
+    state.item_loc[lettuce] = board
+    state.item_state[lettuce] = int(ItemState.CHOPPED)
+    return [
+        *_chop_job(state, 0, (4, 4), (3, 6), 0),
+        (PlanStep(3, 0, "pickup", _cell(state, 3, 6), (onion,)), TAKE, 1),
+        (PlanStep(4, 0, "plate", plate_tile, (onion, plate)), KEEP, 1),
+        (PlanStep(5, 0, "pickup", plate_tile, (plate,)), TAKE, 1),
+        (PlanStep(6, 0, "deliver", window, (plate, onion)), RELEASE, 1),
+        (PlanStep(7, 0, "pickup", plate_tile, (plate,)), TAKE, 1),
+        (PlanStep(8, 0, "plate", board, (lettuce, plate)), KEEP, 1),
+        (PlanStep(9, 0, "deliver", window, (plate, lettuce)), RELEASE, 1),
+    ]
+
+
+def test_a_dish_whose_ingredients_are_ready_is_served_first():
+    from ocplus_plan.sim.state import conservation_problems
+
+    state = _state(2)
+    plan = _two_dishes(state)
+    assert not conservation_problems(state)
+    orders = dish_orders(plan, state)
+    assert len(orders) == 2 and orders[0] == plan
+    assert sorted(map(id, orders[1])) == sorted(map(id, plan)), "the same steps, reordered"
+    out = schedule(plan, state, (0, 1))
+    served = [s.items[1] for s in out if s.kind == "deliver"]
+    assert served == [plan[-1][0].items[1], plan[6][0].items[1]], "lettuce first, then onion"
+    kept = schedule(plan, state, (0, 1), reorder_dishes=False)
+    def end(out):
+        return max(s.start for s in out)
+    assert end(out) < end(kept)
+
+
+def test_dishes_keep_their_order_when_they_share_an_ingredient_or_plates_come_back_dirty():
+    state = _state(2)
+    plan = _two_dishes(state)
+    onion = plan[0][0].items[0]
+    # the second dish serves the respawned onion again: it must wait for the first
+    twice = plan[:-1] + [(replace(plan[-1][0], items=(plan[-1][0].items[0], onion)),
+                          RELEASE, 1)]
+    assert dish_orders(twice, state) == [twice]
+    dirty = _state(2)
+    dirty.rules = replace(dirty.rules, dirty_plates=True)  # only the scheduler reads it here
+    plan = _two_dishes(dirty)
+    assert dish_orders(plan, dirty) == [plan]
