@@ -51,6 +51,20 @@ def _chop_job(state, agent: int, spawn: tuple[int, int], board: tuple[int, int],
     ]
 
 
+def _steak_then_chop(state):
+    """medium_kitchen, one cook: the steak (2,0) onto the pan (3,0), off it to the counter
+    (1,0), then the tomato (0,2) fetched and chopped on board (1,6). (plan, pan cell)"""
+    steak = _item_at(state, 2, 0)
+    pan, counter = _cell(state, 3, 0), _cell(state, 1, 0)
+    return [
+        (PlanStep(0, 0, "pickup", _cell(state, 2, 0), (steak,)), TAKE, 1),
+        (PlanStep(1, 0, "putdown", pan, (steak,)), RELEASE, 1),
+        (PlanStep(2, 0, "pickup", pan, (steak,)), TAKE, 1),
+        (PlanStep(3, 0, "putdown", counter, (steak,)), RELEASE, 1),
+        *_chop_job(state, 0, (0, 2), (1, 6), 4),
+    ], pan
+
+
 def test_independent_jobs_of_one_cook_are_shared_between_two():
     state = _state(2)
     plan = _chop_job(state, 0, (0, 2), (1, 6), 0) + _chop_job(state, 0, (0, 4), (3, 6), 3)
@@ -68,15 +82,7 @@ def test_one_cook_chops_while_its_steak_cooks():
     The plan cooks first and chops after; with a 20-step cook the schedule fills the wait
     with the chopping (it is back at the pan when the steak is done)."""
     state = new_state(make_rules("medium", n_agents=1, cook_time=20, burn_time=30), 0)
-    steak = _item_at(state, 2, 0)
-    pan, counter = _cell(state, 3, 0), _cell(state, 1, 0)
-    plan = [
-        (PlanStep(0, 0, "pickup", _cell(state, 2, 0), (steak,)), TAKE, 1),
-        (PlanStep(1, 0, "putdown", pan, (steak,)), RELEASE, 1),
-        (PlanStep(2, 0, "pickup", pan, (steak,)), TAKE, 1),
-        (PlanStep(3, 0, "putdown", counter, (steak,)), RELEASE, 1),
-        *_chop_job(state, 0, (0, 2), (1, 6), 4),
-    ]
+    plan, pan = _steak_then_chop(state)
     out = schedule(plan, state, (0,))
     kinds = [(s.kind, s.target) for s in out]
     assert {s.agent for s in out} == {0}
@@ -107,15 +113,7 @@ def test_lookahead_chops_while_the_steak_cooks_when_that_ends_sooner():
     (the plain rule waits at the pan and chops last), but doing it first and taking the
     steak a little later (long before it burns) ends the plan sooner: the lookahead does."""
     state = new_state(make_rules("medium", n_agents=1, cook_time=14, burn_time=29), 0)
-    steak = _item_at(state, 2, 0)
-    pan, counter = _cell(state, 3, 0), _cell(state, 1, 0)
-    plan = [
-        (PlanStep(0, 0, "pickup", _cell(state, 2, 0), (steak,)), TAKE, 1),
-        (PlanStep(1, 0, "putdown", pan, (steak,)), RELEASE, 1),
-        (PlanStep(2, 0, "pickup", pan, (steak,)), TAKE, 1),
-        (PlanStep(3, 0, "putdown", counter, (steak,)), RELEASE, 1),
-        *_chop_job(state, 0, (0, 2), (1, 6), 4),
-    ]
+    plan, pan = _steak_then_chop(state)
     plain = schedule(plan, state, (0,), lookahead=0)
     ahead = schedule(plan, state, (0,))
     def kinds(out):
@@ -132,15 +130,7 @@ def test_lookahead_chops_while_the_steak_cooks_when_that_ends_sooner():
 def test_lookahead_never_lets_a_steak_burn_for_a_shorter_plan():
     """With the steak burning right after it is cooked, nothing is done in between."""
     state = new_state(make_rules("medium", n_agents=1, cook_time=14, burn_time=15), 0)
-    steak = _item_at(state, 2, 0)
-    pan, counter = _cell(state, 3, 0), _cell(state, 1, 0)
-    plan = [
-        (PlanStep(0, 0, "pickup", _cell(state, 2, 0), (steak,)), TAKE, 1),
-        (PlanStep(1, 0, "putdown", pan, (steak,)), RELEASE, 1),
-        (PlanStep(2, 0, "pickup", pan, (steak,)), TAKE, 1),
-        (PlanStep(3, 0, "putdown", counter, (steak,)), RELEASE, 1),
-        *_chop_job(state, 0, (0, 2), (1, 6), 4),
-    ]
+    plan, pan = _steak_then_chop(state)
     out = [(s.kind, s.target) for s in schedule(plan, state, (0,))]
     assert out.index(("pickup", pan)) < out.index(("chop", _cell(state, 1, 6)))
 
