@@ -198,7 +198,7 @@ class _Scheduler:
             walk, here = self.walk(here, step.target)
             t += walk
             ready = max((p.busy_until.get(r, 0) for r in _resources(step)), default=0)
-            if effect == TAKE and step.target in p.pan_ready:
+            if step.target in p.pan_ready and _takes(step, effect):
                 ready = max(ready, p.pan_ready[step.target])
             t = max(t, ready)
             starts.append(t)
@@ -254,7 +254,7 @@ class _Scheduler:
             p.placed.append((start, len(p.placed), replace(step, agent=a)))
             for r in _resources(step):
                 p.busy_until[r] = start + max(1, bumps)
-            if step.target in p.pan_burnt and effect == TAKE:
+            if step.target in p.pan_burnt and _takes(step, effect):
                 p.late += max(0, start - p.pan_burnt.pop(step.target) + _BURN_MARGIN)
                 p.pan_ready.pop(step.target, None)
             if effect == RELEASE and step.target in self.state.geo.pans and step.items:
@@ -542,6 +542,11 @@ def _best_stations(steps: list[tuple[PlanStep, str, int]], state: State,
             if c is not None and c < best:
                 best, steps, stay.station = c, trial, cell
     return steps
+
+
+def _takes(step: PlanStep, effect: str) -> bool:
+    """Does the step take what lies on its cell (into the hand, or onto a held plate)?"""
+    return effect == TAKE or step.kind == "plate"
 
 
 def _in_plan_order(steps: Sequence[tuple[PlanStep, str, int]]) -> list[PlanStep]:

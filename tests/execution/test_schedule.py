@@ -318,3 +318,18 @@ def test_dishes_keep_their_order_when_they_share_an_ingredient_or_plates_come_ba
     dirty.rules = replace(dirty.rules, dirty_plates=True)  # only the scheduler reads it here
     plan = _two_dishes(dirty)
     assert dish_orders(plan, dirty) == [plan]
+
+
+def test_a_plate_scooping_the_steak_off_the_pan_waits_until_it_is_cooked():
+    """medium_kitchen: steak (2,0) onto the pan (3,0); the plate (4,0) comes for it."""
+    state = new_state(make_rules("medium", n_agents=2), 0)
+    steak, plate = _item_at(state, 2, 0), _item_at(state, 4, 0)
+    pan = _cell(state, 3, 0)
+    plan = [
+        (PlanStep(0, 0, "pickup", _cell(state, 2, 0), (steak,)), TAKE, 1),
+        (PlanStep(1, 0, "putdown", pan, (steak,)), RELEASE, 1),
+        (PlanStep(2, 0, "pickup", _cell(state, 4, 0), (plate,)), TAKE, 1),
+        (PlanStep(3, 0, "plate", pan, (steak, plate)), KEEP, 1),
+    ]
+    out = {s.kind: s.start for s in schedule(plan, state, (0, 1))}
+    assert out["plate"] >= out["putdown"] + 1 + state.rules.cook_time
