@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import resource
 import shutil
 import subprocess
@@ -26,6 +27,10 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 CKPT = ROOT / "experiments" / "checkpoints"
+
+#: the throughput settings measured by experiments/bench_train.py (32 kitchens, 2048-sample
+#: minibatches, 4 epochs; the network is unchanged)
+FAST = ["--n-kitchens", "32", "--batch-size", "2048", "--n-epochs", "4"]
 
 #: name -> ocplus train arguments (without --out), in order (later runs --init from earlier
 #: ones). Names starting with "_" are intermediate stages: trained, not shipped.
@@ -44,10 +49,34 @@ RUNS: dict[str, list[str]] = {
                        "--curriculum", "medium:steak+tomato/steak+lettuce/steak+onion",
                        "--curriculum-fraction", "0.3", "--ent-coef", "0.03", "--init",
                        "experiments/runs/_medium_stage1/checkpoints/step_000160000.zip"],
-    "medium_1agent": ["--preset", "medium", "--steps", "300000", "--seed", "3",
-                      "--anneal-fraction", "0.5",
-                      "--init", "experiments/runs/_medium_stage2/policy.zip"],
+    "_medium_1agent_v1": ["--preset", "medium", "--steps", "300000", "--seed", "3",
+                          "--anneal-fraction", "0.5",
+                          "--init", "experiments/runs/_medium_stage2/policy.zip"],
+    # issue 16: long runs at the fast settings (bench_train.py), each under a wall budget;
+    # each starts from the shipped checkpoint before it (its record is kept as init_record)
+    "medium_1agent": ["--preset", "medium", "--steps", "8000000", "--seed", "4",
+                      "--anneal-fraction", "0.5", "--max-wall", "720",
+                      "--init", "experiments/checkpoints/medium_1agent.zip", *FAST],
+    "medium_2agent": ["--preset", "medium", "--n-agents", "2", "--steps", "8000000",
+                      "--seed", "5", "--anneal-fraction", "0.5", "--max-wall", "720",
+                      "--init", "experiments/checkpoints/medium_1agent.zip", *FAST],
+    "hard_2agent": ["--preset", "hard", "--n-agents", "2", "--steps", "10000000",
+                    "--seed", "6", "--anneal-fraction", "0.6", "--max-wall", "900",
+                    "--init", "experiments/checkpoints/medium_2agent.zip", *FAST],
 }
+
+
+#: the shipped training logs keep at most this many episodes (package data stays small)
+MAX_LOG_ROWS = 4000
+
+
+def _thin_log(src: Path, dst: Path) -> None:
+    """Copy an episodes.csv, keeping every k-th episode so at most MAX_LOG_ROWS remain (a
+    learning curve needs no more; the full log stays in experiments/runs/)."""
+    lines = src.read_text().splitlines(keepends=True)
+    head, rows = lines[:1], lines[1:]
+    k = max(1, -(-len(rows) // MAX_LOG_ROWS))
+    dst.write_text("".join(head + rows[::k]))
 
 
 def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None = None,
@@ -70,15 +99,23 @@ def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None 
         lineage.append({"command": s["command"], "wall_time_s": s["wall_time_s"],
                         "timesteps": s["timesteps"], "used_timesteps": used,
                         "episodes": log, "config": s["config"]})
+    # a run that starts from a shipped checkpoint keeps that checkpoint's record (read
+    # before this run's files replace it when the names are the same)
+    init = summary["config"]["init"] or ""
+    init_json = ROOT / Path(init).with_suffix(".json")
+    previous = None
+    if init.startswith("experiments/checkpoints/") and init_json.is_file():
+        previous = json.loads(init_json.read_text())
     shutil.copyfile(run_dir / "policy.zip", CKPT / f"{name}.zip")
-    shutil.copyfile(run_dir / "episodes.csv", CKPT / f"{name}.episodes.csv")
+    _thin_log(run_dir / "episodes.csv", CKPT / f"{name}.episodes.csv")
     record = {
         "checkpoint": f"experiments/checkpoints/{name}.zip",
         "command": summary["command"],
         "wall_time_s": wall if wall is not None else summary["wall_time_s"],
         "cpu_time_s": cpu,
-        "machine": "2 cores shared with other jobs (load 5-10 while training); "
-                   "torch.set_num_threads(1)",
+        "machine": f"{summary['machine']['cpus']} cores shared with other jobs (1-min load "
+                   f"average {os.getloadavg()[0]:.1f} when shipped); torch threads "
+                   f"{summary['machine']['torch_threads']}",
         "timesteps": summary["timesteps"],
         "steps_per_s": summary["steps_per_s"],
         "dishes_per_episode_last50_in_training": summary["dishes_per_episode_last50"],
@@ -90,6 +127,8 @@ def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None 
         record["lineage"] = lineage
         record["total_wall_time_s"] = round(
             record["wall_time_s"] + sum(x["wall_time_s"] for x in lineage), 1)
+    if previous is not None:
+        record["init_record"] = previous
     (CKPT / f"{name}.json").write_text(json.dumps(record, indent=2) + "\n")
     return record
 
@@ -109,8 +148,9 @@ def train_one(name: str, python: str) -> dict:
     if name.startswith("_"):  # an intermediate stage: keep the run, ship nothing
         return {"run": str(out.relative_to(ROOT)), "wall_time_s": round(wall, 1),
                 "cpu_time_s": round(cpu, 1)}
-    earlier = [ROOT / "experiments" / "runs" / n for n in RUNS
-               if n.startswith("_") and n[1:].split("_stage")[0] == name.split("_")[0]]
+    earlier = [] if "experiments/checkpoints/" in " ".join(RUNS[name]) else [
+        ROOT / "experiments" / "runs" / n for n in RUNS
+        if n.startswith("_") and n[1:].split("_stage")[0] == name.split("_")[0]]
     return ship(name, out, round(wall, 1), round(cpu, 1), earlier=earlier)
 
 

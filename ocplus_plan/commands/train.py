@@ -49,6 +49,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--init", default=None, help="start from this checkpoint's weights")
     g.add_argument("--checkpoint-every", type=int, default=None,
                    help="steps between checkpoints (default: steps / 5)")
+    s = p.add_argument_group("speed")
+    s.add_argument("--engine", default="loop", choices=("loop", "batch"),
+                   help="loop: one transition per kitchen (any --obs, full shaping, "
+                        "curricula); batch: the batched engine (fast extra; --obs grid, "
+                        "subtask shaping only, no curriculum)")
+    s.add_argument("--torch-threads", type=int, default=1,
+                   help="torch CPU threads (the machine is shared: 1 unless it is yours)")
+    s.add_argument("--max-wall", type=float, default=None, metavar="SECONDS",
+                   help="stop after this much training time and save the policy as usual")
     add_output_args(p, out="required",
                     writes="policy.zip, checkpoints/, episodes.csv, train.json")
     add_deprecated_alias(p, "--no-progress", "--quiet", takes_value=False)
@@ -77,7 +86,8 @@ def run(args: argparse.Namespace) -> int:
         team_reward=not args.individual_reward, anneal_fraction=args.anneal_fraction,
         curriculum=tuple(p.strip() for p in args.curriculum.split(",") if p.strip()),
         curriculum_fraction=args.curriculum_fraction, init=args.init,
-        checkpoint_every=args.checkpoint_every,
+        checkpoint_every=args.checkpoint_every, engine=args.engine,
+        torch_threads=args.torch_threads, max_wall_s=args.max_wall,
     )
     if sys.argv[1:2] == ["train"]:
         command = "ocplus " + shlex.join(sys.argv[1:])
@@ -89,6 +99,6 @@ def run(args: argparse.Namespace) -> int:
         command = "ocplus " + shlex.join(parts)
     summary = train(config, command=command, progress=not args.quiet)
     emit({k: summary[k] for k in (
-        "policy", "timesteps", "episodes", "dishes_per_episode_last50", "wall_time_s",
+        "policy", "timesteps", "stopped_by_wall_budget", "episodes", "dishes_per_episode_last50", "wall_time_s",
         "steps_per_s")}, args)
     return 0

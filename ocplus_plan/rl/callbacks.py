@@ -43,6 +43,7 @@ class TrainingMonitor(BaseCallback):
         checkpoint_every: int,
         save: Callable[[Path, int], None],
         stream: TextIO | None = sys.stderr,
+        max_wall_s: float | None = None,
     ) -> None:
         super().__init__()
         self.venv = venv
@@ -52,6 +53,9 @@ class TrainingMonitor(BaseCallback):
         self.checkpoint_every = checkpoint_every
         self.save = save
         self.stream = stream
+        self.max_wall_s = max_wall_s
+        #: True once training stopped early because ``max_wall_s`` ran out
+        self.out_of_time = False
         self.t0 = time.perf_counter()
         self.episodes = 0
         self.recent: list[int] = []
@@ -62,9 +66,13 @@ class TrainingMonitor(BaseCallback):
         self._csv.writeheader()
 
     def _on_rollout_start(self) -> None:
-        self.venv.shaping_coef = shaping_coefficient(
-            self.num_timesteps, self.total, self.anneal_fraction
-        )
+        # with a wall budget, progress is the further of steps and time: the shaping still
+        # reaches 0 when the budget, not the step count, ends the run
+        done = self.num_timesteps
+        if self.max_wall_s:
+            spent = (time.perf_counter() - self.t0) / self.max_wall_s
+            done = max(done, int(spent * self.total))
+        self.venv.shaping_coef = shaping_coefficient(done, self.total, self.anneal_fraction)
 
     def _on_step(self) -> bool:
         if self.venv.finished:
@@ -85,6 +93,9 @@ class TrainingMonitor(BaseCallback):
                       self.num_timesteps)
             self._next_checkpoint += self.checkpoint_every
         self._draw()
+        if self.max_wall_s is not None and time.perf_counter() - self.t0 >= self.max_wall_s:
+            self.out_of_time = True
+            return False  # SB3 stops learn(); train() saves the policy as usual
         return True
 
     def _draw(self, final: bool = False) -> None:

@@ -57,6 +57,12 @@ class TrainConfig:
     curriculum_fraction: float = 0.3
     init: str | None = None
     checkpoint_every: int | None = None
+    #: "loop" (per-kitchen ``transition``: every obs kind, full shaping, curricula) or
+    #: "batch" (the batched engine: grid obs, subtask-only shaping, one rule set)
+    engine: str = "loop"
+    torch_threads: int = 1
+    #: stop (and save) after this many seconds of training; None = no limit
+    max_wall_s: float | None = None
 
     def validate(self) -> None:
         for name in ("steps", "n_kitchens", "n_steps", "batch_size", "n_epochs"):
@@ -71,6 +77,13 @@ class TrainConfig:
             raise ConfigError(
                 f"curriculum_fraction must be in [0, 1), got {self.curriculum_fraction}"
             )
+        if self.engine not in ("loop", "batch"):
+            raise ConfigError(f"engine must be 'loop' or 'batch', got {self.engine!r}")
+        if isinstance(self.torch_threads, bool) or not isinstance(self.torch_threads, int) \
+                or self.torch_threads < 1:
+            raise ConfigError(f"torch_threads must be a positive integer, got {self.torch_threads!r}")
+        if self.max_wall_s is not None and self.max_wall_s <= 0:
+            raise ConfigError(f"max_wall_s must be positive seconds, got {self.max_wall_s}")
         if not self.hidden or any(h < 1 for h in self.hidden):
             raise ConfigError(f"hidden layer sizes must be positive, got {self.hidden}")
 
@@ -95,8 +108,14 @@ def _lr_schedule(initial: float):
     return schedule
 
 
-def train(config: TrainConfig, *, command: str | None = None, progress: bool = True) -> dict:
-    """Run one training; return the summary that is also written to ``OUT/train.json``."""
+def batch_shaping(shaping: Shaping) -> Shaping:
+    """The part of ``shaping`` the batched engine computes (subtask rewards only)."""
+    return Shaping(**{k: (v if k == "subtask_scale" else 0.0) for k, v in vars(shaping).items()})
+
+
+def build(config: TrainConfig) -> tuple[Any, Any, list[Rules], Rules]:
+    """The PPO model and its vec env for ``config`` (no training yet): ``(model, venv,
+    curriculum stages, target rules)``. Also used by experiments/bench_train.py."""
     config.validate()
     target = _rules(config, config.preset, with_map=True)
     stages = [_rules(config, p, with_map=config.map is not None) for p in config.curriculum]
@@ -104,16 +123,15 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
     import torch
     from stable_baselines3 import PPO
 
-    from .callbacks import TrainingMonitor
     from .vec_env import KitchenVecEnv
 
-    out = Path(config.out)
-    (out / "checkpoints").mkdir(parents=True, exist_ok=True)
+    torch.set_num_threads(config.torch_threads)
     torch.manual_seed(config.seed)
+    shaping = config.shaping if config.engine == "loop" else batch_shaping(config.shaping)
     venv = KitchenVecEnv(
         [target, *stages] if stages else target, config.n_kitchens, config.seed,
-        obs=config.obs, obs_radius=config.obs_radius, shaping=config.shaping,
-        team_reward=config.team_reward, reward_scale=config.reward_scale,
+        obs=config.obs, obs_radius=config.obs_radius, shaping=shaping,
+        team_reward=config.team_reward, reward_scale=config.reward_scale, engine=config.engine,
     )
     venv.rule_labels = {id(r): spec for r, spec in zip(stages, config.curriculum)}
     venv.rule_labels[id(target)] = config.preset
@@ -127,6 +145,18 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         policy_kwargs={"net_arch": {"pi": list(config.hidden), "vf": list(config.hidden)}},
         seed=config.seed, device="cpu", verbose=0,
     )
+    return model, venv, stages, target
+
+
+def train(config: TrainConfig, *, command: str | None = None, progress: bool = True) -> dict:
+    """Run one training; return the summary that is also written to ``OUT/train.json``."""
+    model, venv, stages, target = build(config)
+    import torch
+
+    from .callbacks import TrainingMonitor
+
+    out = Path(config.out)
+    (out / "checkpoints").mkdir(parents=True, exist_ok=True)
     # SB3's default logger makes an empty tempdir/SB3-<date> folder on every learn(): log
     # nowhere, into the run's own folder (the monitor writes episodes.csv itself)
     from stable_baselines3.common.logger import configure
@@ -134,6 +164,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
     model.set_logger(configure(str(out), []))
     if config.init:
         source = load_policy(config.init)
+        torch.set_num_threads(config.torch_threads)  # load_policy's require_rl reset it
         if source.meta["obs"] != config.obs or source.meta["obs_size"] != venv.obs_size:
             raise ConfigError(
                 f"--init {config.init}: its observations ({source.meta['obs']}, "
@@ -163,6 +194,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
     monitor = TrainingMonitor(
         venv, config.steps, out, anneal_fraction=config.anneal_fraction,
         checkpoint_every=every, save=save, stream=sys.stderr if progress else None,
+        max_wall_s=config.max_wall_s,
     )
     try:
         if stages:
@@ -170,7 +202,8 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
             if switch:
                 model.learn(switch, callback=monitor)
             venv.set_rules(target)
-            model.learn(config.steps - switch, callback=monitor, reset_num_timesteps=False)
+            if not monitor.out_of_time:
+                model.learn(config.steps - switch, callback=monitor, reset_num_timesteps=False)
         else:
             model.learn(config.steps, callback=monitor)
     finally:
@@ -182,6 +215,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         "config": {k: (list(v) if isinstance(v, tuple) else v)
                    for k, v in asdict(config).items()},
         "timesteps": model.num_timesteps,
+        "stopped_by_wall_budget": monitor.out_of_time,
         "episodes": monitor.episodes,
         "dishes_per_episode_last50": (
             round(sum(monitor.recent) / len(monitor.recent), 3) if monitor.recent else None
@@ -202,4 +236,4 @@ def _cpus() -> int:
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 0
 
 
-__all__ = ["TrainConfig", "train"]
+__all__ = ["TrainConfig", "batch_shaping", "build", "train"]

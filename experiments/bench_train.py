@@ -1,0 +1,124 @@
+"""PPO training throughput (agent-steps per second of training) and where the time goes.
+
+    .venv/bin/python experiments/bench_train.py                        # before and fast, medium
+    .venv/bin/python experiments/bench_train.py --preset hard --n-agents 2 --steps 60000
+    .venv/bin/python experiments/bench_train.py --setups fast --n-kitchens 64,256
+
+Each setup builds the model exactly as ``ocplus train`` does (``rl.train.build``), runs
+``learn`` for ``--steps`` agent-steps (after one untimed warm-up rollout that compiles the
+numba kernels) and splits the wall time into:
+
+* ``sim``: stepping the kitchens and the reward shaping (``step_wait`` minus encoding);
+* ``encode``: building observations (the per-kitchen encoder, or the batched engine's
+  in-place observation scaled for the network);
+* ``forward``: the policy's forward passes while collecting the rollout;
+* ``rollout_other``: the rest of collection (SB3's buffer, tensors, GAE, callbacks);
+* ``train``: PPO's update (forward again over minibatches, backward, optimiser).
+
+Setups (same network: two 128-unit layers per head unless ``--hidden``):
+``before`` is today's default trainer (loop engine, features, 8 kitchens, 128-step
+rollouts, 512 minibatch, 8 epochs); ``before_grid`` the same with grid observations;
+``fast`` the batched engine with grid observations and larger batches (``--n-kitchens``,
+``--fast-*``). Prints one JSON line per setup and kitchen count.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from ocplus_plan.rl.train import TrainConfig, build
+
+
+def _timed(obj: object, name: str, bucket: dict[str, float], key: str) -> None:
+    """Replace ``obj.name`` by a wrapper adding its wall time to ``bucket[key]``."""
+    inner = getattr(obj, name)
+
+    def wrapper(*args, **kw):
+        t0 = time.perf_counter()
+        try:
+            return inner(*args, **kw)
+        finally:
+            bucket[key] += time.perf_counter() - t0
+
+    setattr(obj, name, wrapper)
+
+
+def measure(config: TrainConfig, steps: int) -> dict:
+    from stable_baselines3.common.logger import configure
+
+    model, venv, _, _ = build(config)
+    with tempfile.TemporaryDirectory() as tmp:
+        model.set_logger(configure(tmp, []))
+        warm = venv.num_envs * config.n_steps
+        model.learn(warm)  # warm-up: numba compilation, torch allocations
+        t = dict.fromkeys(("step_wait", "encode", "forward", "rollout", "train"), 0.0)
+        _timed(venv, "step_wait", t, "step_wait")
+        _timed(venv, "_encode" if venv.batch is None else "_batch_obs", t, "encode")
+        _timed(model.policy, "forward", t, "forward")
+        _timed(model, "collect_rollouts", t, "rollout")
+        _timed(model, "train", t, "train")
+        start = model.num_timesteps
+        t0 = time.perf_counter()
+        model.learn(steps, reset_num_timesteps=False)
+        wall = time.perf_counter() - t0
+        done = model.num_timesteps - start
+    venv.close()
+    sim = t["step_wait"] - t["encode"]
+    other = t["rollout"] - t["step_wait"] - t["forward"]
+    split = {"sim": sim, "encode": t["encode"], "forward": t["forward"],
+             "rollout_other": other, "train": t["train"]}
+    return {
+        "preset": config.preset, "n_agents": config.n_agents, "obs": config.obs,
+        "engine": config.engine, "n_kitchens": config.n_kitchens, "n_steps": config.n_steps,
+        "batch_size": config.batch_size, "n_epochs": config.n_epochs,
+        "hidden": list(config.hidden), "torch_threads": config.torch_threads,
+        "agent_steps": done, "wall_s": round(wall, 2),
+        "steps_per_s": round(done / wall, 1),
+        "seconds": {k: round(v, 2) for k, v in split.items()},
+        "share": {k: round(v / wall, 3) for k, v in split.items()},
+        "loadavg_1min": round(os.getloadavg()[0], 2),
+    }
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--preset", default="medium")
+    p.add_argument("--n-agents", type=int, default=1)
+    p.add_argument("--steps", type=int, default=30_000, help="timed agent-steps per setup")
+    p.add_argument("--setups", default="before,fast",
+                   help="comma-separated among before, before_grid, fast")
+    p.add_argument("--n-kitchens", default="128", help="fast setup: kitchens (comma list)")
+    p.add_argument("--fast-n-steps", type=int, default=64)
+    p.add_argument("--fast-batch-size", type=int, default=2048)
+    p.add_argument("--fast-n-epochs", type=int, default=4)
+    p.add_argument("--torch-threads", type=int, default=1)
+    p.add_argument("--hidden", default="128,128")
+    args = p.parse_args()
+    hidden = tuple(int(h) for h in args.hidden.split(","))
+    base = dict(preset=args.preset, n_agents=args.n_agents, hidden=hidden,
+                torch_threads=args.torch_threads)
+    for setup in args.setups.split(","):
+        if setup in ("before", "before_grid"):
+            configs = [TrainConfig(**base, obs="features" if setup == "before" else "grid")]
+        elif setup == "fast":
+            configs = [TrainConfig(**base, obs="grid", engine="batch", n_kitchens=int(k),
+                                   n_steps=args.fast_n_steps, batch_size=args.fast_batch_size,
+                                   n_epochs=args.fast_n_epochs)
+                       for k in args.n_kitchens.split(",")]
+        else:
+            p.error(f"unknown setup {setup!r}; choose among before, before_grid, fast")
+        for config in configs:
+            print(json.dumps({"setup": setup, **measure(config, args.steps)}), flush=True)
+
+
+if __name__ == "__main__":
+    main()
