@@ -62,6 +62,20 @@ def shipped_checkpoint(preset: str, n_agents: int,
     )
 
 
+def missing_checkpoint(arg: str | None, preset: str, n_agents: int) -> str | None:
+    """Why ``ppo[:arg]`` cannot play ``preset`` with ``n_agents`` cooks (a bare ``ppo`` with
+    no shipped checkpoint for that kitchen), or None. Needs no torch: the evaluation
+    runner asks before any episode, so such kitchens become skipped rows, not errors."""
+    path, _ = parse_spec(arg)
+    if path is not None:
+        return None
+    try:
+        shipped_checkpoint(preset, n_agents)
+    except ConfigError as exc:
+        return str(exc)
+    return None
+
+
 class PPOAgent(Controller):
     """Drives its agents with a trained PPO policy (parameter sharing across agents)."""
 
@@ -144,4 +158,4 @@ def make_ppo_agent(arg: str | None, seed: int = 0) -> PPOAgent:
     return PPOAgent(path, seed, mode)
 
 
-__all__ = ["PPOAgent", "make_ppo_agent", "parse_spec"]
+__all__ = ["PPOAgent", "make_ppo_agent", "missing_checkpoint", "parse_spec"]

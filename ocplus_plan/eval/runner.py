@@ -175,6 +175,17 @@ def check_agent(spec: str) -> str | None:
     return None
 
 
+def _kitchen_unavailable(spec: str, preset: str, n_agents: int) -> str | None:
+    """The reason an agent that runs here cannot play this kitchen (a bare ``ppo`` with no
+    shipped checkpoint for the preset and cook count), or None."""
+    kind, _, arg = spec.partition(":")
+    if kind != "ppo":
+        return None
+    from ..agents.ppo import missing_checkpoint
+
+    return missing_checkpoint(arg or None, preset, n_agents)
+
+
 def _planner_unavailable(name: str) -> str | None:
     try:
         from ..planning import engines
@@ -292,10 +303,11 @@ def plan_episodes(cfg: EvalConfig) -> tuple[list[EpisodeSpec], list[dict[str, An
     episodes, skipped = [], []
     for preset, map_name, n_agents in kitchens:
         for agent in cfg.agents:
-            if skip_reason[agent]:
+            reason = skip_reason[agent] or _kitchen_unavailable(agent, preset, n_agents)
+            if reason:
                 base = EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, -1, cfg.horizon)
                 row = base.row_base()
-                row.update(seed=None, status="skipped", reason=skip_reason[agent])
+                row.update(seed=None, status="skipped", reason=reason)
                 row["key"] = episode_key(row)
                 skipped.append(row)
                 continue

@@ -195,3 +195,46 @@ def test_batch_engine_refuses_what_it_cannot_compute():
         KitchenVecEnv(rules, obs="grid", engine="batch")  # default shaping has more terms
     with pytest.raises(ConfigError, match="engine must be"):
         KitchenVecEnv(rules, engine="fast")
+
+
+def test_batch_engine_training_keeps_only_the_subtask_shaping(tmp_path: Path):
+    summary = train(TrainConfig(preset="easy", steps=600, out=str(tmp_path), obs="grid",
+                                engine="batch", n_kitchens=4, n_steps=32, batch_size=64,
+                                n_epochs=1, hidden=(16,)),
+                    command="test", progress=False)
+    assert summary["timesteps"] >= 600 and summary["config"]["engine"] == "batch"
+    assert read_meta(tmp_path / "policy.zip")["obs"] == "grid"
+
+
+def test_wall_budget_stops_training_and_still_saves(tmp_path: Path):
+    summary = train(TrainConfig(preset="easy", steps=10_000_000, out=str(tmp_path),
+                                n_kitchens=2, n_steps=16, batch_size=32, n_epochs=1,
+                                hidden=(16,), max_wall_s=0.5),
+                    command="test", progress=False)
+    assert summary["stopped_by_wall_budget"] is True
+    assert summary["timesteps"] < 10_000_000
+    assert (tmp_path / "policy.zip").is_file()
+
+
+@pytest.mark.parametrize("bad", [{"engine": "fast"}, {"torch_threads": 0},
+                                 {"max_wall_s": 0.0}])
+def test_speed_options_are_checked(bad: dict, tmp_path: Path):
+    with pytest.raises(ConfigError, match=next(iter(bad))):
+        train(TrainConfig(out=str(tmp_path), **bad), progress=False)
+
+
+def test_bare_ppo_without_a_checkpoint_for_the_kitchen_is_a_skipped_row(tmp_path: Path,
+                                                                        monkeypatch):
+    from ocplus_plan.agents import ppo
+    from ocplus_plan.eval.results import read_results
+    from ocplus_plan.eval.runner import EvalConfig, run_eval
+
+    def nothing_shipped(preset: str, n_agents: int):
+        raise ConfigError(f"no shipped PPO checkpoint for preset {preset!r}")
+
+    monkeypatch.setattr(ppo, "shipped_checkpoint", nothing_shipped)
+    run_eval(EvalConfig(presets=["easy"], agents=["greedy", "ppo"], seeds=[0], out=tmp_path / "e",
+                        horizon=10, n_agents=1, jobs=1, quiet=True), echo=lambda _: None)
+    rows = {r["agent"]: r for r in read_results(tmp_path / "e")}
+    assert rows["ppo"]["status"] == "skipped" and "no shipped" in rows["ppo"]["reason"]
+    assert rows["greedy"]["status"] == "ok"
