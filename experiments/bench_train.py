@@ -19,7 +19,8 @@ Setups (same network: two 128-unit layers per head unless ``--hidden``):
 ``before`` is today's default trainer (loop engine, features, 8 kitchens, 128-step
 rollouts, 512 minibatch, 8 epochs); ``before_grid`` the same with grid observations;
 ``fast`` the batched engine with grid observations and larger batches (``--n-kitchens``,
-``--fast-*``). Prints one JSON line per setup and kitchen count.
+``--fast-*``); ``fast_features`` those batch settings on the loop engine with features
+(what the shipped checkpoints of issue 16 trained with). Prints one JSON line per setup and kitchen count.
 """
 
 from __future__ import annotations
@@ -89,14 +90,18 @@ def measure(config: TrainConfig, steps: int) -> dict:
     }
 
 
+SETUPS = ("before", "before_grid", "fast", "fast_features")
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--preset", default="medium")
     p.add_argument("--n-agents", type=int, default=1)
     p.add_argument("--steps", type=int, default=30_000, help="timed agent-steps per setup")
-    p.add_argument("--setups", default="before,fast",
-                   help="comma-separated among before, before_grid, fast")
-    p.add_argument("--n-kitchens", default="128", help="fast setup: kitchens (comma list)")
+    p.add_argument("--setups", default="before,before_grid,fast_features,fast",
+                   help="comma-separated among " + ", ".join(SETUPS))
+    p.add_argument("--n-kitchens", default="32,128",
+                   help="fast setups: kitchens (comma-separated, one line each)")
     p.add_argument("--fast-n-steps", type=int, default=64)
     p.add_argument("--fast-batch-size", type=int, default=2048)
     p.add_argument("--fast-n-epochs", type=int, default=4)
@@ -109,13 +114,14 @@ def main() -> None:
     for setup in args.setups.split(","):
         if setup in ("before", "before_grid"):
             configs = [TrainConfig(**base, obs="features" if setup == "before" else "grid")]
-        elif setup == "fast":
-            configs = [TrainConfig(**base, obs="grid", engine="batch", n_kitchens=int(k),
+        elif setup in ("fast", "fast_features"):
+            engine = dict(obs="grid", engine="batch") if setup == "fast" else {}
+            configs = [TrainConfig(**base, **engine, n_kitchens=int(k),
                                    n_steps=args.fast_n_steps, batch_size=args.fast_batch_size,
                                    n_epochs=args.fast_n_epochs)
                        for k in args.n_kitchens.split(",")]
         else:
-            p.error(f"unknown setup {setup!r}; choose among before, before_grid, fast")
+            p.error(f"unknown setup {setup!r}; choose among {', '.join(SETUPS)}")
         for config in configs:
             print(json.dumps({"setup": setup, **measure(config, args.steps)}), flush=True)
 

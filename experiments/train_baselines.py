@@ -63,7 +63,14 @@ RUNS: dict[str, list[str]] = {
     "hard_2agent": ["--preset", "hard", "--n-agents", "2", "--steps", "10000000",
                     "--seed", "6", "--anneal-fraction", "0.6", "--max-wall", "900",
                     "--init", "experiments/checkpoints/medium_2agent.zip", *FAST],
+    # the grid (SPEC one-hot) observation on the batched engine, from scratch
+    "medium_1agent_grid": ["--preset", "medium", "--steps", "5000000", "--seed", "7",
+                           "--obs", "grid", "--engine", "batch", "--anneal-fraction", "0.5",
+                           "--max-wall", "420", "--n-kitchens", "128", "--n-steps", "64",
+                           "--batch-size", "2048", "--n-epochs", "4"],
 }
+#: run -> the intermediate runs it was initialised from, oldest first (recorded as lineage)
+LINEAGE: dict[str, list[str]] = {"_medium_1agent_v1": ["_medium_stage1", "_medium_stage2"]}
 
 
 #: the shipped training logs keep at most this many episodes (package data stays small)
@@ -148,9 +155,7 @@ def train_one(name: str, python: str) -> dict:
     if name.startswith("_"):  # an intermediate stage: keep the run, ship nothing
         return {"run": str(out.relative_to(ROOT)), "wall_time_s": round(wall, 1),
                 "cpu_time_s": round(cpu, 1)}
-    earlier = [] if "experiments/checkpoints/" in " ".join(RUNS[name]) else [
-        ROOT / "experiments" / "runs" / n for n in RUNS
-        if n.startswith("_") and n[1:].split("_stage")[0] == name.split("_")[0]]
+    earlier = [ROOT / "experiments" / "runs" / n for n in LINEAGE.get(name, [])]
     return ship(name, out, round(wall, 1), round(cpu, 1), earlier=earlier)
 
 
