@@ -60,13 +60,21 @@ RUNS: dict[str, list[str]] = {
     "medium_2agent": ["--preset", "medium", "--n-agents", "2", "--steps", "8000000",
                       "--seed", "5", "--anneal-fraction", "0.5", "--max-wall", "720",
                       "--init", "experiments/checkpoints/medium_1agent.zip", *FAST],
-    "hard_2agent": ["--preset", "hard", "--n-agents", "2", "--steps", "10000000",
-                    "--seed", "6", "--anneal-fraction", "0.6", "--max-wall", "900",
+    # first attempt: straight onto hard from medium_2agent (served 0 in 10M steps)
+    "_hard_2agent_try1": ["--preset", "hard", "--n-agents", "2", "--steps", "10000000",
+                          "--seed", "6", "--anneal-fraction", "0.6", "--max-wall", "900",
+                          "--init", "experiments/checkpoints/medium_2agent.zip", *FAST],
+    # second: half the kitchens serve the two-ingredient steak orders medium taught, on
+    # the hard map (dirty plates, layout switches), for the first 40 %
+    "hard_2agent": ["--preset", "hard", "--n-agents", "2", "--steps", "6000000",
+                    "--seed", "8", "--anneal-fraction", "0.6", "--max-wall", "600",
+                    "--curriculum", "hard:steak+tomato/steak+lettuce/steak+onion",
+                    "--curriculum-fraction", "0.4",
                     "--init", "experiments/checkpoints/medium_2agent.zip", *FAST],
     # the grid (SPEC one-hot) observation on the batched engine, from scratch
     "medium_1agent_grid": ["--preset", "medium", "--steps", "5000000", "--seed", "7",
                            "--obs", "grid", "--engine", "batch", "--anneal-fraction", "0.5",
-                           "--max-wall", "420", "--n-kitchens", "128", "--n-steps", "64",
+                           "--max-wall", "300", "--n-kitchens", "128", "--n-steps", "64",
                            "--batch-size", "2048", "--n-epochs", "4"],
 }
 #: run -> the intermediate runs it was initialised from, oldest first (recorded as lineage)
