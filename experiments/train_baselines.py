@@ -117,10 +117,10 @@ def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None 
     # a run that starts from a shipped checkpoint keeps that checkpoint's record (read
     # before this run's files replace it when the names are the same)
     init = summary["config"]["init"] or ""
-    init_json = ROOT / Path(init).with_suffix(".json")
     previous = None
-    if init.startswith("experiments/checkpoints/") and init_json.is_file():
-        previous = json.loads(init_json.read_text())
+    if init.startswith("experiments/checkpoints/"):
+        init_json = ROOT / Path(init).with_suffix(".json")
+        previous = json.loads(init_json.read_text()) if init_json.is_file() else None
     shutil.copyfile(run_dir / "policy.zip", CKPT / f"{name}.zip")
     _thin_log(run_dir / "episodes.csv", CKPT / f"{name}.episodes.csv")
     record = {
