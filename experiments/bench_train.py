@@ -20,7 +20,8 @@ Setups (same network: two 128-unit layers per head unless ``--hidden``):
 rollouts, 512 minibatch, 8 epochs); ``before_grid`` the same with grid observations;
 ``fast`` the batched engine with grid observations and larger batches (``--n-kitchens``,
 ``--fast-*``); ``fast_features`` those batch settings on the loop engine with features
-(what the shipped checkpoints of issue 16 trained with). Prints one JSON line per setup and kitchen count.
+(what the shipped checkpoints of issue 16 trained with). Prints one JSON line per setup
+and kitchen count.
 """
 
 from __future__ import annotations

@@ -99,6 +99,6 @@ def run(args: argparse.Namespace) -> int:
         command = "ocplus " + shlex.join(parts)
     summary = train(config, command=command, progress=not args.quiet)
     emit({k: summary[k] for k in (
-        "policy", "timesteps", "stopped_by_wall_budget", "episodes", "dishes_per_episode_last50", "wall_time_s",
-        "steps_per_s")}, args)
+        "policy", "timesteps", "stopped_by_wall_budget", "episodes",
+        "dishes_per_episode_last50", "wall_time_s", "steps_per_s")}, args)
     return 0

@@ -81,7 +81,9 @@ class TrainConfig:
             raise ConfigError(f"engine must be 'loop' or 'batch', got {self.engine!r}")
         if isinstance(self.torch_threads, bool) or not isinstance(self.torch_threads, int) \
                 or self.torch_threads < 1:
-            raise ConfigError(f"torch_threads must be a positive integer, got {self.torch_threads!r}")
+            raise ConfigError(
+                f"torch_threads must be a positive integer, got {self.torch_threads!r}"
+            )
         if self.max_wall_s is not None and self.max_wall_s <= 0:
             raise ConfigError(f"max_wall_s must be positive seconds, got {self.max_wall_s}")
         if not self.hidden or any(h < 1 for h in self.hidden):
