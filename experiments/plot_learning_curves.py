@@ -92,13 +92,15 @@ def main() -> None:
             label = f"{name} ({len(info['lineage']) + 1} stages, curriculum kitchens excluded)"
         else:
             label = name + (f" (from {Path(init).stem})" if init else "")
+        if info.get("config", {}).get("obs") == "grid":
+            label += ", grid observation"
         ax.plot([x / 1000 for x in xs], ys, marker="o", markersize=3, label=label)
         print(json.dumps({"run": name, "final_bin_steps": round(xs[-1]),
                           "dishes_per_episode": round(ys[-1], 3),
                           "timesteps": info["timesteps"], "wall_time_s": info["wall_time_s"]}))
     ax.set_xlabel("training steps (thousands of agent-steps)")
     ax.set_ylabel("dishes per 200-step episode")
-    ax.set_title("PPO baseline (parameter-shared, path features, annealed shaping)")
+    ax.set_title("PPO baseline (parameter-shared, path features unless noted, annealed shaping)")
     ax.grid(alpha=0.3)
     ax.legend()
     out = ROOT / "experiments" / "figures" / "ppo_learning_curves.png"
