@@ -97,6 +97,20 @@ def test_unknown_planner_name_is_an_error(tmp_path):
         run_eval(_cfg(tmp_path / "p", agents=["planner:no-such-planner"]))
 
 
+def test_a_planner_spec_with_options_is_checked_by_its_planner_name(tmp_path, monkeypatch):
+    """planner:NAME:GRAN:POLICY:OPTIONS (the README's fourth field): the availability check
+    looks the planner up by NAME, not by the whole spec."""
+    engines = pytest.importorskip("ocplus_plan.planning.engines")
+    asked = []
+    monkeypatch.setattr(engines, "availability", lambda name: asked.append(name) or
+                        engines.Availability(False, "not installed here"))
+    spec = "planner:fast-downward-bjolp:stations:on_event:one-cook+chain2"
+    out = tmp_path / "opts"
+    run_eval(_cfg(out, agents=[spec], seeds=[0]), echo=lambda *a: None)
+    assert asked == ["fast-downward-bjolp"]
+    assert [r["status"] for r in read_results(out)] == ["skipped"]
+
+
 def test_unregistered_kind_is_skipped_with_its_reason(tmp_path, monkeypatch):
     monkeypatch.setitem(runner.PENDING_KINDS, "futurekind", "the future controller")
     messages = []
