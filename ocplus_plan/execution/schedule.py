@@ -29,7 +29,10 @@ a planner (partial-order lifting plus list scheduling):
   wait, and another cook may plate it;
 * identical stations: the planner does not care which of two boards (pans, sinks) an item
   goes on, the schedule does; an item's stay on a station moves to another one of its kind
-  that is free over that stretch of the plan when the schedule then ends sooner.
+  that is free over that stretch of the plan when the schedule then ends sooner;
+* dish order: a plan's dishes that share no ingredient are also scheduled in their other
+  orders (:func:`dish_orders`), so a dish whose ingredients are ready first need not wait
+  for the plate behind one the planner happened to list first.
 
 The result is the same steps with cooks reassigned, renumbered in scheduled order and
 stamped with their estimated start (a time-triggered plan's own times are replaced);
