@@ -107,7 +107,8 @@ def segments(steps: Sequence[tuple[PlanStep, str, int]], state: State) -> list[S
 
 
 class _Walks:
-    """Walking estimates for the schedule: current layout first, any layout as a fallback."""
+    """Walking estimates for the schedule: current layout first, any layout as a fallback.
+    Answers are kept: one schedule call asks the same walks for every candidate it tries."""
 
     def __init__(self, state: State, oracle: DistanceOracle) -> None:
         self.geo, self.layout, self.oracle = state.geo, state.layout_index, oracle
@@ -115,9 +116,16 @@ class _Walks:
         self.any_walk = walkable_in_any_layout(state.geo)
         self.detour = max(1, state.rules.map_switch_step) if state.rules.dynamic else 0
         self._any: dict[int, list[int]] = {}
+        self._known: dict[tuple[int, int], tuple[int, int]] = {}
 
     def to(self, pos: int, target: int) -> tuple[int, int]:
         """(steps to reach a spot of ``target`` from ``pos``, the spot reached)."""
+        key = (pos, target)
+        if key not in self._known:
+            self._known[key] = self._to(pos, target)
+        return self._known[key]
+
+    def _to(self, pos: int, target: int) -> tuple[int, int]:
         spots = interaction_spots(self.geo.neighbors, self.walk, target)
         best = None
         for s in spots:
@@ -178,17 +186,10 @@ class _Scheduler:
     """List scheduling of a plan's segments, with a rollout lookahead (see :func:`schedule`)."""
 
     def __init__(self, steps: Sequence[tuple[PlanStep, str, int]], state: State,
-                 agents: tuple[int, ...], oracle: DistanceOracle | None, lookahead: int) -> None:
+                 agents: tuple[int, ...], walks: _Walks, lookahead: int) -> None:
         self.state, self.agents, self.lookahead = state, agents, lookahead
-        self.walks = _Walks(state, oracle or DistanceOracle(state.geo))
+        self.walks = walks
         self.segs = segments(steps, state)
-        self._walk_cache: dict[tuple[int, int], tuple[int, int]] = {}
-
-    def walk(self, here: int, target: int) -> tuple[int, int]:
-        key = (here, target)
-        if key not in self._walk_cache:
-            self._walk_cache[key] = self.walks.to(here, target)
-        return self._walk_cache[key]
 
     def simulate(self, p: _Partial, k: int, a: int, t: int | None = None,
                  here: int | None = None) -> tuple[int, list[int], int]:
@@ -198,7 +199,7 @@ class _Scheduler:
         here = p.pos[a] if here is None else here
         starts = []
         for step, effect, bumps in self.segs[k].steps:
-            walk, here = self.walk(here, step.target)
+            walk, here = self.walks.to(here, step.target)
             t += walk
             ready = max((p.busy_until.get(r, 0) for r in _resources(step)), default=0)
             if step.target in p.pan_ready and _takes(step, effect):
@@ -352,12 +353,12 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
     agents = tuple(agents)
     if not agents or any(s.agent not in agents for s, _, _ in steps):
         return _in_plan_order(steps)
-    oracle = oracle or DistanceOracle(state.geo)
+    walks = _Walks(state, oracle or DistanceOracle(state.geo))
     best = None
     for order in dish_orders(list(steps), state) if reorder_dishes else [list(steps)]:
         if swap_stations:
-            order = _best_stations(order, state, agents, oracle, lookahead)
-        out = _Scheduler(order, state, agents, oracle, lookahead).run()
+            order = _best_stations(order, state, agents, walks, lookahead)
+        out = _Scheduler(order, state, agents, walks, lookahead).run()
         if out is not None and (best is None or out[1] < best[1]):
             best = out
     return _in_plan_order(steps) if best is None else best[0]
@@ -512,7 +513,7 @@ def _free_over(stays: Sequence[Stay], cell: int, stay: Stay) -> bool:
 
 
 def _best_stations(steps: list[tuple[PlanStep, str, int]], state: State,
-                   agents: tuple[int, ...], oracle: DistanceOracle,
+                   agents: tuple[int, ...], walks: _Walks,
                    lookahead: int = 0) -> list[tuple[PlanStep, str, int]]:
     """Move stays to other stations of their kind, one at a time in plan order, when the
     plain rule's schedule ends better (coordinate descent, a few schedules per stay)."""
@@ -526,7 +527,7 @@ def _best_stations(steps: list[tuple[PlanStep, str, int]], state: State,
         return steps
 
     def cost(plan: list[tuple[PlanStep, str, int]]) -> tuple[int, int, int] | None:
-        out = _Scheduler(plan, state, agents, oracle, lookahead).run()
+        out = _Scheduler(plan, state, agents, walks, lookahead).run()
         return None if out is None else out[1]
 
     best = cost(steps)
