@@ -338,12 +338,17 @@ def parse_planner_options(text: str, spec: str) -> dict[str, Any]:
     return out
 
 
+def planner_name(arg: str | None) -> str:
+    """The planner a ``planner:NAME[:GRANULARITY[:POLICY[:OPTIONS]]]`` argument names."""
+    return (arg or "").split(":")[0] or "fast-downward"
+
+
 def make_planner_agent(arg: str | None, seed: int = 0) -> PlannerAgent:
     """Factory for ``planner:NAME[:GRANULARITY[:POLICY[:OPTIONS]]]`` (the encoding follows the
     planner; OPTIONS joined by '+': ``anticipate`` plans around the coming layout switches,
     temporal only; ``one-cook``, ``chainK``, ``no-schedule``: see :func:`compile_and_solve`)."""
     parts = (arg or "fast-downward").split(":")
-    name = parts[0] or "fast-downward"
+    name = planner_name(arg)
     granularity = parts[1] if len(parts) > 1 and parts[1] else "stations"
     policy = parts[2] if len(parts) > 2 and parts[2] else "on_event"
     if len(parts) > 4:
@@ -364,4 +369,4 @@ def make_planner_agent(arg: str | None, seed: int = 0) -> PlannerAgent:
 
 
 __all__ = ["PlannerAgent", "compile_and_solve", "make_planner_agent", "plan_entries",
-           "steps_from_record"]
+           "planner_name", "steps_from_record"]

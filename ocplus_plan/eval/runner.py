@@ -156,7 +156,9 @@ def check_agent(spec: str) -> str | None:
         if not arg:
             raise ConfigError("agent 'planner' needs a planner name: planner:NAME "
                               "(e.g. planner:fast-downward)")
-        reason = _planner_unavailable(arg.split(":")[0])  # NAME[:GRAN[:POLICY[:OPTIONS]]]
+        from ..agents.planner import planner_name
+
+        reason = _planner_unavailable(planner_name(arg))
         if reason:
             return reason
     if kind not in FACTORIES:
