@@ -32,7 +32,14 @@ a planner (partial-order lifting plus list scheduling):
   that is free over that stretch of the plan when the schedule then ends sooner;
 * dish order: a plan's dishes that share no ingredient are also scheduled in their other
   orders (:func:`dish_orders`), so a dish whose ingredients are ready first need not wait
-  for the plate behind one the planner happened to list first.
+  for the plate behind one the planner happened to list first;
+* plating route: a plate can go to its ingredients (picked up, then bumped against each
+  ingredient's board or pan) or the ingredients can come to the plate (each carried by hand
+  onto it where it lies, the plate picked up last). The planner picks one for its cost; the
+  first is a single segment one cook must walk, the second is one segment per ingredient
+  that any cook can carry while another waits at the pan. The schedule tries carrying the
+  first scoops of each plate trip to the plate, in each order (:func:`plate_carries`), and
+  keeps what ends sooner.
 
 The result is the same steps with cooks reassigned, renumbered in scheduled order and
 stamped with their estimated start (a time-triggered plan's own times are replaced);
@@ -48,7 +55,7 @@ import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
-from ..sim.codes import Cell, Item, ItemState, Where
+from ..sim.codes import COUNTERS, Cell, Item, ItemState, Where
 from ..sim.queries import (
     distances,
     interaction_spots,
@@ -163,13 +170,14 @@ class _Partial:
         self.waiting_pin: set[int | None] = set()
         self.done: set[int] = set()
         self.placed: list[tuple[int, int, PlanStep]] = []  # (start, order, step with its cook)
+        self.served: set[int] = set()  # items delivered so far: they come back fresh
         self.late = 0  # steps by which takes from a pan come after its steak burns
 
     def copy(self) -> _Partial:
         out = copy.copy(self)
         for name in ("free_at", "pos", "busy_until", "pan_ready", "pan_burnt"):
             setattr(out, name, dict(getattr(self, name)))
-        for name in ("closed", "waiting_pin", "done"):
+        for name in ("closed", "waiting_pin", "done", "served"):
             setattr(out, name, set(getattr(self, name)))
         out.placed = list(self.placed)
         return out
@@ -261,8 +269,12 @@ class _Scheduler:
             if step.target in p.pan_burnt and _takes(step, effect):
                 p.late += max(0, start - p.pan_burnt.pop(step.target) + _BURN_MARGIN)
                 p.pan_ready.pop(step.target, None)
+            if step.kind == "deliver":
+                p.served.update(step.items)
             if effect == RELEASE and step.target in self.state.geo.pans and step.items:
-                ticks = self.state.item_progress[step.items[0]]
+                # a steak served earlier in the plan comes back raw (chained orders)
+                steak = step.items[0]
+                ticks = 0 if steak in p.served else self.state.item_progress[steak]
                 p.pan_ready[step.target] = start + 1 + ticks_until_cooked(self.state.rules, ticks)
                 p.pan_burnt[step.target] = start + 1 + ticks_until_burnt(self.state.rules, ticks)
         p.free_at[a], p.pos[a] = end, here
@@ -327,7 +339,7 @@ LOOKAHEAD = 4
 def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
              agents: Sequence[int], oracle: DistanceOracle | None = None,
              lookahead: int = LOOKAHEAD, swap_stations: bool = True,
-             reorder_dishes: bool = True) -> list[PlanStep]:
+             reorder_dishes: bool = True, carry_to_plates: bool = True) -> list[PlanStep]:
     """Reassign and reorder a sequential plan's steps over ``agents`` (see the module doc).
 
     ``steps`` are in plan order, each with its hand effect (TAKE, RELEASE, KEEP) and the
@@ -348,15 +360,21 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
     moved when the plain rule's schedule then ends better.
 
     ``reorder_dishes``: the plan's dishes are also scheduled in every other order they can
-    be served in (:func:`dish_orders`), and the schedule that ends best is kept. A plan with
-    steps of cooks outside ``agents`` is left as it is."""
+    be served in (:func:`dish_orders`), and the schedule that ends best is kept.
+
+    ``carry_to_plates``: a plate the plan carries to its ingredients may instead stay where
+    it lies while the ingredients are carried to it (:func:`plate_carries`); each plate trip
+    keeps the variant whose schedule ends best. A plan with steps of cooks outside
+    ``agents`` is left as it is."""
     agents = tuple(agents)
     if not agents or any(s.agent not in agents for s, _, _ in steps):
         return _in_plan_order(steps)
     walks = _Walks(state, oracle or DistanceOracle(state.geo))
     best = None
     for order in dish_orders(list(steps), state) if reorder_dishes else [list(steps)]:
-        if swap_stations:
+        if carry_to_plates:
+            order = _best_plating(order, state, agents, walks, lookahead, swap_stations)
+        elif swap_stations:
             order = _best_stations(order, state, agents, walks, lookahead)
         out = _Scheduler(order, state, agents, walks, lookahead).run()
         if out is not None and (best is None or out[1] < best[1]):
@@ -548,6 +566,161 @@ def _best_stations(steps: list[tuple[PlanStep, str, int]], state: State,
     return steps
 
 
+@dataclass
+class PlateTrip:
+    """A plate's trip in a plan: one cook picks it up from a counter, bumps it against the
+    stations of its ingredients (scoops) and delivers it."""
+
+    pickup: int  # plan index of the plate's pickup
+    scoops: list[int]  # plan indices of the scoops, in plan order
+    deliver: int  # plan index of the delivery
+
+
+def plate_trips(steps: Sequence[tuple[PlanStep, str, int]], state: State) -> list[PlateTrip]:
+    """Every trip of a plate from a counter through at least one scoop to the window."""
+    plates = {i for i, kind in enumerate(state.geo.item_kind) if kind == int(Item.PLATE)}
+    terrain = state.geo.terrains[state.layout_index]
+    out = []
+    for i, (step, effect, _) in enumerate(steps):
+        if (step.kind != "pickup" or effect != TAKE or step.items not in [(q,) for q in plates]
+                or terrain[step.target] not in COUNTERS):
+            continue
+        plate, scoops = step.items[0], []
+        for j in range(i + 1, len(steps)):
+            nxt, nxt_effect, _ = steps[j]
+            if nxt.agent != step.agent:
+                continue
+            if nxt.kind == "plate" and nxt_effect == KEEP and len(nxt.items) == 2 \
+                    and nxt.items[1] == plate:
+                scoops.append(j)
+                continue
+            if nxt.kind == "deliver" and plate in nxt.items and scoops:
+                out.append(PlateTrip(i, scoops, j))
+            break
+    return out
+
+
+def plate_carries(steps: list[tuple[PlanStep, str, int]], trip: PlateTrip,
+                  state: State) -> list[list[tuple[PlanStep, str, int]]]:
+    """The plan with the trip's first scoops turned into carries: each of those ingredients
+    is picked up by hand and put on the plate where the plate lies, in every order, and the
+    plate is picked up after the last of them. The carries take the place of the last scoop
+    they replace, so a variant is left out when anything else touches the plate's counter,
+    the plate, a carried ingredient or its station in between, or when the cells disagree
+    (:func:`_cells_agree`)."""
+    pick = steps[trip.pickup][0]
+    plate, counter = pick.items[0], pick.target
+    out = []
+    for m in range(1, len(trip.scoops) + 1):
+        carried, last = trip.scoops[:m], trip.scoops[m - 1]
+        if any(counter == steps[i][0].target or plate in steps[i][0].items
+               for i in range(trip.pickup + 1, last) if i not in carried):
+            continue
+        if any(steps[i][0].target == steps[s][0].target or steps[s][0].items[0] in steps[i][0].items
+               for s in carried for i in range(s + 1, last + 1) if i not in carried):
+            continue
+        for perm in itertools.permutations(carried):
+            block: list[tuple[PlanStep, str, int]] = []
+            for s in perm:
+                scoop = steps[s][0]
+                block += [(replace(scoop, kind="pickup", items=scoop.items[:1]), TAKE, 1),
+                          (replace(scoop, kind="plate", target=counter), RELEASE, 1)]
+            block.append(steps[trip.pickup])
+            variant = [e for i, e in enumerate(steps[:last]) if i != trip.pickup
+                       and i not in carried] + block + steps[last + 1:]
+            if _cells_agree(variant, state):
+                out.append(variant)
+    return out
+
+
+def plate_stays_home(steps: list[tuple[PlanStep, str, int]],
+                     state: State) -> list[list[tuple[PlanStep, str, int]]]:
+    """The plan without each move of a plate from one counter to another: a cook picks a
+    plate up from a counter and, as its next step, puts it on another, where ingredients
+    are carried to it until it is picked up again. A planner minimising one cook's walk
+    brings the plate near the boards; with several cooks it may as well stay where it was
+    and the ingredients come to it. One variant per move (the stay's steps relabelled to
+    the plate's first counter, the pick-up and put-down dropped), kept when the cells agree
+    (:func:`_cells_agree`)."""
+    plates = {i for i, kind in enumerate(state.geo.item_kind) if kind == int(Item.PLATE)}
+    terrain = state.geo.terrains[state.layout_index]
+    out = []
+    for i, (step, effect, _) in enumerate(steps):
+        if step.kind != "pickup" or effect != TAKE or len(step.items) != 1 \
+                or step.items[0] not in plates or terrain[step.target] not in COUNTERS:
+            continue
+        plate, home = step.items[0], step.target
+        put = next((j for j in range(i + 1, len(steps)) if steps[j][0].agent == step.agent), None)
+        if put is None or steps[put][0].kind != "putdown" or steps[put][0].items != (plate,):
+            continue
+        away = steps[put][0].target
+        stay = []  # the steps at the other counter while the plate lies there
+        for j in range(put + 1, len(steps)):
+            nxt = steps[j][0]
+            if nxt.target == home:
+                break
+            if nxt.target == away:
+                if plate not in nxt.items:
+                    break
+                stay.append(j)
+                if nxt.kind == "pickup":
+                    break
+        if not stay or steps[stay[-1]][0].kind != "pickup":
+            continue
+        variant = [(replace(s, target=home), e, b) if j in stay else (s, e, b)
+                   for j, (s, e, b) in enumerate(steps) if j not in (i, put)]
+        if _cells_agree(variant, state):
+            out.append(variant)
+    return out
+
+
+def plating_variants(steps: list[tuple[PlanStep, str, int]],
+                     state: State) -> list[list[tuple[PlanStep, str, int]]]:
+    """Every plan one plating change away: a plate that stays home (:func:`plate_stays_home`)
+    or a plate trip whose first scoops become carries (:func:`plate_carries`)."""
+    out = plate_stays_home(steps, state)
+    for trip in plate_trips(steps, state):
+        out += plate_carries(steps, trip, state)
+    return out
+
+
+#: rounds of plating changes tried one after the other (each from the best plan so far)
+PLATING_ROUNDS = 2
+
+
+def _best_plating(steps: list[tuple[PlanStep, str, int]], state: State,
+                  agents: tuple[int, ...], walks: _Walks, lookahead: int = 0,
+                  swap_stations: bool = True) -> list[tuple[PlanStep, str, int]]:
+    """The plan, or one of its plating variants (:func:`plating_variants`), each with its
+    stations chosen (:func:`_best_stations`), whichever schedules best; up to
+    :data:`PLATING_ROUNDS` changes, each from the best plan of the round before. A change
+    of the plate's route often pays only with another board for an ingredient, so every
+    variant gets its own choice of stations."""
+
+    def settle(plan: list[tuple[PlanStep, str, int]]) -> list[tuple[PlanStep, str, int]]:
+        return _best_stations(plan, state, agents, walks, lookahead) if swap_stations else plan
+
+    def cost(plan: list[tuple[PlanStep, str, int]]) -> tuple[int, int, int] | None:
+        out = _Scheduler(plan, state, agents, walks, lookahead).run()
+        return None if out is None else out[1]
+
+    steps = settle(steps)
+    best = cost(steps)
+    if best is None:
+        return steps
+    for _ in range(PLATING_ROUNDS):
+        improved = False
+        for variant in plating_variants(steps, state):
+            variant = settle(variant)
+            c = cost(variant)
+            if c is not None and c < best:
+                best, found, improved = c, variant, True
+        if not improved:
+            break
+        steps = found
+    return steps
+
+
 def _takes(step: PlanStep, effect: str) -> bool:
     """Does the step take what lies on its cell (into the hand, or onto a held plate)?"""
     return effect == TAKE or step.kind == "plate"
@@ -561,5 +734,5 @@ def _resources(step: PlanStep) -> list[tuple[str, int]]:
     return [("c", step.target), *(("i", i) for i in step.items)]
 
 
-__all__ = ["KEEP", "RELEASE", "TAKE", "Segment", "Stay", "dish_orders", "schedule", "segments",
-           "station_stays"]
+__all__ = ["KEEP", "RELEASE", "TAKE", "PlateTrip", "Segment", "Stay", "dish_orders",
+           "plate_carries", "plate_trips", "schedule", "segments", "station_stays"]

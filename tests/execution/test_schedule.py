@@ -14,11 +14,15 @@ from dataclasses import replace
 import pytest
 
 from ocplus_plan.execution.plans import PlanStep
+from ocplus_plan.sim.codes import ItemState
 from ocplus_plan.execution.schedule import (
     KEEP,
     RELEASE,
     TAKE,
     dish_orders,
+    plate_carries,
+    plate_stays_home,
+    plate_trips,
     schedule,
     segments,
     station_stays,
@@ -242,7 +246,8 @@ def test_scheduled_fast_downward_plans_keep_every_step_and_every_resource_order(
             record = compiled.map_back(ai)
             steps = steps_from_record(record, state, len(entries))
             entries += [(s, e, b) for s, (e, b) in zip(steps, hand_effects(record))]
-        out = schedule(entries, state, (0, 1))
+        # the planner's own steps (plating variants change steps: checked below)
+        out = schedule(entries, state, (0, 1), carry_to_plates=False)
         def key(s):
             return (s.kind, s.target, s.items)
 
@@ -333,3 +338,135 @@ def test_a_plate_scooping_the_steak_off_the_pan_waits_until_it_is_cooked():
     ]
     out = {s.kind: s.start for s in schedule(plan, state, (0, 1))}
     assert out["plate"] >= out["putdown"] + 1 + state.rules.cook_time
+
+
+def _chopped(state, spawn: tuple[int, int], board: tuple[int, int]) -> int:
+    """Move the vegetable at ``spawn`` onto ``board``, chopped; its item id."""
+    veg = _item_at(state, *spawn)
+    state.cell_item[_cell(state, *spawn)] = -1
+    state.cell_item[_cell(state, *board)] = veg
+    state.item_loc[veg] = _cell(state, *board)
+    state.item_state[veg] = int(ItemState.CHOPPED)
+    return veg
+
+
+def _plate_to_board(state):
+    """easy_open: the plate (2,0) goes to the chopped tomato on board (1,6) and out."""
+    tomato = _chopped(state, (0, 2), (1, 6))
+    plate = _item_at(state, 2, 0)
+    return [
+        (PlanStep(0, 0, "pickup", _cell(state, 2, 0), (plate,)), TAKE, 1),
+        (PlanStep(1, 0, "plate", _cell(state, 1, 6), (tomato, plate)), KEEP, 1),
+        (PlanStep(2, 0, "deliver", _cell(state, 4, 2), (plate, tomato)), RELEASE, 1),
+    ]
+
+
+def test_a_plate_trip_runs_from_its_pickup_through_its_scoops_to_the_window():
+    state = _state(1)
+    plan = _plate_to_board(state)
+    trips = plate_trips(plan, state)
+    assert [(t.pickup, t.scoops, t.deliver) for t in trips] == [(0, [1], 2)]
+
+
+def test_a_scooped_ingredient_can_be_carried_to_the_plate_instead():
+    state = _state(1)
+    plan = _plate_to_board(state)
+    tomato, plate = plan[1][0].items
+    (variant,) = plate_carries(plan, plate_trips(plan, state)[0], state)
+    assert [(s.kind, s.target, s.items, e) for s, e, _ in variant] == [
+        ("pickup", _cell(state, 1, 6), (tomato,), TAKE),
+        ("plate", _cell(state, 2, 0), (tomato, plate), RELEASE),
+        ("pickup", _cell(state, 2, 0), (plate,), TAKE),
+        ("deliver", _cell(state, 4, 2), (plate, tomato), RELEASE),
+    ]
+
+
+def test_the_schedule_carries_to_the_plate_when_that_ends_sooner():
+    """The cook stands by the board (1,6), far from the plate (2,0), and the window (4,2) is
+    near the plate: fetching the plate to the board and back walks twice what bringing
+    the tomato to the plate does."""
+    state = _state(1)
+    state.agent_pos[0] = _cell(state, 1, 5)
+    plan = _plate_to_board(state)
+    kept = schedule(plan, state, (0,), carry_to_plates=False)
+    out = schedule(plan, state, (0,))
+    assert [s.kind for s in kept] == ["pickup", "plate", "deliver"]
+    assert [s.kind for s in out] == ["pickup", "plate", "pickup", "deliver"]
+    assert max(s.start for s in out) < max(s.start for s in kept)
+
+
+def test_a_plate_moved_next_to_the_boards_may_stay_home():
+    """The plate goes from (2,0) to the counter (0,5) by the boards, the chopped tomato is
+    brought to it there, and it is picked up again: the variant leaves it at (2,0)."""
+    state = _state(2)
+    tomato = _chopped(state, (0, 2), (1, 6))
+    plate, home, away = _item_at(state, 2, 0), _cell(state, 2, 0), _cell(state, 0, 5)
+    plan = [
+        (PlanStep(0, 0, "pickup", home, (plate,)), TAKE, 1),
+        (PlanStep(1, 0, "putdown", away, (plate,)), RELEASE, 1),
+        (PlanStep(2, 0, "pickup", _cell(state, 1, 6), (tomato,)), TAKE, 1),
+        (PlanStep(3, 0, "plate", away, (tomato, plate)), RELEASE, 1),
+        (PlanStep(4, 0, "pickup", away, (plate,)), TAKE, 1),
+        (PlanStep(5, 0, "deliver", _cell(state, 4, 2), (plate, tomato)), RELEASE, 1),
+    ]
+    (variant,) = plate_stays_home(plan, state)
+    assert [(s.kind, s.target) for s, _, _ in variant] == [
+        ("pickup", _cell(state, 1, 6)), ("plate", home), ("pickup", home),
+        ("deliver", _cell(state, 4, 2))]
+    # something else put on the plate's counter meanwhile: the plate cannot stay there
+    onion = _item_at(state, 4, 4)
+    blocked = plan[:2] + [(PlanStep(9, 1, "pickup", _cell(state, 4, 4), (onion,)), TAKE, 1),
+                          (PlanStep(10, 1, "putdown", home, (onion,)), RELEASE, 1)] + plan[2:]
+    assert plate_stays_home(blocked, state) == []
+
+
+@pytest.mark.skipif(not FD_OK, reason=f"fast-downward unavailable: {FD_WHY}")
+@pytest.mark.parametrize("preset", ["easy", "medium"])
+def test_plating_variants_of_fast_downward_plans_serve_the_same_dishes(preset):
+    """With plating changes on, the schedule of a real plan delivers the same plates with
+    the same ingredients, and played in its scheduled order every step finds its cell as
+    it needs it."""
+    from ocplus_plan.agents.planner import plan_entries
+    from ocplus_plan.execution.schedule import _cells_agree
+    from ocplus_plan.planning.compile import compile as compile_state
+    from ocplus_plan.planning.engines import solve
+
+    rng = random.Random(11)
+    for seed in range(3):
+        state = new_state(make_rules(preset, n_agents=2), seed)
+        for _ in range(rng.randrange(0, 25)):
+            transition(state, [rng.randrange(5), rng.randrange(5)])
+        compiled = compile_state(state, max_orders=None, agents=[0])
+        result = solve(compiled.problem, "fast-downward", timeout=20, validate=False)
+        assert result.status == "solved", result.reason
+        entries = plan_entries(compiled, result.plan, state)
+        out = schedule(entries, state, (0, 1))
+        def dishes(steps):
+            return sorted(tuple(sorted(s.items)) for s in steps if s.kind == "deliver")
+
+        assert dishes(out) == dishes(s for s, _, _ in entries)
+        assert _cells_agree([(s, KEEP, 1) for s in out], state)
+
+
+def test_a_steak_served_earlier_in_the_plan_cooks_again_from_raw():
+    """medium_kitchen: a cooked steak lies on the pan (3,0); the plan serves it, then cooks
+    the respawned steak (same item, back raw at (2,0)): its second take waits a whole cook."""
+    state = new_state(make_rules("medium", n_agents=1), 0)
+    steak, plate = _item_at(state, 2, 0), _item_at(state, 4, 0)
+    pan, spawn = _cell(state, 3, 0), _cell(state, 2, 0)
+    state.cell_item[spawn], state.cell_item[pan] = -1, steak
+    state.item_loc[steak] = pan
+    state.item_state[steak] = int(ItemState.COOKED)
+    state.item_progress[steak] = state.rules.cook_time
+    plan = [
+        (PlanStep(0, 0, "pickup", _cell(state, 4, 0), (plate,)), TAKE, 1),
+        (PlanStep(1, 0, "plate", pan, (steak, plate)), KEEP, 1),
+        (PlanStep(2, 0, "deliver", _cell(state, 6, 2), (plate, steak)), RELEASE, 1),
+        (PlanStep(3, 0, "pickup", spawn, (steak,)), TAKE, 1),
+        (PlanStep(4, 0, "putdown", pan, (steak,)), RELEASE, 1),
+        (PlanStep(5, 0, "pickup", pan, (steak,)), TAKE, 1),
+    ]
+    out = schedule(plan, state, (0,))
+    put, take = ([s.start for s in out if (s.kind, s.target) == (kind, pan)][-1]
+                 for kind in ("putdown", "pickup"))
+    assert take >= put + 1 + state.rules.cook_time
