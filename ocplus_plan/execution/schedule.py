@@ -635,26 +635,48 @@ def plate_carries(steps: list[tuple[PlanStep, str, int]], trip: PlateTrip,
 
 def plate_stays_home(steps: list[tuple[PlanStep, str, int]],
                      state: State) -> list[list[tuple[PlanStep, str, int]]]:
-    """The plan without each move of a plate from one counter to another: a cook picks a
-    plate up from a counter and, as its next step, puts it on another, where ingredients
-    are carried to it until it is picked up again. A planner minimising one cook's walk
-    brings the plate near the boards; with several cooks it may as well stay where it was
-    and the ingredients come to it. One variant per move (the stay's steps relabelled to
-    the plate's first counter, the pick-up and put-down dropped), kept when the cells agree
+    """The plan without a move of a plate from one counter to another: a cook picks a
+    plate up from a counter and, as its next step, puts it on another (or the same one),
+    where ingredients are carried to it until it is picked up again. A planner minimising
+    one cook's walk brings the plate near the boards; with several cooks it may as well
+    stay where it was and the ingredients come to it. One variant per move (the stay's
+    steps relabelled to the plate's counter, the pick-up and put-down dropped), and one
+    with every move dropped, one after the other; each kept when the cells agree
     (:func:`_cells_agree`)."""
-    plates = {i for i, kind in enumerate(state.geo.item_kind) if kind == int(Item.PLATE)}
-    terrain = state.geo.terrains[state.layout_index]
     out = []
-    for i, (step, effect, _) in enumerate(steps):
-        if step.kind != "pickup" or effect != TAKE or len(step.items) != 1 \
-                or step.items[0] not in plates or terrain[step.target] not in COUNTERS:
-            continue
-        plate, home = step.items[0], step.target
-        put = next((j for j in range(i + 1, len(steps)) if steps[j][0].agent == step.agent), None)
-        if put is None or steps[put][0].kind != "putdown" or steps[put][0].items != (plate,):
-            continue
-        away = steps[put][0].target
-        stay = []  # the steps at the other counter while the plate lies there
+    for i in range(len(steps)):
+        variant = _plate_stays(steps, i, state)
+        if variant is not None:
+            out.append(variant)
+    if len(out) > 1:
+        every = out[0]
+        for _ in range(len(steps)):
+            nxt = next((v for i in range(len(every))
+                        if (v := _plate_stays(every, i, state)) is not None), None)
+            if nxt is None:
+                break
+            every = nxt
+        out.append(every)
+    return out
+
+
+def _plate_stays(steps: list[tuple[PlanStep, str, int]], i: int,
+                 state: State) -> list[tuple[PlanStep, str, int]] | None:
+    """:func:`plate_stays_home` for the plate picked up at plan index ``i`` (None: no
+    move of a plate from a counter there, or the cells disagree)."""
+    step, effect, _ = steps[i]
+    plates = {q for q, kind in enumerate(state.geo.item_kind) if kind == int(Item.PLATE)}
+    terrain = state.geo.terrains[state.layout_index]
+    if step.kind != "pickup" or effect != TAKE or len(step.items) != 1 \
+            or step.items[0] not in plates or terrain[step.target] not in COUNTERS:
+        return None
+    plate, home = step.items[0], step.target
+    put = next((j for j in range(i + 1, len(steps)) if steps[j][0].agent == step.agent), None)
+    if put is None or steps[put][0].kind != "putdown" or steps[put][0].items != (plate,):
+        return None
+    away = steps[put][0].target
+    stay = []  # the steps at the other counter while the plate lies there
+    if away != home:
         for j in range(put + 1, len(steps)):
             nxt = steps[j][0]
             if nxt.target == home:
@@ -666,12 +688,10 @@ def plate_stays_home(steps: list[tuple[PlanStep, str, int]],
                 if nxt.kind == "pickup":
                     break
         if not stay or steps[stay[-1]][0].kind != "pickup":
-            continue
-        variant = [(replace(s, target=home), e, b) if j in stay else (s, e, b)
-                   for j, (s, e, b) in enumerate(steps) if j not in (i, put)]
-        if _cells_agree(variant, state):
-            out.append(variant)
-    return out
+            return None
+    variant = [(replace(s, target=home), e, b) if j in stay else (s, e, b)
+               for j, (s, e, b) in enumerate(steps) if j not in (i, put)]
+    return variant if _cells_agree(variant, state) else None
 
 
 def plating_variants(steps: list[tuple[PlanStep, str, int]],

@@ -470,3 +470,27 @@ def test_a_steak_served_earlier_in_the_plan_cooks_again_from_raw():
     put, take = ([s.start for s in out if (s.kind, s.target) == (kind, pan)][-1]
                  for kind in ("putdown", "pickup"))
     assert take >= put + 1 + state.rules.cook_time
+
+
+def test_a_plate_that_wanders_from_counter_to_counter_may_stay_home_throughout():
+    """The plate goes (2,0) -> (0,5) (the tomato is brought there) -> back to (2,0) (the
+    onion is brought there) and out: one variant drops both moves."""
+    state = _state(2)
+    tomato = _chopped(state, (0, 2), (1, 6))
+    onion = _chopped(state, (4, 4), (3, 6))
+    plate, home, away = _item_at(state, 2, 0), _cell(state, 2, 0), _cell(state, 0, 5)
+    plan = [
+        (PlanStep(0, 0, "pickup", home, (plate,)), TAKE, 1),
+        (PlanStep(1, 0, "putdown", away, (plate,)), RELEASE, 1),
+        (PlanStep(2, 0, "pickup", _cell(state, 1, 6), (tomato,)), TAKE, 1),
+        (PlanStep(3, 0, "plate", away, (tomato, plate)), RELEASE, 1),
+        (PlanStep(4, 0, "pickup", away, (plate,)), TAKE, 1),
+        (PlanStep(5, 0, "putdown", home, (plate,)), RELEASE, 1),
+        (PlanStep(6, 0, "pickup", _cell(state, 3, 6), (onion,)), TAKE, 1),
+        (PlanStep(7, 0, "plate", home, (onion, plate)), RELEASE, 1),
+        (PlanStep(8, 0, "pickup", home, (plate,)), TAKE, 1),
+        (PlanStep(9, 0, "deliver", _cell(state, 4, 2), (plate, tomato, onion)), RELEASE, 1),
+    ]
+    variants = [[(s.kind, s.target) for s, _, _ in v] for v in plate_stays_home(plan, state)]
+    assert [("pickup", _cell(state, 1, 6)), ("plate", home), ("pickup", _cell(state, 3, 6)),
+            ("plate", home), ("pickup", home), ("deliver", _cell(state, 4, 2))] in variants
