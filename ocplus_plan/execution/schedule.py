@@ -169,7 +169,8 @@ class _Partial:
         self.closed: set[int] = set()  # cooks that keep an item to the end of the plan
         self.waiting_pin: set[int | None] = set()
         self.done: set[int] = set()
-        self.placed: list[tuple[int, int, PlanStep]] = []  # (start, order, step with its cook)
+        #: (start, order, step, the cook that does it)
+        self.placed: list[tuple[int, int, PlanStep, int]] = []
         self.served: set[int] = set()  # items delivered so far: they come back fresh
         self.late = 0  # steps by which takes from a pan come after its steak burns
 
@@ -186,7 +187,7 @@ class _Partial:
         """What the lookahead minimises: burnt steaks first, then the makespan, then how
         early the dishes go out (the sum of the deliveries' starts)."""
         makespan = max(self.free_at.values(), default=0)
-        served = sum(start for start, _, step in self.placed if step.kind == "deliver")
+        served = sum(start for start, _, step, _ in self.placed if step.kind == "deliver")
         return self.late, makespan, served
 
 
@@ -198,6 +199,8 @@ class _Scheduler:
         self.state, self.agents, self.lookahead = state, agents, lookahead
         self.walks = walks
         self.segs = segments(steps, state)
+        #: each step's resources (cells and items), asked for at every simulated step
+        self.resources = {id(step): _resources(step) for step, _, _ in steps}
 
     def simulate(self, p: _Partial, k: int, a: int, t: int | None = None,
                  here: int | None = None) -> tuple[int, list[int], int]:
@@ -209,7 +212,7 @@ class _Scheduler:
         for step, effect, bumps in self.segs[k].steps:
             walk, here = self.walks.to(here, step.target)
             t += walk
-            ready = max((p.busy_until.get(r, 0) for r in _resources(step)), default=0)
+            ready = max((p.busy_until.get(r, 0) for r in self.resources[id(step)]), default=0)
             if step.target in p.pan_ready and _takes(step, effect):
                 ready = max(ready, p.pan_ready[step.target])
             t = max(t, ready)
@@ -263,8 +266,8 @@ class _Scheduler:
         seg = self.segs[k]
         end, starts, here = self.simulate(p, k, a)
         for (step, effect, bumps), start in zip(seg.steps, starts):
-            p.placed.append((start, len(p.placed), replace(step, agent=a)))
-            for r in _resources(step):
+            p.placed.append((start, len(p.placed), step, a))
+            for r in self.resources[id(step)]:
                 p.busy_until[r] = start + max(1, bumps)
             if step.target in p.pan_burnt and _takes(step, effect):
                 p.late += max(0, start - p.pan_burnt.pop(step.target) + _BURN_MARGIN)
@@ -326,8 +329,8 @@ class _Scheduler:
                 return None
             self.place(p, *choice)
         placed = sorted(p.placed, key=lambda x: (x[0], x[1]))
-        return [replace(step, index=i, start=float(start))
-                for i, (start, _, step) in enumerate(placed)], p.cost()
+        return [replace(step, index=i, agent=a, start=float(start))
+                for i, (start, _, step, a) in enumerate(placed)], p.cost()
 
 
 #: steps of slack the schedule keeps before a steak would burn on its pan
@@ -706,16 +709,19 @@ def plating_variants(steps: list[tuple[PlanStep, str, int]],
 
 #: rounds of plating changes tried one after the other (each from the best plan so far)
 PLATING_ROUNDS = 2
+#: per round, the variants that schedule best as they are get their stations chosen
+PLATING_SETTLED = 3
 
 
 def _best_plating(steps: list[tuple[PlanStep, str, int]], state: State,
                   agents: tuple[int, ...], walks: _Walks, lookahead: int = 0,
                   swap_stations: bool = True) -> list[tuple[PlanStep, str, int]]:
-    """The plan, or one of its plating variants (:func:`plating_variants`), each with its
+    """The plan, or one of its plating variants (:func:`plating_variants`) with its
     stations chosen (:func:`_best_stations`), whichever schedules best; up to
     :data:`PLATING_ROUNDS` changes, each from the best plan of the round before. A change
-    of the plate's route often pays only with another board for an ingredient, so every
-    variant gets its own choice of stations."""
+    of the plate's route often pays only with another board for an ingredient, so the
+    :data:`PLATING_SETTLED` variants that schedule best as they are get their own choice
+    of stations before they are compared."""
 
     def settle(plan: list[tuple[PlanStep, str, int]]) -> list[tuple[PlanStep, str, int]]:
         return _best_stations(plan, state, agents, walks, lookahead) if swap_stations else plan
@@ -730,7 +736,9 @@ def _best_plating(steps: list[tuple[PlanStep, str, int]], state: State,
         return steps
     for _ in range(PLATING_ROUNDS):
         improved = False
-        for variant in plating_variants(steps, state):
+        raw = [(c, i, v) for i, v in enumerate(plating_variants(steps, state))
+               if (c := cost(v)) is not None]
+        for _, _, variant in sorted(raw, key=lambda x: x[:2])[:PLATING_SETTLED]:
             variant = settle(variant)
             c = cost(variant)
             if c is not None and c < best:
