@@ -572,15 +572,16 @@ def _best_stations(steps: list[tuple[PlanStep, str, int]], state: State,
 @dataclass
 class PlateTrip:
     """A plate's trip in a plan: one cook picks it up from a counter, bumps it against the
-    stations of its ingredients (scoops) and delivers it."""
+    stations of its ingredients (scoops) and delivers it or puts it down again."""
 
     pickup: int  # plan index of the plate's pickup
     scoops: list[int]  # plan indices of the scoops, in plan order
-    deliver: int  # plan index of the delivery
+    deliver: int  # plan index of the delivery or the put-down that ends the trip
 
 
 def plate_trips(steps: Sequence[tuple[PlanStep, str, int]], state: State) -> list[PlateTrip]:
-    """Every trip of a plate from a counter through at least one scoop to the window."""
+    """Every trip of a plate from a counter through at least one scoop to the window or
+    to a counter."""
     plates = {i for i, kind in enumerate(state.geo.item_kind) if kind == int(Item.PLATE)}
     terrain = state.geo.terrains[state.layout_index]
     out = []
@@ -597,7 +598,8 @@ def plate_trips(steps: Sequence[tuple[PlanStep, str, int]], state: State) -> lis
                     and nxt.items[1] == plate:
                 scoops.append(j)
                 continue
-            if nxt.kind == "deliver" and plate in nxt.items and scoops:
+            if scoops and (nxt.kind == "deliver" and plate in nxt.items
+                           or nxt.kind == "putdown" and nxt.items == (plate,)):
                 out.append(PlateTrip(i, scoops, j))
             break
     return out
@@ -607,7 +609,8 @@ def plate_carries(steps: list[tuple[PlanStep, str, int]], trip: PlateTrip,
                   state: State) -> list[list[tuple[PlanStep, str, int]]]:
     """The plan with the trip's first scoops turned into carries: each of those ingredients
     is picked up by hand and put on the plate where the plate lies, in every order, and the
-    plate is picked up after the last of them. The carries take the place of the last scoop
+    plate is picked up after the last of them (not at all when every scoop is carried and
+    the trip puts the plate back on the same counter). The carries take the place of the last scoop
     they replace, so a variant is left out when anything else touches the plate's counter,
     the plate, a carried ingredient or its station in between, or when the cells disagree
     (:func:`_cells_agree`)."""
@@ -628,9 +631,15 @@ def plate_carries(steps: list[tuple[PlanStep, str, int]], trip: PlateTrip,
                 scoop = steps[s][0]
                 block += [(replace(scoop, kind="pickup", items=scoop.items[:1]), TAKE, 1),
                           (replace(scoop, kind="plate", target=counter), RELEASE, 1)]
-            block.append(steps[trip.pickup])
+            tail = steps[last + 1:]
+            end = steps[trip.deliver][0]
+            if m == len(trip.scoops) and end.kind == "putdown" and end.target == counter:
+                # every scoop carried and the plate put back where it was: it never moves
+                tail = [e for i, e in enumerate(tail, last + 1) if i != trip.deliver]
+            else:
+                block.append(steps[trip.pickup])
             variant = [e for i, e in enumerate(steps[:last]) if i != trip.pickup
-                       and i not in carried] + block + steps[last + 1:]
+                       and i not in carried] + block + tail
             if _cells_agree(variant, state):
                 out.append(variant)
     return out

@@ -494,3 +494,24 @@ def test_a_plate_that_wanders_from_counter_to_counter_may_stay_home_throughout()
     variants = [[(s.kind, s.target) for s, _, _ in v] for v in plate_stays_home(plan, state)]
     assert [("pickup", _cell(state, 1, 6)), ("plate", home), ("pickup", _cell(state, 3, 6)),
             ("plate", home), ("pickup", home), ("deliver", _cell(state, 4, 2))] in variants
+
+
+def test_a_plate_fetched_for_a_scoop_and_put_back_need_not_move_at_all():
+    """The plate leaves (2,0) for the tomato on board (1,6) and is put back at (2,0): the
+    tomato may as well come to it, and the plate's pick-up and put-down go."""
+    state = _state(1)
+    tomato = _chopped(state, (0, 2), (1, 6))
+    plate, home = _item_at(state, 2, 0), _cell(state, 2, 0)
+    plan = [
+        (PlanStep(0, 0, "pickup", home, (plate,)), TAKE, 1),
+        (PlanStep(1, 0, "plate", _cell(state, 1, 6), (tomato, plate)), KEEP, 1),
+        (PlanStep(2, 0, "putdown", home, (plate,)), RELEASE, 1),
+        (PlanStep(3, 0, "pickup", home, (plate,)), TAKE, 1),
+        (PlanStep(4, 0, "deliver", _cell(state, 4, 2), (plate, tomato)), RELEASE, 1),
+    ]
+    (trip,) = plate_trips(plan, state)
+    assert (trip.pickup, trip.scoops, trip.deliver) == (0, [1], 2)
+    (variant,) = plate_carries(plan, trip, state)
+    assert [(s.kind, s.target) for s, _, _ in variant] == [
+        ("pickup", _cell(state, 1, 6)), ("plate", home), ("pickup", home),
+        ("deliver", _cell(state, 4, 2))]
