@@ -333,8 +333,12 @@ class _Scheduler:
                 for i, (start, _, step, a) in enumerate(placed)], p.cost()
 
 
-#: steps of slack the schedule keeps before a steak would burn on its pan
-_BURN_MARGIN = 2
+#: steps of slack the schedule keeps before a steak would burn on its pan: the executive
+#: replans when no queued step takes a steak with 6 ticks left (``burn_risk``), and a plan
+#: made in a hurry may trash the steak; Kairos on medium with one cook served 2.2-2.3 dishes
+#: with 2-4 steps of slack (a burn-risk replan in most episodes), 3.1-3.2 with 5-10
+#: (experiments/bench_executive.py, 10 seeds), Fast Downward 3.5 with 2 and with 6
+_BURN_MARGIN = 6
 #: how many of the first ready segments the rollout lookahead tries at each choice
 LOOKAHEAD = 4
 
