@@ -377,8 +377,9 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
     if not agents or any(s.agent not in agents for s, _, _ in steps):
         return _in_plan_order(steps)
     walks = _Walks(state, oracle or DistanceOracle(state.geo))
+    steps = without_idle_work(list(steps), state)
     best = None
-    for order in dish_orders(list(steps), state) if reorder_dishes else [list(steps)]:
+    for order in dish_orders(steps, state) if reorder_dishes else [steps]:
         if carry_to_plates:
             order = _best_plating(order, state, agents, walks, lookahead, swap_stations)
         elif swap_stations:
@@ -387,6 +388,29 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
         if out is not None and (best is None or out[1] < best[1]):
             best = out
     return _in_plan_order(steps) if best is None else best[0]
+
+
+def without_idle_work(steps: list[tuple[PlanStep, str, int]],
+                      state: State) -> list[tuple[PlanStep, str, int]]:
+    """The plan without the segments that serve nothing: no delivery in them, and no later
+    step touches a cell or item they touch (so no later step needs what they did), over and
+    over until none is left. A satisficing planner's plan may fetch an ingredient no order
+    needs and leave it on a board (Kairos on easy, seed 9, step 159: an onion fetched after
+    the onion order was served, four steps before the lettuce the last order wanted). A
+    segment of a cook that holds an item now stays (it frees the hand), and so does a plan
+    that delivers nothing (a piece of work, not a plan for orders)."""
+    if all(step.kind != "deliver" for step, _, _ in steps):
+        return steps
+    while True:
+        segs = segments(steps, state)
+        needed = set().union(*(seg.deps for seg in segs)) if segs else set()
+        idle = {id(entry) for k, seg in enumerate(segs)
+                if k not in needed and seg.pinned is None
+                and all(step.kind != "deliver" for step, _, _ in seg.steps)
+                for entry in seg.steps}
+        if not idle:
+            return steps
+        steps = [entry for entry in steps if id(entry) not in idle]
 
 
 #: at most this many dishes are put in every order (their permutations are each scheduled)
@@ -713,10 +737,14 @@ def _plate_stays(steps: list[tuple[PlanStep, str, int]], i: int,
 def plating_variants(steps: list[tuple[PlanStep, str, int]],
                      state: State) -> list[list[tuple[PlanStep, str, int]]]:
     """Every plan one plating change away: a plate that stays home (:func:`plate_stays_home`)
-    or a plate trip whose first scoops become carries (:func:`plate_carries`)."""
-    out = plate_stays_home(steps, state)
-    for trip in plate_trips(steps, state):
-        out += plate_carries(steps, trip, state)
+    or a plate trip whose first scoops become carries (:func:`plate_carries`), and a plate
+    that stays home with its trip's scoops carried (a move towards the boards and a scoop
+    there are one detour: dropping either alone may not pay)."""
+    homes = plate_stays_home(steps, state)
+    out = list(homes)
+    for plan in [steps, *homes]:
+        for trip in plate_trips(plan, state):
+            out += plate_carries(plan, trip, state)
     return out
 
 
@@ -776,4 +804,5 @@ def _resources(step: PlanStep) -> list[tuple[str, int]]:
 
 
 __all__ = ["KEEP", "RELEASE", "TAKE", "PlateTrip", "Segment", "Stay", "dish_orders",
-           "plate_carries", "plate_trips", "schedule", "segments", "station_stays"]
+           "plate_carries", "plate_trips", "schedule", "segments", "station_stays",
+           "without_idle_work"]

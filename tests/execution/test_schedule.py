@@ -464,11 +464,13 @@ def test_a_steak_served_earlier_in_the_plan_cooks_again_from_raw():
         (PlanStep(2, 0, "deliver", _cell(state, 6, 2), (plate, steak)), RELEASE, 1),
         (PlanStep(3, 0, "pickup", spawn, (steak,)), TAKE, 1),
         (PlanStep(4, 0, "putdown", pan, (steak,)), RELEASE, 1),
-        (PlanStep(5, 0, "pickup", pan, (steak,)), TAKE, 1),
+        (PlanStep(5, 0, "pickup", _cell(state, 4, 0), (plate,)), TAKE, 1),
+        (PlanStep(6, 0, "plate", pan, (steak, plate)), KEEP, 1),
+        (PlanStep(7, 0, "deliver", _cell(state, 6, 2), (plate, steak)), RELEASE, 1),
     ]
     out = schedule(plan, state, (0,))
-    put, take = ([s.start for s in out if (s.kind, s.target) == (kind, pan)][-1]
-                 for kind in ("putdown", "pickup"))
+    put = next(s.start for s in out if (s.kind, s.target) == ("putdown", pan))
+    take = next(s.start for s in out if s.target == pan and s.start > put)
     assert take >= put + 1 + state.rules.cook_time
 
 
@@ -515,3 +517,29 @@ def test_a_plate_fetched_for_a_scoop_and_put_back_need_not_move_at_all():
     assert [(s.kind, s.target) for s, _, _ in variant] == [
         ("pickup", _cell(state, 1, 6)), ("plate", home), ("pickup", home),
         ("deliver", _cell(state, 4, 2))]
+
+
+def test_work_that_serves_no_order_is_dropped():
+    """The tomato is served, and the onion is fetched to a board and left there: no later
+    step needs it, so it goes (before the delivery in plan order or after it). A plan that
+    delivers nothing is left whole."""
+    from ocplus_plan.execution.schedule import without_idle_work
+
+    state = _state(1)
+    plan = _plate_to_board(state)
+    onion = _item_at(state, 4, 4)
+    junk = [(PlanStep(3, 0, "pickup", _cell(state, 4, 4), (onion,)), TAKE, 1),
+            (PlanStep(4, 0, "putdown", _cell(state, 3, 6), (onion,)), RELEASE, 1)]
+    assert without_idle_work(junk + plan, state) == plan
+    assert without_idle_work(plan + junk, state) == plan
+    assert without_idle_work(junk, state) == junk
+    # a chop that the delivered dish needs is kept, with the carry before it
+    state = _state(1)
+    job = _chop_job(state, 0, (0, 2), (1, 6), 0)
+    tomato, plate = job[0][0].items[0], _item_at(state, 2, 0)
+    served = job + [
+        (PlanStep(3, 0, "pickup", _cell(state, 2, 0), (plate,)), TAKE, 1),
+        (PlanStep(4, 0, "plate", _cell(state, 1, 6), (tomato, plate)), KEEP, 1),
+        (PlanStep(5, 0, "deliver", _cell(state, 4, 2), (plate, tomato)), RELEASE, 1),
+    ]
+    assert without_idle_work(served, state) == served
