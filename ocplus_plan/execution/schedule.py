@@ -734,14 +734,46 @@ def _plate_stays(steps: list[tuple[PlanStep, str, int]], i: int,
     return variant if _cells_agree(variant, state) else None
 
 
+def unparked(steps: list[tuple[PlanStep, str, int]],
+             state: State) -> list[list[tuple[PlanStep, str, int]]]:
+    """The plan with an ingredient put straight where it goes next: an ingredient put down
+    on a counter, picked up there later and, as that cook's next step, put on a station
+    (Kairos parks a tomato on a counter on its way to the board) is put on that station
+    the first time, and the pick-up and second put-down go. One variant per parking, kept
+    when the cells agree (:func:`_cells_agree`)."""
+    plates = {q for q, kind in enumerate(state.geo.item_kind) if kind == int(Item.PLATE)}
+    terrain = state.geo.terrains[state.layout_index]
+    out = []
+    for i, (step, effect, _) in enumerate(steps):
+        if step.kind != "putdown" or effect != RELEASE or len(step.items) != 1 \
+                or step.items[0] in plates or terrain[step.target] not in COUNTERS:
+            continue
+        item, counter = step.items[0], step.target
+        later = [j for j in range(i + 1, len(steps))
+                 if item in steps[j][0].items or steps[j][0].target == counter]
+        if not later or steps[later[0]][0].kind != "pickup" or item not in steps[later[0]][0].items:
+            continue
+        take = later[0]
+        cook = steps[take][0].agent
+        put = next((j for j in range(take + 1, len(steps)) if steps[j][0].agent == cook), None)
+        if put is None or steps[put][0].kind != "putdown" or steps[put][0].items != (item,):
+            continue
+        variant = [(replace(s, target=steps[put][0].target), e, b) if j == i else (s, e, b)
+                   for j, (s, e, b) in enumerate(steps) if j not in (take, put)]
+        if _cells_agree(variant, state):
+            out.append(variant)
+    return out
+
+
 def plating_variants(steps: list[tuple[PlanStep, str, int]],
                      state: State) -> list[list[tuple[PlanStep, str, int]]]:
     """Every plan one plating change away: a plate that stays home (:func:`plate_stays_home`)
     or a plate trip whose first scoops become carries (:func:`plate_carries`), and a plate
     that stays home with its trip's scoops carried (a move towards the boards and a scoop
-    there are one detour: dropping either alone may not pay)."""
+    there are one detour: dropping either alone may not pay); and an ingredient put
+    straight on its station instead of parked on a counter first (:func:`unparked`)."""
     homes = plate_stays_home(steps, state)
-    out = list(homes)
+    out = list(homes) + unparked(steps, state)
     for plan in [steps, *homes]:
         for trip in plate_trips(plan, state):
             out += plate_carries(plan, trip, state)
@@ -805,4 +837,4 @@ def _resources(step: PlanStep) -> list[tuple[str, int]]:
 
 __all__ = ["KEEP", "RELEASE", "TAKE", "PlateTrip", "Segment", "Stay", "dish_orders",
            "plate_carries", "plate_trips", "schedule", "segments", "station_stays",
-           "without_idle_work"]
+           "unparked", "without_idle_work"]

@@ -543,3 +543,23 @@ def test_work_that_serves_no_order_is_dropped():
         (PlanStep(5, 0, "deliver", _cell(state, 4, 2), (plate, tomato)), RELEASE, 1),
     ]
     assert without_idle_work(served, state) == served
+
+
+def test_an_ingredient_parked_on_a_counter_may_go_straight_to_its_board():
+    """The tomato goes from its tile (0,2) to the counter (0,3), later from there to the
+    board (1,6): one variant puts it on the board at once."""
+    from ocplus_plan.execution.schedule import unparked
+
+    state = _state(1)
+    tomato = _item_at(state, 0, 2)
+    counter, board = _cell(state, 0, 3), _cell(state, 1, 6)
+    plan = [
+        (PlanStep(0, 0, "pickup", _cell(state, 0, 2), (tomato,)), TAKE, 1),
+        (PlanStep(1, 0, "putdown", counter, (tomato,)), RELEASE, 1),
+        (PlanStep(2, 0, "pickup", counter, (tomato,)), TAKE, 1),
+        (PlanStep(3, 0, "putdown", board, (tomato,)), RELEASE, 1),
+        (PlanStep(4, 0, "chop", board, (tomato,)), KEEP, 3),
+    ]
+    (variant,) = unparked(plan, state)
+    assert [(s.kind, s.target) for s, _, _ in variant] == [
+        ("pickup", _cell(state, 0, 2)), ("putdown", board), ("chop", board)]
