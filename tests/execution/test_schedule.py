@@ -395,20 +395,26 @@ def test_the_schedule_carries_to_the_plate_when_that_ends_sooner():
     assert max(s.start for s in out) < max(s.start for s in kept)
 
 
-def test_a_plate_moved_next_to_the_boards_may_stay_home():
+def _plate_moved_for_the_tomato(state):
     """The plate goes from (2,0) to the counter (0,5) by the boards, the chopped tomato is
-    brought to it there, and it is picked up again: the variant leaves it at (2,0)."""
-    state = _state(2)
+    brought to it there, and it is picked up again. (plan, tomato, plate, home, away)"""
     tomato = _chopped(state, (0, 2), (1, 6))
     plate, home, away = _item_at(state, 2, 0), _cell(state, 2, 0), _cell(state, 0, 5)
-    plan = [
+    return [
         (PlanStep(0, 0, "pickup", home, (plate,)), TAKE, 1),
         (PlanStep(1, 0, "putdown", away, (plate,)), RELEASE, 1),
         (PlanStep(2, 0, "pickup", _cell(state, 1, 6), (tomato,)), TAKE, 1),
         (PlanStep(3, 0, "plate", away, (tomato, plate)), RELEASE, 1),
         (PlanStep(4, 0, "pickup", away, (plate,)), TAKE, 1),
-        (PlanStep(5, 0, "deliver", _cell(state, 4, 2), (plate, tomato)), RELEASE, 1),
-    ]
+    ], tomato, plate, home, away
+
+
+def test_a_plate_moved_next_to_the_boards_may_stay_home():
+    """The plate moves to the boards, gets the tomato there and is served: the variant
+    leaves it at (2,0)."""
+    state = _state(2)
+    trip, tomato, plate, home, _ = _plate_moved_for_the_tomato(state)
+    plan = trip + [(PlanStep(5, 0, "deliver", _cell(state, 4, 2), (plate, tomato)), RELEASE, 1)]
     (variant,) = plate_stays_home(plan, state)
     assert [(s.kind, s.target) for s, _, _ in variant] == [
         ("pickup", _cell(state, 1, 6)), ("plate", home), ("pickup", home),
@@ -478,15 +484,9 @@ def test_a_plate_that_wanders_from_counter_to_counter_may_stay_home_throughout()
     """The plate goes (2,0) -> (0,5) (the tomato is brought there) -> back to (2,0) (the
     onion is brought there) and out: one variant drops both moves."""
     state = _state(2)
-    tomato = _chopped(state, (0, 2), (1, 6))
     onion = _chopped(state, (4, 4), (3, 6))
-    plate, home, away = _item_at(state, 2, 0), _cell(state, 2, 0), _cell(state, 0, 5)
-    plan = [
-        (PlanStep(0, 0, "pickup", home, (plate,)), TAKE, 1),
-        (PlanStep(1, 0, "putdown", away, (plate,)), RELEASE, 1),
-        (PlanStep(2, 0, "pickup", _cell(state, 1, 6), (tomato,)), TAKE, 1),
-        (PlanStep(3, 0, "plate", away, (tomato, plate)), RELEASE, 1),
-        (PlanStep(4, 0, "pickup", away, (plate,)), TAKE, 1),
+    trip, tomato, plate, home, _ = _plate_moved_for_the_tomato(state)
+    plan = trip + [
         (PlanStep(5, 0, "putdown", home, (plate,)), RELEASE, 1),
         (PlanStep(6, 0, "pickup", _cell(state, 3, 6), (onion,)), TAKE, 1),
         (PlanStep(7, 0, "plate", home, (onion, plate)), RELEASE, 1),
