@@ -138,7 +138,8 @@ def test_a_binary_drives_the_executive(tmp_path):
     config = _config(tmp_path, "solve", timeout=30)
     agent = make_controller(f"planner:{tmp_path / 'toy.yaml'}")
     state = new_state(make_rules("easy"), 0)
-    run_episode(state, agent, steps=50)  # one plan (a few seconds: the script imports UP)
+    run_episode(state, agent, steps=50)  # a plan or two (seconds each: the script imports UP)
     assert agent.info()["planner"] == str(tmp_path / "toy.yaml") and config.name == "toy"
-    assert agent.info()["statuses"] == {"solved": 1}
+    statuses = agent.info()["statuses"]
+    assert set(statuses) == {"solved"} and statuses["solved"] >= 1, statuses
     assert state.stats["orders_completed"] >= 1
