@@ -5,14 +5,16 @@ and exposes ``n_kitchens * n_agents`` slots (slot ``j * n_agents + a`` is agent 
 kitchen ``j``). One PPO policy acts for every slot, so every agent is driven by the same
 network from its own observation, and every agent's experience trains it.
 
-Two engines step the kitchens. ``engine="loop"`` (default) runs ``transition`` and the
-encoder per kitchen: every observation kind, the full reward shaping (it reads the
-step's events) and curricula. ``engine="batch"`` steps all kitchens in the batched
-engine (:class:`ocplus_plan.sim.batch.BatchSim`, the same rules bit for bit): ``grid``
-observations, one rule set, and of the shaping only the subtask part (counted per agent
-by the engine), so the other :class:`Shaping` weights must be 0. Episodes end at the
-rules' horizon; a kitchen then resets with the next seed of its own deterministic
-sequence (the two engines draw different seeds). Finished episodes are queued in
+Two engines step the kitchens, with the same results bit for bit. ``engine="loop"``
+(default) runs ``transition``, the encoder and :class:`RewardShaper` per kitchen; it is
+the reference, and the only engine for curricula (several rule sets). ``engine="batch"``
+steps all kitchens in the batched engine (:class:`ocplus_plan.sim.batch.BatchSim`) and
+computes ``features`` observations and the full shaping as arrays
+(:class:`ocplus_plan.rl.features_batch.BatchFeatures`; ``grid`` observations are the
+engine's own). Episodes end at the rules' horizon; kitchen ``j`` then resets with the
+next seed of its own sequence (:func:`ocplus_plan.sim.batch.seed_sequence`, the same on
+both engines, so the same actions give the same observations and rewards: see
+``tests/rl/test_features_batch.py``). Finished episodes are queued in
 :attr:`KitchenVecEnv.finished` for the logging callback.
 
 Imports stable-baselines3 at module level: import it only where the ``rl`` extra is
@@ -29,7 +31,7 @@ from gymnasium import spaces
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
 from ..errors import ConfigError
-from ..sim.batch import BatchSim
+from ..sim.batch import BatchSim, next_seed, seed_sequence
 from ..sim.batch_kernels import C_T, DISHES
 from ..sim.rules import Rules
 from ..sim.state import State, new_state
@@ -93,11 +95,12 @@ class KitchenVecEnv(VecEnv):
         self.reward_scale = float(reward_scale)
         self.shaping_coef = 1.0
         self.base_seed = int(seed)
-        self._episode_counter = 0
+        self._seed_rngs = [seed_sequence(self.base_seed, j) for j in range(n_kitchens)]
         self.finished: list[dict[str, Any]] = []
         #: id(rules) -> a name for the episode log (curriculum stages); default: the preset
         self.rule_labels: dict[int, str] = {}
         self.shapers = [RewardShaper(shaping or Shaping()) for _ in range(n_kitchens)]
+        self.features: Any = None
         self.batch = self._batch_engine(engine, shaping or Shaping(), seed)
         self.states: list[State] = []
         self._game_return = [0.0] * n_kitchens
@@ -129,8 +132,7 @@ class KitchenVecEnv(VecEnv):
         self.rule_list = rule_list
 
     def _new_episode(self, kitchen: int) -> State:
-        seed = self.base_seed * 1_000_003 + self._episode_counter
-        self._episode_counter += 1
+        seed = next_seed(self._seed_rngs[kitchen])
         state = new_state(self.rule_list[kitchen % len(self.rule_list)], seed)
         self.shapers[kitchen].reset(state)
         self._game_return[kitchen] = 0.0
@@ -146,25 +148,32 @@ class KitchenVecEnv(VecEnv):
             return None
         if engine != "batch":
             raise ConfigError(f"engine must be 'loop' or 'batch', got {engine!r}")
-        others = {k: v for k, v in vars(shaping).items() if k != "subtask_scale" and v}
-        if self._obs_kind != "grid" or len(self.rule_list) != 1 or others:
+        if len(self.rule_list) != 1:
             raise ConfigError(
-                "engine='batch' takes obs='grid', one rule set and shaping with only "
-                f"subtask_scale (got obs={self._obs_kind!r}, {len(self.rule_list)} rule sets, "
-                f"shaping weights {others}); use engine='loop' for the others"
+                f"engine='batch' steps one rule set, got {len(self.rule_list)} (a curriculum); "
+                "use engine='loop' for curricula"
             )
-        self._subtask_scale = shaping.subtask_scale
-        self._grid_scale = self._encoder(self.rule_list[0])._scale
-        return BatchSim(self.rule_list[0], self.n_kitchens, seed=seed,
-                        obs_radius=self._obs_radius)
+        from .features_batch import BatchFeatures
+
+        grid = self._obs_kind == "grid"
+        sim = BatchSim(self.rule_list[0], self.n_kitchens, seed=seed,
+                       obs_radius=self._obs_radius, observe=grid)
+        self.features = BatchFeatures(sim, shaping)
+        if grid:
+            self._grid_scale = self._encoder(self.rule_list[0])._scale
+        return sim
 
     def _batch_obs(self) -> np.ndarray:
-        return (self.batch.obs * self._grid_scale).reshape(self.num_envs, self.obs_size)
+        """Every slot's observation (a new array: SB3 keeps the last one across a step)."""
+        if self._obs_kind == "grid":
+            return (self.batch.obs * self._grid_scale).reshape(self.num_envs, self.obs_size)
+        return self.features.encode().reshape(self.num_envs, self.obs_size).copy()
 
     # ------------------------------------------------------------ VecEnv API
     def reset(self) -> np.ndarray:
         if self.batch is not None:
             self.batch.reset()
+            self.features.reset(np.arange(self.n_kitchens))
             self._game_return = [0.0] * self.n_kitchens
             self._train_return[:] = 0.0
             return self._batch_obs()
@@ -223,22 +232,17 @@ class KitchenVecEnv(VecEnv):
         """:meth:`step_wait` on the batched engine (the same bookkeeping, as arrays)."""
         n, sim = self.n_agents, self.batch
         terminated, truncated = sim.step_active(self._actions.reshape(self.n_kitchens, n))
-        game = sim.arrays.rewards
-        subtask = sim.arrays.subtasks * self.rule_list[0].rewards.subtask_finished
-        true, shaped = game - subtask, self._subtask_scale * subtask
-        if self.team_reward:
-            r = true.sum(axis=1, keepdims=True) + self.shaping_coef * shaped
-        else:
-            r = true + self.shaping_coef * shaped
+        r = self.features.rewards(self.shaping_coef, self.team_reward)
         self._train_return += r
-        game_total = game.sum(axis=1)
+        game_total = sim.arrays.rewards.sum(axis=1)
         infos: list[dict[str, Any]] = [{} for _ in range(self.num_envs)]
         dones = np.repeat(terminated | truncated, n)
         for j in range(self.n_kitchens):
             self._game_return[j] += float(game_total[j])
         ended = np.flatnonzero(terminated | truncated)
+        obs = self._batch_obs()
         if len(ended):
-            final = self._batch_obs()
+            final = obs
             for j in ended.tolist():
                 steps = int(sim.arrays.clock[j, C_T])
                 self.finished.append({
@@ -258,8 +262,10 @@ class KitchenVecEnv(VecEnv):
                 self._game_return[j] = 0.0
                 self._train_return[j] = 0.0
             sim.reset_envs(ended)
+            self.features.reset(ended)
+            obs = self._batch_obs()
         rewards = r.reshape(-1).astype(np.float32)
-        return self._batch_obs(), rewards * self.reward_scale, dones, infos
+        return obs, rewards * self.reward_scale, dones, infos
 
     def close(self) -> None:
         self.states = []

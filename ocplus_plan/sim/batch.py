@@ -48,6 +48,18 @@ _STATIC_CHANNELS = _CH_KIND0  # terrain one-hots and ``unknown`` come first
 _INGREDIENTS = (Item.TOMATO, Item.LETTUCE, Item.ONION, Item.STEAK)
 
 
+def seed_sequence(seed: int, kitchen: int) -> np.random.Generator:
+    """The generator of kitchen ``kitchen``'s episode seeds in a batch seeded ``seed``
+    (:func:`next_seed` draws one); anything that runs kitchens one by one and wants the
+    batch's episodes uses it too."""
+    return np.random.default_rng([seed, kitchen])
+
+
+def next_seed(seeds: np.random.Generator) -> int:
+    """The next episode seed from a :func:`seed_sequence`."""
+    return int(seeds.integers(_SEED_HIGH))
+
+
 class BatchStep(NamedTuple):
     obs: np.ndarray  # (n_envs, n_agents, size) float32, after any restart (a view: copy to keep)
     rewards: np.ndarray  # (n_envs, n_agents) float32
@@ -198,7 +210,7 @@ class BatchSim:
     # ------------------------------------------------------------ public
     def reseed(self, seed: int) -> None:
         """Restart the kitchens' episode-seed sequences from ``seed`` (next resets use it)."""
-        self._seed_rngs = [np.random.default_rng([seed, i]) for i in range(self.n_envs)]
+        self._seed_rngs = [seed_sequence(seed, i) for i in range(self.n_envs)]
 
     @property
     def obs(self) -> np.ndarray:
@@ -216,7 +228,7 @@ class BatchSim:
         """Start the next episode of each listed kitchen (seeded from its own sequence)."""
         envs = np.asarray(envs, np.int64).reshape(-1)
         for e in envs.tolist():
-            self.seeds[e] = int(self._seed_rngs[e].integers(_SEED_HIGH))
+            self.seeds[e] = next_seed(self._seed_rngs[e])
             self._start_draws(e, np.random.default_rng(self.seeds[e]))
         self._k.reset_some(self.arrays, self.static, envs)
         self._started = True
@@ -364,4 +376,5 @@ class BatchSim:
             self._drawn_before[e] += used
 
 
-__all__ = ["BatchSim", "BatchStep", "compile_kernels", "kernels", "numba_available", "static_arrays"]
+__all__ = ["BatchSim", "BatchStep", "compile_kernels", "kernels", "next_seed", "numba_available",
+           "seed_sequence", "static_arrays"]
