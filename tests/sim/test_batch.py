@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from ocplus_plan.agents.greedy import GreedyAgent
 from ocplus_plan.errors import ConfigError, DependencyNotInstalled, InvalidActionError
 from ocplus_plan.sim import make_rules, new_state, transition
-from ocplus_plan.sim.batch import BatchSim, kernels, numba_available
+from ocplus_plan.sim.batch import BatchSim, compile_kernels, kernels, numba_available
 from ocplus_plan.sim.observe import VectorEncoder
 
 needs_numba = pytest.mark.skipif(not numba_available(),
@@ -157,14 +157,14 @@ def test_compiled_kernels_without_numba_name_the_extra(monkeypatch):
             raise ImportError("no numba here")
         return real_import(name, *args, **kwargs)
 
-    kernels.cache_clear()
+    compile_kernels.cache_clear()
     monkeypatch.setattr(builtins, "__import__", no_numba)
     try:
         with pytest.raises(DependencyNotInstalled, match=r"ocplus-plan\[fast\]"):
             kernels(True)
     finally:
         monkeypatch.undo()
-        kernels.cache_clear()
+        compile_kernels.cache_clear()
 
 
 def test_memory_per_kitchen_is_reported_and_a_window_is_smaller():
