@@ -51,10 +51,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="steps between checkpoints (default: steps / 5)")
     s = p.add_argument_group("speed")
     s.add_argument("--engine", default="auto", choices=("auto", "batch", "loop"),
-                   help="batch: the batched engine (fast extra; one rule set); loop: one "
-                        "transition per kitchen (the reference; also curricula); auto: batch "
-                        "when the fast extra is installed and there is no curriculum. Same "
-                        "observations and rewards either way")
+                   help="batch: the batched engine (fast extra); loop: one transition per "
+                        "kitchen (the reference); auto: batch when the fast extra is "
+                        "installed. Same observations and rewards either way")
     s.add_argument("--torch-threads", type=int, default=1,
                    help="torch CPU threads (the machine is shared: 1 unless it is yours)")
     s.add_argument("--max-wall", type=float, default=None, metavar="SECONDS",

@@ -75,22 +75,27 @@ class BatchFeatures:
         self._paid = np.zeros((sim.n_envs, len(self.tables.kind)), np.int32)
         self.true = np.zeros(shape)  # game reward without the subtask part, last step
         self.reward = np.zeros(shape)  # what the learner sees (before scaling), last step
+        self._all = np.ones(sim.n_envs, bool)
 
     def reset(self, envs: np.ndarray) -> None:
         """Kitchens ``envs`` start an episode: nothing carried, no milestone paid."""
         self._potential[envs] = 0.0
         self._paid[envs] = 0
 
-    def encode(self) -> np.ndarray:
-        """Every agent's features now (:attr:`obs`, rewritten in place)."""
-        self.sim.split(self._k.features_range, self.sim.arrays, self.tables, self.obs)
+    def encode(self, active: np.ndarray | None = None) -> np.ndarray:
+        """Every agent's features now (:attr:`obs`, rewritten in place; only the kitchens
+        with ``active``, all by default)."""
+        self.sim.split(self._k.features_range, self.sim.arrays, self.tables, self.obs,
+                       self._all if active is None else active)
         return self.obs
 
-    def rewards(self, coef: float, team: bool) -> np.ndarray:
-        """After a step of every kitchen: per agent, the true reward (the team's sum when
-        ``team``) plus ``coef`` times the shaping, as :attr:`reward`."""
+    def rewards(self, coef: float, team: bool, active: np.ndarray | None = None) -> np.ndarray:
+        """After a step of the kitchens with ``active`` (all by default): per agent, the
+        true reward (the team's sum when ``team``) plus ``coef`` times the shaping, as
+        :attr:`reward`."""
         self.sim.split(self._k.shaping_range, self.sim.arrays, self.tables, self._potential,
-                       self._paid, float(coef), bool(team), self.true, self.reward)
+                       self._paid, float(coef), bool(team), self.true, self.reward,
+                       self._all if active is None else active)
         return self.reward
 
     def memory_per_kitchen(self) -> int:

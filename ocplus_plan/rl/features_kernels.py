@@ -70,8 +70,9 @@ class FeatureTables(NamedTuple):
 
 
 # ---------------------------------------------------------------- entry points
-def features_range(k, g, out, start, stop):
-    """Every agent's features of envs ``start .. stop - 1`` into ``out`` (E, agents, size)."""
+def features_range(k, g, out, active, start, stop):
+    """Every agent's features of the envs ``e`` in ``start .. stop - 1`` with ``active[e]``
+    into ``out`` (E, agents, size)."""
     n_cells = g.nbrs.shape[0]
     dist = np.empty(n_cells, np.int64)
     first = np.empty(n_cells, np.int64)
@@ -84,21 +85,26 @@ def features_range(k, g, out, start, stop):
     counts = np.zeros(4, np.int64)
     gap = np.zeros((2, 4), np.int64)
     for e in range(start, stop):
+        if not active[e]:
+            continue
         wanted_kinds(e, k.orders, g.recipes, wanted)
         for a in range(k.agents.shape[2]):
             encode(e, a, k.clock, k.agents, k.cells, k.items, k.orders, g, out, dist, first,
                    queue, reach, free, best, wanted, counts, gap)
 
 
-def shaping_range(k, g, before, paid, coef, team, true, out, start, stop):
+def shaping_range(k, g, before, paid, coef, team, true, out, active, start, stop):
     """Each agent's training reward after a step (``RewardShaper.step`` then the vec env's
     mix): ``true`` gets the game reward without the subtask part, ``out`` the reward the
     learner sees before scaling; ``before`` (E, agents) holds the potentials and ``paid``
-    (E, items) the life + 1 in which an item's ``stage`` milestone was paid."""
+    (E, items) the life + 1 in which an item's ``stage`` milestone was paid; envs without
+    ``active[e]`` are left alone."""
     w = g.weights
     n = k.agents.shape[2]
     counts = np.zeros(4, np.int64)
     for e in range(start, stop):
+        if not active[e]:
+            continue
         lay = k.clock[e, C_LAYOUT]
         team_true = 0.0
         for a in range(n):

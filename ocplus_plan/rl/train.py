@@ -57,10 +57,9 @@ class TrainConfig:
     curriculum_fraction: float = 0.3
     init: str | None = None
     checkpoint_every: int | None = None
-    #: "batch" (the batched engine, numba: one rule set), "loop" (per-kitchen
-    #: ``transition``, the reference: also curricula) or "auto": batch when the ``fast``
-    #: extra is installed and there is no curriculum, else loop. Same observations and
-    #: rewards either way.
+    #: "batch" (the batched engine, numba), "loop" (per-kitchen ``transition``, the
+    #: reference) or "auto": batch when the ``fast`` extra is installed, else loop. Same
+    #: observations and rewards either way.
     engine: str = "auto"
     torch_threads: int = 1
     #: stop (and save) after this many seconds of training; None = no limit
@@ -70,8 +69,7 @@ class TrainConfig:
         if self.engine == "auto":
             from ..sim.batch import numba_available
 
-            fast = numba_available() and not self.curriculum
-            object.__setattr__(self, "engine", "batch" if fast else "loop")
+            object.__setattr__(self, "engine", "batch" if numba_available() else "loop")
 
     def validate(self) -> None:
         for name in ("steps", "n_kitchens", "n_steps", "batch_size", "n_epochs"):

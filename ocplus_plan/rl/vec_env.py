@@ -6,10 +6,11 @@ kitchen ``j``). One PPO policy acts for every slot, so every agent is driven by 
 network from its own observation, and every agent's experience trains it.
 
 Two engines step the kitchens, with the same results bit for bit. ``engine="loop"``
-(default) runs ``transition``, the encoder and :class:`RewardShaper` per kitchen; it is
-the reference, and the only engine for curricula (several rule sets). ``engine="batch"``
-steps all kitchens in the batched engine (:class:`ocplus_plan.sim.batch.BatchSim`) and
-computes ``features`` observations and the full shaping as arrays
+(default) runs ``transition``, the encoder and :class:`RewardShaper` per kitchen: the
+reference. ``engine="batch"`` steps all kitchens in the batched engine
+(:class:`ocplus_plan.sim.batch.BatchSim`, one per rule set of a curriculum:
+:class:`ocplus_plan.rl.batch_kitchens.BatchKitchens`) and computes ``features``
+observations and the full shaping as arrays
 (:class:`ocplus_plan.rl.features_batch.BatchFeatures`; ``grid`` observations are the
 engine's own). Episodes end at the rules' horizon; kitchen ``j`` then resets with the
 next seed of its own sequence (:func:`ocplus_plan.sim.batch.seed_sequence`, the same on
@@ -31,8 +32,7 @@ from gymnasium import spaces
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
 from ..errors import ConfigError
-from ..sim.batch import BatchSim, next_seed, seed_sequence
-from ..sim.batch_kernels import C_T, DISHES
+from ..sim.batch import next_seed, seed_sequence
 from ..sim.rules import Rules
 from ..sim.state import State, new_state
 from ..sim.step import transition
@@ -100,7 +100,6 @@ class KitchenVecEnv(VecEnv):
         #: id(rules) -> a name for the episode log (curriculum stages); default: the preset
         self.rule_labels: dict[int, str] = {}
         self.shapers = [RewardShaper(shaping or Shaping()) for _ in range(n_kitchens)]
-        self.features: Any = None
         self.batch = self._batch_engine(engine, shaping or Shaping(), seed)
         self.states: list[State] = []
         self._game_return = [0.0] * n_kitchens
@@ -143,39 +142,34 @@ class KitchenVecEnv(VecEnv):
         state = self.states[kitchen]
         return self._encoder(state.rules).encode_all(state)
 
-    def _batch_engine(self, engine: str, shaping: Shaping, seed: int) -> BatchSim | None:
+    def _batch_engine(self, engine: str, shaping: Shaping, seed: int) -> Any:
         if engine == "loop":
             return None
         if engine != "batch":
             raise ConfigError(f"engine must be 'loop' or 'batch', got {engine!r}")
-        if len(self.rule_list) != 1:
-            raise ConfigError(
-                f"engine='batch' steps one rule set, got {len(self.rule_list)} (a curriculum); "
-                "use engine='loop' for curricula"
-            )
-        from .features_batch import BatchFeatures
+        from .batch_kitchens import BatchKitchens
 
-        grid = self._obs_kind == "grid"
-        sim = BatchSim(self.rule_list[0], self.n_kitchens, seed=seed,
-                       obs_radius=self._obs_radius, observe=grid)
-        self.features = BatchFeatures(sim, shaping)
-        if grid:
-            self._grid_scale = self._encoder(self.rule_list[0])._scale
-        return sim
+        scale = None
+        if self._obs_kind == "grid":
+            def scale(rules: Rules) -> np.ndarray:
+                return self._encoder(rules)._scale
+        return BatchKitchens(self.n_kitchens, seed, shaping, self._obs_radius, scale)
 
     def _batch_obs(self) -> np.ndarray:
         """Every slot's observation (a new array: SB3 keeps the last one across a step)."""
-        if self._obs_kind == "grid":
-            return (self.batch.obs * self._grid_scale).reshape(self.num_envs, self.obs_size)
-        return self.features.encode().reshape(self.num_envs, self.obs_size).copy()
+        return self.batch.obs().reshape(self.num_envs, self.obs_size)
+
+    def _start_batch(self, kitchens: list[int]) -> None:
+        rules = [self.rule_list[j % len(self.rule_list)] for j in kitchens]
+        self.batch.start(kitchens, rules, [next_seed(self._seed_rngs[j]) for j in kitchens])
+        for j in kitchens:
+            self._game_return[j] = 0.0
+            self._train_return[j] = 0.0
 
     # ------------------------------------------------------------ VecEnv API
     def reset(self) -> np.ndarray:
         if self.batch is not None:
-            self.batch.reset()
-            self.features.reset(np.arange(self.n_kitchens))
-            self._game_return = [0.0] * self.n_kitchens
-            self._train_return[:] = 0.0
+            self._start_batch(list(range(self.n_kitchens)))
             return self._batch_obs()
         self.states = [self._new_episode(j) for j in range(self.n_kitchens)]
         return np.concatenate([self._encode(j) for j in range(self.n_kitchens)])
@@ -230,45 +224,41 @@ class KitchenVecEnv(VecEnv):
 
     def _step_batch(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
         """:meth:`step_wait` on the batched engine (the same bookkeeping, as arrays)."""
-        n, sim = self.n_agents, self.batch
-        terminated, truncated = sim.step_active(self._actions.reshape(self.n_kitchens, n))
-        r = self.features.rewards(self.shaping_coef, self.team_reward)
+        n = self.n_agents
+        ended, r = self.batch.step(self._actions.reshape(self.n_kitchens, n),
+                                   self.shaping_coef, self.team_reward)
         self._train_return += r
-        game_total = sim.arrays.rewards.sum(axis=1)
+        for j, g in enumerate(self.batch.game_rewards().tolist()):
+            self._game_return[j] += g
         infos: list[dict[str, Any]] = [{} for _ in range(self.num_envs)]
-        dones = np.repeat(terminated | truncated, n)
-        for j in range(self.n_kitchens):
-            self._game_return[j] += float(game_total[j])
-        ended = np.flatnonzero(terminated | truncated)
+        dones = np.repeat(ended, n)
         obs = self._batch_obs()
-        if len(ended):
-            final = obs
-            for j in ended.tolist():
-                steps = int(sim.arrays.clock[j, C_T])
-                self.finished.append({
-                    "kitchen": j, "preset": self.rule_list[0].preset,
-                    "rules": self.rule_labels.get(id(self.rule_list[0]),
-                                                  self.rule_list[0].preset),
-                    "map": self.rule_list[0].layout.name, "seed": sim.seeds[j],
-                    "steps": steps, "game_reward": self._game_return[j],
-                    "train_return": float(self._train_return[j].mean()),
-                    "dishes": int(sim.arrays.stats[j, DISHES]),
-                    "shaping_coef": self.shaping_coef,
-                })
-                for a in range(n):
-                    infos[j * n + a]["terminal_observation"] = final[j * n + a]
-                    infos[j * n + a]["episode"] = {"r": float(self._train_return[j, a]),
-                                                   "l": steps}
-                self._game_return[j] = 0.0
-                self._train_return[j] = 0.0
-            sim.reset_envs(ended)
-            self.features.reset(ended)
+        kitchens = np.flatnonzero(ended).tolist()
+        for j in kitchens:
+            ep = self.batch.episode(j)
+            rules = ep["rules"]
+            self.finished.append({
+                "kitchen": j, "preset": rules.preset,
+                "rules": self.rule_labels.get(id(rules), rules.preset),
+                "map": rules.layout.name, "seed": ep["seed"], "steps": ep["steps"],
+                "game_reward": self._game_return[j],
+                "train_return": float(self._train_return[j].mean()),
+                "dishes": ep["dishes"], "shaping_coef": self.shaping_coef,
+            })
+            for a in range(n):
+                infos[j * n + a]["terminal_observation"] = obs[j * n + a]
+                infos[j * n + a]["episode"] = {"r": float(self._train_return[j, a]),
+                                               "l": ep["steps"]}
+        if kitchens:
+            self._start_batch(kitchens)
             obs = self._batch_obs()
         rewards = r.reshape(-1).astype(np.float32)
         return obs, rewards * self.reward_scale, dones, infos
 
     def close(self) -> None:
         self.states = []
+        if self.batch is not None:
+            self.batch.close()
 
     def get_attr(self, attr_name: str, indices: Any = None) -> list[Any]:
         return [getattr(self, attr_name) for _ in self._get_indices(indices)]

@@ -224,11 +224,12 @@ class BatchSim:
         self.episodes[:] = 0
         return self.arrays.obs
 
-    def reset_envs(self, envs: np.ndarray) -> None:
-        """Start the next episode of each listed kitchen (seeded from its own sequence)."""
+    def reset_envs(self, envs: np.ndarray, seeds: list[int] | None = None) -> None:
+        """Start the next episode of each listed kitchen, seeded from its own sequence or
+        with the given ``seeds`` (one per kitchen listed)."""
         envs = np.asarray(envs, np.int64).reshape(-1)
-        for e in envs.tolist():
-            self.seeds[e] = next_seed(self._seed_rngs[e])
+        for j, e in enumerate(envs.tolist()):
+            self.seeds[e] = next_seed(self._seed_rngs[e]) if seeds is None else int(seeds[j])
             self._start_draws(e, np.random.default_rng(self.seeds[e]))
         self._k.reset_some(self.arrays, self.static, envs)
         self._started = True

@@ -177,7 +177,8 @@ def test_batch_engine_vec_env_matches_its_kitchens_and_trains(tmp_path: Path):
     obs = venv.reset()
     enc = GridEncoder(rules)
     for j in range(3):
-        np.testing.assert_array_equal(obs[2 * j : 2 * j + 2], enc.encode_all(venv.batch.state(j)))
+        state = venv.batch.engine(rules)[1].state(j)
+        np.testing.assert_array_equal(obs[2 * j : 2 * j + 2], enc.encode_all(state))
     for t in range(5):
         venv.step_async(np.full(6, 4))
         obs, rew, dones, infos = venv.step_wait()
