@@ -190,3 +190,18 @@ def test_threads_step_disjoint_kitchens_to_the_same_result():
         [two.state(e).state_hash() for e in (0, 150, 299)]
     two.close()
     assert two._pool is None
+
+
+def test_without_observations_the_kitchens_step_the_same_in_less_memory():
+    rules = make_rules("hard", **QUICK)
+    seen, blind = (BatchSim(rules, 3, seed=2, compiled=False, observe=o) for o in (True, False))
+    seen.reset()
+    blind.reset()
+    rng = np.random.default_rng(0)
+    for _ in range(12):
+        acts = rng.integers(0, 5, size=(3, 2))
+        seen.step(acts)
+        blind.step(acts)
+    assert blind.obs.size == 0 and blind.memory_per_kitchen() < 1024
+    assert [s.state(e).state_hash() for s in (seen, blind) for e in range(3)] == \
+        [seen.state(e).state_hash() for _ in range(2) for e in range(3)]
