@@ -48,10 +48,26 @@ def feature_tables(rules: Rules, shaping: Shaping) -> fk.FeatureTables:
     weights = np.array([shaping.subtask_scale, shaping.stage, shaping.useful_plate,
                         shaping.carry_fresh, shaping.carry_ready, shaping.carry_dish,
                         rules.rewards.subtask_finished], np.float64)
+    walk, nbrs = np.array(geo.walkables, bool), np.array(geo.neighbors, i64)
     return fk.FeatureTables(
-        params, np.array(geo.terrains, i64), np.array(geo.walkables, bool),
-        np.array(geo.neighbors, i64), interact, is_counter, np.array(geo.item_kind, i64),
-        kind_index, recipes, to_delivery, weights)
+        params, np.array(geo.terrains, i64), walk, nbrs, interact, is_counter,
+        np.array(geo.item_kind, i64), kind_index, recipes, to_delivery, weights,
+        _free_reach(walk, nbrs, interact))
+
+
+def _free_reach(walk: np.ndarray, nbrs: np.ndarray, interact: np.ndarray) -> np.ndarray:
+    """Per layout and cell, the kernels' ``reach_cells`` from there ignoring other agents
+    (static: the fallback of a path that only other agents block)."""
+    n_lay, n_cells = walk.shape
+    out = np.zeros((n_lay, n_cells, 2, interact.shape[1]), np.int64)
+    agents = np.zeros((1, 2, 1), np.int64)  # one agent, moved over every cell
+    dist, first, queue = (np.empty(n_cells, np.int64) for _ in range(3))
+    for lay in range(n_lay):
+        for pos in range(n_cells):
+            agents[0, 0, 0] = pos
+            fk.bfs(0, 0, lay, agents, walk, nbrs, False, dist, first, queue)
+            fk.reach_cells(pos, lay, interact, nbrs, dist, first, out[lay, pos])
+    return out
 
 
 class BatchFeatures:

@@ -67,6 +67,7 @@ class FeatureTables(NamedTuple):
     recipes: np.ndarray  # int64 (recipes, 4) ingredient counts
     to_delivery: np.ndarray  # int64 (layouts, cells): steps to a serving spot, -1
     weights: np.ndarray  # float64 (7,) W_*
+    free_reach: np.ndarray  # int64 (layouts, cells, 2, K): reach_cells ignoring other agents
 
 
 # ---------------------------------------------------------------- entry points
@@ -79,7 +80,6 @@ def features_range(k, g, out, active, start, stop):
     queue = np.empty(n_cells, np.int64)
     n_k = g.interact.shape[1]
     reach = np.empty((2, n_k), np.int64)
-    free = np.empty((2, n_k), np.int64)
     best = np.empty((3, N_TARGETS), np.int64)
     wanted = np.zeros(5, np.bool_)
     counts = np.zeros(4, np.int64)
@@ -90,7 +90,7 @@ def features_range(k, g, out, active, start, stop):
         wanted_kinds(e, k.orders, g.recipes, wanted)
         for a in range(k.agents.shape[2]):
             encode(e, a, k.clock, k.agents, k.cells, k.items, k.orders, g, out, dist, first,
-                   queue, reach, free, best, wanted, counts, gap)
+                   queue, reach, best, wanted, counts, gap)
 
 
 def shaping_range(k, g, before, paid, coef, team, true, out, active, start, stop):
@@ -342,8 +342,8 @@ def target_of(code, it, st, k, kidx, is_counter):
     return -1
 
 
-def encode(e, a, clock, agents, cells, items, orders, g, out, dist, first, queue, reach, free,
-           best, wanted, counts, gap):
+def encode(e, a, clock, agents, cells, items, orders, g, out, dist, first, queue, reach, best,
+           wanted, counts, gap):
     """FeatureEncoder._encode of agent ``a`` of env ``e`` into ``out[e, a]``."""
     p, nbrs, interact, kind, kidx = g.params, g.nbrs, g.interact, g.kind, g.kind_index
     n = agents.shape[2]
@@ -352,12 +352,10 @@ def encode(e, a, clock, agents, cells, items, orders, g, out, dist, first, queue
     bfs(e, a, lay, agents, g.walk, nbrs, n > 1, dist, first, queue)
     missing = reach_cells(pos, lay, interact, nbrs, dist, first, reach)
     if n > 1 and missing:  # cells reachable only through others: the path ignoring them
-        bfs(e, a, lay, agents, g.walk, nbrs, False, dist, first, queue)
-        reach_cells(pos, lay, interact, nbrs, dist, first, free)
         for idx in range(interact.shape[1]):
             if reach[1, idx] < 0:
-                reach[0, idx] = free[0, idx]
-                reach[1, idx] = free[1, idx]
+                reach[0, idx] = g.free_reach[lay, pos, 0, idx]
+                reach[1, idx] = g.free_reach[lay, pos, 1, idx]
     for t in range(N_TARGETS):
         best[0, t] = _NO_PATH
         best[1, t] = -1
