@@ -5,9 +5,10 @@ observations of every cook kept up to date), compiled with numba (the ``fast`` e
 the Gymnasium vector env over it (``make_vec(..., vectorization_mode="vector_entry_point")``,
 ``copy=True`` and ``copy=False``). JaxMARL Overcooked V1 and V2 (the ``compare`` extra, CPU
 jax): ``jit(vmap(step))`` inside ``lax.scan`` over random actions, compile time excluded;
-each step's observations are summed into the scan output so XLA cannot drop them. ``ours_batch_features``: what the trainer's
-batched engine does per step (the step without vector observations, the shaped rewards and
-every cook's ``features`` observation, :class:`ocplus_plan.rl.features_batch.BatchFeatures`).
+each step's observations are summed into the scan output so XLA cannot drop them.
+``ours_batch_features``: what the trainer's batched engine does per step (the step
+without vector observations, the shaped rewards and every cook's ``features`` observation,
+:class:`ocplus_plan.rl.features_batch.BatchFeatures`).
 Random uniform actions everywhere; medians of ``--runs`` rounds. One JSON line per
 measurement. ``--memory`` prints instead the bytes held per kitchen (state, observations
 and bookkeeping) for each observation the engine can keep.

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sim import batch_kernels as bk
 from ..sim.batch import BatchSim, compile_kernels
 from ..sim.codes import COUNTERS, Item
 from ..sim.rules import Rules

@@ -678,9 +678,9 @@ def entries(e, a, me, clock, agents, items, orders, idx, val, row, p, view, kind
 
 
 KERNELS = (
-    "step_range", "reset_some", "observe_some", "draw", "put_order", "replace_order", "expire_orders",
-    "step_env", "record_bump", "resolve_moves", "occupant", "in_chain", "tick_pan", "maybe_switch", "is_veg",
-    "plateable", "fresh_veg", "on_plate", "interact", "plate_exchange", "pick", "put",
-    "advance", "send_home", "deliver", "matching_order", "observe_env", "window_index",
-    "entries",
+    "step_range", "reset_some", "observe_some", "draw", "put_order", "replace_order",
+    "expire_orders", "step_env", "record_bump", "resolve_moves", "occupant", "in_chain",
+    "tick_pan", "maybe_switch", "is_veg", "plateable", "fresh_veg", "on_plate", "interact",
+    "plate_exchange", "pick", "put", "advance", "send_home", "deliver", "matching_order",
+    "observe_env", "window_index", "entries",
 )

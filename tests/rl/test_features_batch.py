@@ -14,7 +14,6 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from ocplus_plan.agents.greedy import GreedyAgent
-from ocplus_plan.errors import ConfigError
 from ocplus_plan.rl import features_kernels as fk
 from ocplus_plan.rl.features import FeatureEncoder
 from ocplus_plan.rl.features_batch import BatchFeatures
