@@ -122,7 +122,7 @@ def step_range(k, g, actions, active, start, stop):
                      subtasks, bumps, scratch, p, rw, terrain, walk, nbrs, kind, home, kidx,
                      recipes, pans, switch_cells)
             if p[P_OBSERVE]:
-                    observe_env(e, clock, agents, items, orders, obs, static_at, ent_idx, ent_val,
+                observe_env(e, clock, agents, items, orders, obs, static_at, ent_idx, ent_val,
                             ent_n, p, view, kind, kidx, prog_den, recipes, static_obs, gather,
                             terrain.shape[1])
 
