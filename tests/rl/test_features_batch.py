@@ -170,3 +170,11 @@ def test_trainer_picks_the_batch_engine_when_it_can():
     fast = "batch" if numba_available() else "loop"
     assert TrainConfig().engine == TrainConfig(curriculum=("easy",)).engine == fast
     assert TrainConfig(engine="loop").engine == "loop"
+
+
+def test_a_trainer_kitchen_holds_a_few_kib_with_its_observations():
+    rules = make_rules("hard", n_agents=2)
+    sim = BatchSim(rules, 8, compiled=False, observe=False)
+    feats = BatchFeatures(sim)
+    held = sim.memory_per_kitchen() + feats.memory_per_kitchen()
+    assert feats.obs.nbytes // 8 == 2 * fk.N_FEATURES * 4 < held < 4096
