@@ -5,11 +5,17 @@ observations of every cook kept up to date), compiled with numba (the ``fast`` e
 the Gymnasium vector env over it (``make_vec(..., vectorization_mode="vector_entry_point")``,
 ``copy=True`` and ``copy=False``). JaxMARL Overcooked V1 and V2 (the ``compare`` extra, CPU
 jax): ``jit(vmap(step))`` inside ``lax.scan`` over random actions, compile time excluded;
-each step's observations are summed into the scan output so XLA cannot drop them. Random
-uniform actions everywhere; medians of ``--runs`` rounds. One JSON line per measurement.
+each step's observations are summed into the scan output so XLA cannot drop them.
+``ours_batch_features``: what the trainer's batched engine does per step (the step
+without vector observations, the shaped rewards and every cook's ``features`` observation,
+:class:`ocplus_plan.rl.features_batch.BatchFeatures`).
+Random uniform actions everywhere; medians of ``--runs`` rounds. One JSON line per
+measurement. ``--memory`` prints instead the bytes held per kitchen (state, observations
+and bookkeeping) for each observation the engine can keep.
 
     python experiments/bench_batch.py                      # all systems, 1 ... 4096 kitchens
     python experiments/bench_batch.py --plot experiments/figures/batch_scaling.png
+    python experiments/bench_batch.py --memory
 """
 
 from __future__ import annotations
@@ -43,6 +49,18 @@ def bench_ours(n_envs: int, env_steps: int, runs: int, system: str) -> dict[str,
         sim = BatchSim(rules, n_envs, seed=0, compiled=True)
         sim.reset()
         step, memory = sim.step, sim.memory_per_kitchen()
+    elif system == "ours_batch_features":
+        sim, feats = _features_batch(rules, n_envs)
+
+        def step(acts: np.ndarray) -> None:
+            ended = np.flatnonzero(np.logical_or(*sim.step_active(acts)))
+            feats.rewards(1.0, True)
+            if len(ended):
+                sim.reset_envs(ended)
+                feats.reset(ended)
+            feats.encode()
+
+        memory = sim.memory_per_kitchen() + feats.memory_per_kitchen()
     else:
         import gymnasium as gym
 
@@ -64,6 +82,40 @@ def bench_ours(n_envs: int, env_steps: int, runs: int, system: str) -> dict[str,
             "n_agents": 2, "n_envs": n_envs, "env_steps": steps * n_envs, "runs": runs,
             "env_steps_per_s_median": round(statistics.median(rates)),
             "bytes_per_kitchen": memory, "load": _load(), "python": platform.python_version()}
+
+
+def _features_batch(rules: Any, n_envs: int) -> tuple[Any, Any]:
+    from ocplus_plan.rl.features_batch import BatchFeatures
+    from ocplus_plan.sim.batch import BatchSim
+
+    sim = BatchSim(rules, n_envs, seed=0, compiled=True, observe=False)
+    sim.reset()
+    feats = BatchFeatures(sim)
+    feats.reset(np.arange(n_envs))
+    feats.encode()
+    return sim, feats
+
+
+def memory_rows(n_envs: int = 64) -> list[dict[str, Any]]:
+    """Bytes per kitchen (hard, MapC, 2 cooks) for each observation the engine keeps."""
+    from ocplus_plan.sim.batch import BatchSim
+
+    rules = make_rules("hard", n_agents=2)
+    rows = []
+    for label, radius in (("vector, whole map", 0), ("vector, obs_radius=2", 2)):
+        sim = BatchSim(rules, n_envs, obs_radius=radius, compiled=False)
+        rows.append({"observation": label, "obs_bytes": sim.obs.nbytes // n_envs,
+                     "bytes_per_kitchen": sim.memory_per_kitchen()})
+    sim = BatchSim(rules, n_envs, compiled=False, observe=False)
+    rows.append({"observation": "none (state only)", "obs_bytes": 0,
+                 "bytes_per_kitchen": sim.memory_per_kitchen()})
+    from ocplus_plan.rl.features_batch import BatchFeatures
+
+    feats = BatchFeatures(sim)
+    rows.append({"observation": "features + shaping (the trainer's)",
+                 "obs_bytes": feats.obs.nbytes // n_envs,
+                 "bytes_per_kitchen": sim.memory_per_kitchen() + feats.memory_per_kitchen()})
+    return [{"bench": "batch_memory", "preset": "hard", "n_agents": 2, **r} for r in rows]
 
 
 def bench_jaxmarl(name: str, n_envs: int, env_steps: int, runs: int) -> dict[str, Any]:
@@ -139,7 +191,12 @@ def main() -> None:
         "ours_batchsim", "ours_vector_env", "ours_vector_env_copy", "jaxmarl_overcooked",
         "jaxmarl_overcooked_v2"])
     ap.add_argument("--plot", default=None, help="write the steps/s plot here (matplotlib)")
+    ap.add_argument("--memory", action="store_true", help="print bytes per kitchen and stop")
     args = ap.parse_args()
+    if args.memory:
+        for row in memory_rows():
+            print(json.dumps(row), flush=True)
+        return
     rows = []
     for system in args.systems:
         if system.startswith("jaxmarl_"):

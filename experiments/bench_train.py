@@ -16,12 +16,14 @@ numba kernels) and splits the wall time into:
 * ``train``: PPO's update (forward again over minibatches, backward, optimiser).
 
 Setups (same network: two 128-unit layers per head unless ``--hidden``):
-``before`` is today's default trainer (loop engine, features, 8 kitchens, 128-step
+``before`` is the default trainer on the loop engine (features, 8 kitchens, 128-step
 rollouts, 512 minibatch, 8 epochs); ``before_grid`` the same with grid observations;
-``fast`` the batched engine with grid observations and larger batches (``--n-kitchens``,
-``--fast-*``); ``fast_features`` those batch settings on the loop engine with features
-(what the shipped checkpoints of issue 16 trained with). Prints one JSON line per setup
-and kitchen count.
+``after`` the default trainer now (the same settings on the batched engine, which
+``TrainConfig`` picks with the ``fast`` extra); ``fast`` the batched engine with grid
+observations and larger batches (``--n-kitchens``, ``--fast-*``); ``fast_features`` those
+batch settings on the loop engine with features (what the shipped checkpoints of issue 16
+trained with); ``fast_batch_features`` the same on the batched engine. Prints one JSON
+line per setup and kitchen count.
 """
 
 from __future__ import annotations
@@ -91,7 +93,7 @@ def measure(config: TrainConfig, steps: int) -> dict:
     }
 
 
-SETUPS = ("before", "before_grid", "fast", "fast_features")
+SETUPS = ("before", "before_grid", "after", "fast", "fast_features", "fast_batch_features")
 
 
 def main() -> None:
@@ -113,10 +115,13 @@ def main() -> None:
     base = dict(preset=args.preset, n_agents=args.n_agents, hidden=hidden,
                 torch_threads=args.torch_threads)
     for setup in args.setups.split(","):
-        if setup in ("before", "before_grid"):
-            configs = [TrainConfig(**base, obs="features" if setup == "before" else "grid")]
-        elif setup in ("fast", "fast_features"):
-            engine = dict(obs="grid", engine="batch") if setup == "fast" else {}
+        if setup in ("before", "before_grid", "after"):
+            configs = [TrainConfig(**base, obs="grid" if setup == "before_grid" else "features",
+                                   engine="batch" if setup == "after" else "loop")]
+        elif setup in ("fast", "fast_features", "fast_batch_features"):
+            engine = {"fast": dict(obs="grid", engine="batch"),
+                      "fast_features": dict(engine="loop"),
+                      "fast_batch_features": dict(engine="batch")}[setup]
             configs = [TrainConfig(**base, **engine, n_kitchens=int(k),
                                    n_steps=args.fast_n_steps, batch_size=args.fast_batch_size,
                                    n_epochs=args.fast_n_epochs)

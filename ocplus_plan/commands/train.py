@@ -50,10 +50,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--checkpoint-every", type=int, default=None,
                    help="steps between checkpoints (default: steps / 5)")
     s = p.add_argument_group("speed")
-    s.add_argument("--engine", default="loop", choices=("loop", "batch"),
-                   help="loop: one transition per kitchen (any --obs, full shaping, "
-                        "curricula); batch: the batched engine (fast extra; --obs grid, "
-                        "subtask shaping only, no curriculum)")
+    s.add_argument("--engine", default="auto", choices=("auto", "batch", "loop"),
+                   help="batch: the batched engine (fast extra); loop: one transition per "
+                        "kitchen (the reference); auto: batch when the fast extra is "
+                        "installed. Same observations and rewards either way")
     s.add_argument("--torch-threads", type=int, default=1,
                    help="torch CPU threads (the machine is shared: 1 unless it is yours)")
     s.add_argument("--max-wall", type=float, default=None, metavar="SECONDS",

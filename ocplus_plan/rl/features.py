@@ -34,6 +34,10 @@ Paths go around the cells where other agents stand (a path only through them fal
 to ignoring them), so two agents sharing the policy do not queue behind each other for
 the same board; the BFS per (layout, own cell, others' cells) is cached, so one encoding
 costs a scan over the map's interaction cells.
+
+The batched engine computes the same vector as array code
+(:mod:`ocplus_plan.rl.features_kernels`): a change here goes there too, and
+``tests/rl/test_features_batch.py`` fails until the two agree bit for bit.
 """
 
 from __future__ import annotations

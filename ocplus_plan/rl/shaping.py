@@ -22,6 +22,10 @@ policy unchanged, and putting a carried thing down *costs* what picking it up pa
 * ``carry_ready``: an agent carries a chopped vegetable or cooked steak an order needs;
 * ``carry_dish``: an agent carries a plate that completes an active order; the potential
   grows from 1x to 2x the weight as the agent nears the serving window.
+
+The batched engine pays the same rewards from array code
+(:func:`ocplus_plan.rl.features_kernels.shaping_range`): a change here goes there too, and
+``tests/rl/test_features_batch.py`` fails until the two agree bit for bit.
 """
 
 from __future__ import annotations
@@ -34,7 +38,7 @@ from ..errors import ConfigError
 from ..sim.codes import Cell, Item, ItemState
 from ..sim.orders import plate_recipe
 from ..sim.queries import distances, interaction_spots, is_plateable, plate_fits
-from ..sim.state import Event, State
+from ..sim.state import Event, Geometry, State
 
 _SUBTASK_EVENTS = frozenset({"chop_done", "cook_done", "wash_done"})
 _BOARD, _PAN, _SINK = int(Cell.BOARD), int(Cell.PAN), int(Cell.SINK)
@@ -73,6 +77,15 @@ def _fits_an_order(state: State, plate: int, complete: bool = False) -> bool:
     return any(plate_fits(Counter(recipe), Counter(order.recipe)) for order in state.orders)
 
 
+def delivery_distances(geo: Geometry, layout: int) -> list[int]:
+    """Per cell of ``layout``: steps to the nearest cell next to a serving window (-1:
+    unreachable); the ``carry_dish`` potential grows as this shrinks."""
+    terrain, walk = geo.terrains[layout], geo.walkables[layout]
+    spots = [v for c, code in enumerate(terrain) if code == _DELIVERY
+             for v in interaction_spots(geo.neighbors, walk, c)]
+    return distances(geo.neighbors, walk, spots)
+
+
 def _needed(state: State, item: int) -> bool:
     """Some active order's recipe contains this item's kind."""
     kind = state.geo.item_kind[item]
@@ -104,11 +117,8 @@ class RewardShaper:
         key = (id(state.rules), state.layout_index)
         hit = self._to_delivery.get(key)
         if hit is None:
-            geo = state.geo
-            terrain, walk = geo.terrains[state.layout_index], geo.walkables[state.layout_index]
-            spots = [v for c, code in enumerate(terrain) if code == _DELIVERY
-                     for v in interaction_spots(geo.neighbors, walk, c)]
-            hit = self._to_delivery[key] = (state.rules, distances(geo.neighbors, walk, spots))
+            hit = self._to_delivery[key] = (
+                state.rules, delivery_distances(state.geo, state.layout_index))
         return hit[1]
 
     def potential(self, state: State, agent: int) -> float:
@@ -167,4 +177,4 @@ class RewardShaper:
         return true, shaped
 
 
-__all__ = ["RewardShaper", "Shaping"]
+__all__ = ["RewardShaper", "Shaping", "delivery_distances"]

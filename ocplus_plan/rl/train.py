@@ -57,12 +57,19 @@ class TrainConfig:
     curriculum_fraction: float = 0.3
     init: str | None = None
     checkpoint_every: int | None = None
-    #: "loop" (per-kitchen ``transition``: every obs kind, full shaping, curricula) or
-    #: "batch" (the batched engine: grid obs, subtask-only shaping, one rule set)
-    engine: str = "loop"
+    #: "batch" (the batched engine, numba), "loop" (per-kitchen ``transition``, the
+    #: reference) or "auto": batch when the ``fast`` extra is installed, else loop. Same
+    #: observations and rewards either way.
+    engine: str = "auto"
     torch_threads: int = 1
     #: stop (and save) after this many seconds of training; None = no limit
     max_wall_s: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.engine == "auto":
+            from ..sim.batch import numba_available
+
+            object.__setattr__(self, "engine", "batch" if numba_available() else "loop")
 
     def validate(self) -> None:
         for name in ("steps", "n_kitchens", "n_steps", "batch_size", "n_epochs"):
@@ -78,7 +85,7 @@ class TrainConfig:
                 f"curriculum_fraction must be in [0, 1), got {self.curriculum_fraction}"
             )
         if self.engine not in ("loop", "batch"):
-            raise ConfigError(f"engine must be 'loop' or 'batch', got {self.engine!r}")
+            raise ConfigError(f"engine must be 'loop', 'batch' or 'auto', got {self.engine!r}")
         if isinstance(self.torch_threads, bool) or not isinstance(self.torch_threads, int) \
                 or self.torch_threads < 1:
             raise ConfigError(
@@ -110,11 +117,6 @@ def _lr_schedule(initial: float):
     return schedule
 
 
-def batch_shaping(shaping: Shaping) -> Shaping:
-    """The part of ``shaping`` the batched engine computes (subtask rewards only)."""
-    return Shaping(**{k: (v if k == "subtask_scale" else 0.0) for k, v in vars(shaping).items()})
-
-
 def build(config: TrainConfig) -> tuple[Any, Any, list[Rules], Rules]:
     """The PPO model and its vec env for ``config`` (no training yet): ``(model, venv,
     curriculum stages, target rules)``. Also used by experiments/bench_train.py."""
@@ -129,10 +131,9 @@ def build(config: TrainConfig) -> tuple[Any, Any, list[Rules], Rules]:
 
     torch.set_num_threads(config.torch_threads)
     torch.manual_seed(config.seed)
-    shaping = config.shaping if config.engine == "loop" else batch_shaping(config.shaping)
     venv = KitchenVecEnv(
         [target, *stages] if stages else target, config.n_kitchens, config.seed,
-        obs=config.obs, obs_radius=config.obs_radius, shaping=shaping,
+        obs=config.obs, obs_radius=config.obs_radius, shaping=config.shaping,
         team_reward=config.team_reward, reward_scale=config.reward_scale, engine=config.engine,
     )
     venv.rule_labels = {id(r): spec for r, spec in zip(stages, config.curriculum)}
@@ -238,4 +239,4 @@ def _cpus() -> int:
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 0
 
 
-__all__ = ["TrainConfig", "batch_shaping", "build", "train"]
+__all__ = ["TrainConfig", "build", "train"]

@@ -5,14 +5,17 @@ and exposes ``n_kitchens * n_agents`` slots (slot ``j * n_agents + a`` is agent 
 kitchen ``j``). One PPO policy acts for every slot, so every agent is driven by the same
 network from its own observation, and every agent's experience trains it.
 
-Two engines step the kitchens. ``engine="loop"`` (default) runs ``transition`` and the
-encoder per kitchen: every observation kind, the full reward shaping (it reads the
-step's events) and curricula. ``engine="batch"`` steps all kitchens in the batched
-engine (:class:`ocplus_plan.sim.batch.BatchSim`, the same rules bit for bit): ``grid``
-observations, one rule set, and of the shaping only the subtask part (counted per agent
-by the engine), so the other :class:`Shaping` weights must be 0. Episodes end at the
-rules' horizon; a kitchen then resets with the next seed of its own deterministic
-sequence (the two engines draw different seeds). Finished episodes are queued in
+Two engines step the kitchens, with the same results bit for bit. ``engine="loop"``
+(default) runs ``transition``, the encoder and :class:`RewardShaper` per kitchen: the
+reference. ``engine="batch"`` steps all kitchens in the batched engine
+(:class:`ocplus_plan.sim.batch.BatchSim`, one per rule set of a curriculum:
+:class:`ocplus_plan.rl.batch_kitchens.BatchKitchens`) and computes ``features``
+observations and the full shaping as arrays
+(:class:`ocplus_plan.rl.features_batch.BatchFeatures`; ``grid`` observations are the
+engine's own). Episodes end at the rules' horizon; kitchen ``j`` then resets with the
+next seed of its own sequence (:func:`ocplus_plan.sim.batch.seed_sequence`, the same on
+both engines, so the same actions give the same observations and rewards: see
+``tests/rl/test_features_batch.py``). Finished episodes are queued in
 :attr:`KitchenVecEnv.finished` for the logging callback.
 
 Imports stable-baselines3 at module level: import it only where the ``rl`` extra is
@@ -29,8 +32,7 @@ from gymnasium import spaces
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
 from ..errors import ConfigError
-from ..sim.batch import BatchSim
-from ..sim.batch_kernels import C_T, DISHES
+from ..sim.batch import next_seed, seed_sequence
 from ..sim.rules import Rules
 from ..sim.state import State, new_state
 from ..sim.step import transition
@@ -93,7 +95,7 @@ class KitchenVecEnv(VecEnv):
         self.reward_scale = float(reward_scale)
         self.shaping_coef = 1.0
         self.base_seed = int(seed)
-        self._episode_counter = 0
+        self._seed_rngs = [seed_sequence(self.base_seed, j) for j in range(n_kitchens)]
         self.finished: list[dict[str, Any]] = []
         #: id(rules) -> a name for the episode log (curriculum stages); default: the preset
         self.rule_labels: dict[int, str] = {}
@@ -129,8 +131,7 @@ class KitchenVecEnv(VecEnv):
         self.rule_list = rule_list
 
     def _new_episode(self, kitchen: int) -> State:
-        seed = self.base_seed * 1_000_003 + self._episode_counter
-        self._episode_counter += 1
+        seed = next_seed(self._seed_rngs[kitchen])
         state = new_state(self.rule_list[kitchen % len(self.rule_list)], seed)
         self.shapers[kitchen].reset(state)
         self._game_return[kitchen] = 0.0
@@ -141,32 +142,34 @@ class KitchenVecEnv(VecEnv):
         state = self.states[kitchen]
         return self._encoder(state.rules).encode_all(state)
 
-    def _batch_engine(self, engine: str, shaping: Shaping, seed: int) -> BatchSim | None:
+    def _batch_engine(self, engine: str, shaping: Shaping, seed: int) -> Any:
         if engine == "loop":
             return None
         if engine != "batch":
             raise ConfigError(f"engine must be 'loop' or 'batch', got {engine!r}")
-        others = {k: v for k, v in vars(shaping).items() if k != "subtask_scale" and v}
-        if self._obs_kind != "grid" or len(self.rule_list) != 1 or others:
-            raise ConfigError(
-                "engine='batch' takes obs='grid', one rule set and shaping with only "
-                f"subtask_scale (got obs={self._obs_kind!r}, {len(self.rule_list)} rule sets, "
-                f"shaping weights {others}); use engine='loop' for the others"
-            )
-        self._subtask_scale = shaping.subtask_scale
-        self._grid_scale = self._encoder(self.rule_list[0])._scale
-        return BatchSim(self.rule_list[0], self.n_kitchens, seed=seed,
-                        obs_radius=self._obs_radius)
+        from .batch_kitchens import BatchKitchens
+
+        scale = None
+        if self._obs_kind == "grid":
+            def scale(rules: Rules) -> np.ndarray:
+                return self._encoder(rules)._scale
+        return BatchKitchens(self.n_kitchens, seed, shaping, self._obs_radius, scale)
 
     def _batch_obs(self) -> np.ndarray:
-        return (self.batch.obs * self._grid_scale).reshape(self.num_envs, self.obs_size)
+        """Every slot's observation (a new array: SB3 keeps the last one across a step)."""
+        return self.batch.obs().reshape(self.num_envs, self.obs_size)
+
+    def _start_batch(self, kitchens: list[int]) -> None:
+        rules = [self.rule_list[j % len(self.rule_list)] for j in kitchens]
+        self.batch.start(kitchens, rules, [next_seed(self._seed_rngs[j]) for j in kitchens])
+        for j in kitchens:
+            self._game_return[j] = 0.0
+            self._train_return[j] = 0.0
 
     # ------------------------------------------------------------ VecEnv API
     def reset(self) -> np.ndarray:
         if self.batch is not None:
-            self.batch.reset()
-            self._game_return = [0.0] * self.n_kitchens
-            self._train_return[:] = 0.0
+            self._start_batch(list(range(self.n_kitchens)))
             return self._batch_obs()
         self.states = [self._new_episode(j) for j in range(self.n_kitchens)]
         return np.concatenate([self._encode(j) for j in range(self.n_kitchens)])
@@ -221,48 +224,41 @@ class KitchenVecEnv(VecEnv):
 
     def _step_batch(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
         """:meth:`step_wait` on the batched engine (the same bookkeeping, as arrays)."""
-        n, sim = self.n_agents, self.batch
-        terminated, truncated = sim.step_active(self._actions.reshape(self.n_kitchens, n))
-        game = sim.arrays.rewards
-        subtask = sim.arrays.subtasks * self.rule_list[0].rewards.subtask_finished
-        true, shaped = game - subtask, self._subtask_scale * subtask
-        if self.team_reward:
-            r = true.sum(axis=1, keepdims=True) + self.shaping_coef * shaped
-        else:
-            r = true + self.shaping_coef * shaped
+        n = self.n_agents
+        ended, r = self.batch.step(self._actions.reshape(self.n_kitchens, n),
+                                   self.shaping_coef, self.team_reward)
         self._train_return += r
-        game_total = game.sum(axis=1)
+        for j, g in enumerate(self.batch.game_rewards().tolist()):
+            self._game_return[j] += g
         infos: list[dict[str, Any]] = [{} for _ in range(self.num_envs)]
-        dones = np.repeat(terminated | truncated, n)
-        for j in range(self.n_kitchens):
-            self._game_return[j] += float(game_total[j])
-        ended = np.flatnonzero(terminated | truncated)
-        if len(ended):
-            final = self._batch_obs()
-            for j in ended.tolist():
-                steps = int(sim.arrays.clock[j, C_T])
-                self.finished.append({
-                    "kitchen": j, "preset": self.rule_list[0].preset,
-                    "rules": self.rule_labels.get(id(self.rule_list[0]),
-                                                  self.rule_list[0].preset),
-                    "map": self.rule_list[0].layout.name, "seed": sim.seeds[j],
-                    "steps": steps, "game_reward": self._game_return[j],
-                    "train_return": float(self._train_return[j].mean()),
-                    "dishes": int(sim.arrays.stats[j, DISHES]),
-                    "shaping_coef": self.shaping_coef,
-                })
-                for a in range(n):
-                    infos[j * n + a]["terminal_observation"] = final[j * n + a]
-                    infos[j * n + a]["episode"] = {"r": float(self._train_return[j, a]),
-                                                   "l": steps}
-                self._game_return[j] = 0.0
-                self._train_return[j] = 0.0
-            sim.reset_envs(ended)
+        dones = np.repeat(ended, n)
+        obs = self._batch_obs()
+        kitchens = np.flatnonzero(ended).tolist()
+        for j in kitchens:
+            ep = self.batch.episode(j)
+            rules = ep["rules"]
+            self.finished.append({
+                "kitchen": j, "preset": rules.preset,
+                "rules": self.rule_labels.get(id(rules), rules.preset),
+                "map": rules.layout.name, "seed": ep["seed"], "steps": ep["steps"],
+                "game_reward": self._game_return[j],
+                "train_return": float(self._train_return[j].mean()),
+                "dishes": ep["dishes"], "shaping_coef": self.shaping_coef,
+            })
+            for a in range(n):
+                infos[j * n + a]["terminal_observation"] = obs[j * n + a]
+                infos[j * n + a]["episode"] = {"r": float(self._train_return[j, a]),
+                                               "l": ep["steps"]}
+        if kitchens:
+            self._start_batch(kitchens)
+            obs = self._batch_obs()
         rewards = r.reshape(-1).astype(np.float32)
-        return self._batch_obs(), rewards * self.reward_scale, dones, infos
+        return obs, rewards * self.reward_scale, dones, infos
 
     def close(self) -> None:
         self.states = []
+        if self.batch is not None:
+            self.batch.close()
 
     def get_attr(self, attr_name: str, indices: Any = None) -> list[Any]:
         return [getattr(self, attr_name) for _ in self._get_indices(indices)]

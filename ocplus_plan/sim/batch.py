@@ -48,6 +48,18 @@ _STATIC_CHANNELS = _CH_KIND0  # terrain one-hots and ``unknown`` come first
 _INGREDIENTS = (Item.TOMATO, Item.LETTUCE, Item.ONION, Item.STEAK)
 
 
+def seed_sequence(seed: int, kitchen: int) -> np.random.Generator:
+    """The generator of kitchen ``kitchen``'s episode seeds in a batch seeded ``seed``
+    (:func:`next_seed` draws one); anything that runs kitchens one by one and wants the
+    batch's episodes uses it too."""
+    return np.random.default_rng([seed, kitchen])
+
+
+def next_seed(seeds: np.random.Generator) -> int:
+    """The next episode seed from a :func:`seed_sequence`."""
+    return int(seeds.integers(_SEED_HIGH))
+
+
 class BatchStep(NamedTuple):
     obs: np.ndarray  # (n_envs, n_agents, size) float32, after any restart (a view: copy to keep)
     rewards: np.ndarray  # (n_envs, n_agents) float32
@@ -60,12 +72,20 @@ def numba_available() -> bool:
     return importlib.util.find_spec("numba") is not None
 
 
-@lru_cache(maxsize=2)
 def kernels(compiled: bool) -> Any:
     """The kernel module: as written (``compiled=False``), or a copy of it whose functions
     numba compiled (without the GIL, so threads can step disjoint kitchens)."""
+    return compile_kernels(bk, compiled)
+
+
+@lru_cache(maxsize=8)
+def compile_kernels(module: types.ModuleType, compiled: bool, nrt: bool = False) -> Any:
+    """``module`` as written (``compiled=False``), or a copy of it whose functions named in
+    its ``KERNELS`` numba compiled without the GIL. ``nrt=False`` (the engine's kernels,
+    which allocate nothing): no reference counting, which on shared arrays cost a quarter
+    of the step and made the threads fight; kernels that allocate need ``nrt=True``."""
     if not compiled:
-        return bk
+        return module
     try:
         import numba
     except ImportError as exc:
@@ -73,24 +93,24 @@ def kernels(compiled: bool) -> Any:
             "the compiled batch engine needs numba: pip install 'ocplus-plan[fast]' "
             "(or pass compiled=False for the plain-Python kernels)"
         ) from exc
-    spec = importlib.util.find_spec(bk.__name__)
-    source = spec.loader.get_source(bk.__name__)  # type: ignore[union-attr]
-    mod = types.ModuleType(bk.__name__ + "_compiled")
-    mod.__file__ = bk.__file__
+    spec = importlib.util.find_spec(module.__name__)
+    source = spec.loader.get_source(module.__name__)  # type: ignore[union-attr]
+    mod = types.ModuleType(module.__name__ + "_compiled")
+    mod.__file__ = module.__file__
     sys.modules[mod.__name__] = mod
-    exec(compile(source, bk.__file__, "exec"), mod.__dict__)  # noqa: S102 (our own source)
-    for name in bk.KERNELS:
-        # no reference counting (the kernels allocate nothing; counting references to
-        # shared arrays cost a quarter of the step) and no GIL (threads step disjoint envs)
-        setattr(mod, name, numba.njit(cache=True, nogil=True, _nrt=False)(getattr(mod, name)))
+    exec(compile(source, module.__file__, "exec"), mod.__dict__)  # noqa: S102 (our own source)
+    for name in module.KERNELS:
+        setattr(mod, name, numba.njit(cache=True, nogil=True, _nrt=nrt)(getattr(mod, name)))
     return mod
 
 
-def static_arrays(rules: Rules, encoder: VectorEncoder) -> bk.StaticArrays:
-    """The kernels' tables for one rule set and observation encoder."""
+def static_arrays(rules: Rules, encoder: VectorEncoder, observe: bool = True,
+                  ) -> bk.StaticArrays:
+    """The kernels' tables for one rule set and observation encoder (``observe``: keep
+    the vector observations up to date)."""
     geo = geometry_for(rules)
     i64 = np.int64
-    params = np.zeros(16, i64)
+    params = np.zeros(17, i64)
     params[[bk.P_CHOP, bk.P_COOK, bk.P_BURN, bk.P_WASH, bk.P_HORIZON, bk.P_SWITCH_STEP]] = (
         rules.chop_steps, rules.cook_time, rules.burn_time, rules.wash_steps, rules.horizon,
         rules.map_switch_step)
@@ -103,6 +123,7 @@ def static_arrays(rules: Rules, encoder: VectorEncoder) -> bk.StaticArrays:
     params[bk.P_RADIUS], params[bk.P_ROWS], params[bk.P_COLS] = (
         encoder.radius, geo.rows, geo.cols)
     params[bk.P_HAS_SWITCH] = encoder._has_switch
+    params[bk.P_OBSERVE] = observe
     rw = rules.rewards
     rewards = np.array([rw.subtask_finished, rw.correct_delivery, rw.wrong_delivery,
                         rw.step_penalty, rw.burned_penalty, rw.order_expired], np.float64)
@@ -137,11 +158,14 @@ class BatchSim:
 
     ``compiled``: None uses numba when installed; True requires it (``fast`` extra);
     False runs the kernels as plain Python. ``threads``: how many threads step a large
-    batch (default: the cores this process may use).
+    batch (default: the cores this process may use). ``observe=False`` keeps no vector
+    observations (:attr:`obs` is empty): for callers that encode the state themselves
+    (the trainer's features), it saves their upkeep and most of the memory.
     """
 
     def __init__(self, rules: Rules, n_envs: int, *, seed: int = 0, obs_radius: int = 0,
-                 compiled: bool | None = None, threads: int | None = None) -> None:
+                 compiled: bool | None = None, threads: int | None = None,
+                 observe: bool = True) -> None:
         if isinstance(n_envs, bool) or not isinstance(n_envs, int) or n_envs < 1:
             raise ConfigError(f"n_envs must be a positive integer, got {n_envs!r}")
         self.rules = rules
@@ -153,22 +177,23 @@ class BatchSim:
         self.threads = len(os.sched_getaffinity(0)) if threads is None else int(threads)
         self._pool: Any = None
         self.encoder = VectorEncoder(rules, obs_radius)
-        self.static = static_arrays(rules, self.encoder)
+        self.static = static_arrays(rules, self.encoder, observe)
         geo = geometry_for(rules)
         n_items, n_cells, n_orders = len(geo.item_kind), geo.rows * geo.cols, rules.n_orders
         self._per_step_draws = n + n_orders  # deliveries + expiries
         self._queue_len = 2 * self._per_step_draws + n_orders + 8
-        n_entries = 4 * n_items + n + 8 + 6 * n_orders
+        n_entries = 4 * n_items + n + 8 + 6 * n_orders if observe else 0
+        obs_size = self.encoder.size if observe else 0
         i32, e = np.int32, n_envs
 
         def z(*shape: int, dtype: Any = i32) -> np.ndarray:
             return np.zeros((e, *shape), dtype)
 
         self.arrays = bk.KitchenArrays(
-            clock=z(5), agents=z(2, n), cells=z(n_cells), items=z(5, n_items),
+            clock=z(5), agents=z(2, n), cells=z(n_cells), items=z(6, n_items),
             orders=z(4, n_orders), stats=z(9), queue=z(self._queue_len),
-            rewards=z(n, dtype=np.float64), subtasks=z(n),
-            obs=z(n, self.encoder.size, dtype=np.float32),
+            rewards=z(n, dtype=np.float64), subtasks=z(n), bumps=z(3, n),
+            obs=z(n, obs_size, dtype=np.float32),
             static_at=np.full((e, n), -1, i32), ent_idx=z(n + 1, n_entries),
             ent_val=z(n + 1, n_entries, dtype=np.float32), ent_n=z(n),
             scratch=z(3, n, dtype=np.int64))
@@ -185,7 +210,7 @@ class BatchSim:
     # ------------------------------------------------------------ public
     def reseed(self, seed: int) -> None:
         """Restart the kitchens' episode-seed sequences from ``seed`` (next resets use it)."""
-        self._seed_rngs = [np.random.default_rng([seed, i]) for i in range(self.n_envs)]
+        self._seed_rngs = [seed_sequence(seed, i) for i in range(self.n_envs)]
 
     @property
     def obs(self) -> np.ndarray:
@@ -199,11 +224,12 @@ class BatchSim:
         self.episodes[:] = 0
         return self.arrays.obs
 
-    def reset_envs(self, envs: np.ndarray) -> None:
-        """Start the next episode of each listed kitchen (seeded from its own sequence)."""
+    def reset_envs(self, envs: np.ndarray, seeds: list[int] | None = None) -> None:
+        """Start the next episode of each listed kitchen, seeded from its own sequence or
+        with the given ``seeds`` (one per kitchen listed)."""
         envs = np.asarray(envs, np.int64).reshape(-1)
-        for e in envs.tolist():
-            self.seeds[e] = int(self._seed_rngs[e].integers(_SEED_HIGH))
+        for j, e in enumerate(envs.tolist()):
+            self.seeds[e] = next_seed(self._seed_rngs[e]) if seeds is None else int(seeds[j])
             self._start_draws(e, np.random.default_rng(self.seeds[e]))
         self._k.reset_some(self.arrays, self.static, envs)
         self._started = True
@@ -215,8 +241,9 @@ class BatchSim:
             raise ConfigError("the state belongs to other rules than this batch's")
         a = self.arrays
         a.cells[e] = state.cell_item
-        a.items[e] = (state.item_state, state.item_progress, state.item_where, state.item_loc,
-                      state.item_agent)
+        a.items[e, : bk.I_LIFE] = (state.item_state, state.item_progress, state.item_where,
+                                   state.item_loc, state.item_agent)
+        a.items[e, bk.I_LIFE] = 0
         a.agents[e] = (state.agent_pos, state.agent_hand)
         a.clock[e] = (state.t, state.layout_index, state.next_switch, state.next_order_id, 0)
         index = {r: i for i, r in enumerate(self.rules.recipes)}
@@ -288,7 +315,7 @@ class BatchSim:
         s = new_state(rules, self.seeds[e])
         s.cell_item = a.cells[e].tolist()
         (s.item_state, s.item_progress, s.item_where, s.item_loc,
-         s.item_agent) = a.items[e].tolist()
+         s.item_agent) = a.items[e, : bk.I_LIFE].tolist()
         s.agent_pos, s.agent_hand = a.agents[e].tolist()
         s.t, s.layout_index, s.next_switch, s.next_order_id, used = a.clock[e].tolist()
         s.orders = [Order(i, rules.recipes[r], c, d) for i, r, c, d in zip(*a.orders[e].tolist())]
@@ -313,20 +340,24 @@ class BatchSim:
 
     # ------------------------------------------------------------ internals
     def _step_range(self, acts: np.ndarray, active: np.ndarray) -> None:
-        """Step the kitchens, split over :attr:`threads` threads when the batch is large
-        enough to pay for waking them (the compiled kernels release the GIL)."""
+        self.split(self._k.step_range, self.arrays, self.static, acts, active)
+
+    def split(self, kernel: Any, *args: Any) -> None:
+        """``kernel(*args, start, stop)`` over all kitchens, split over :attr:`threads`
+        threads when the batch is large enough to pay for waking them (compiled kernels
+        release the GIL; each thread takes a disjoint range of kitchens)."""
         n, parts = self.n_envs, self.threads
         if parts < 2 or n < _PARALLEL_FROM or not self.compiled:
-            self._k.step_range(self.arrays, self.static, acts, active, 0, n)
+            kernel(*args, 0, n)
             return
         if self._pool is None:
             from concurrent.futures import ThreadPoolExecutor
 
             self._pool = ThreadPoolExecutor(parts - 1, thread_name_prefix="ocplus-batch")
         bounds = [n * i // parts for i in range(parts + 1)]
-        futures = [self._pool.submit(self._k.step_range, self.arrays, self.static, acts, active,
-                                     bounds[i], bounds[i + 1]) for i in range(1, parts)]
-        self._k.step_range(self.arrays, self.static, acts, active, bounds[0], bounds[1])
+        futures = [self._pool.submit(kernel, *args, bounds[i], bounds[i + 1])
+                   for i in range(1, parts)]
+        kernel(*args, bounds[0], bounds[1])
         for f in futures:
             f.result()
 
@@ -346,4 +377,5 @@ class BatchSim:
             self._drawn_before[e] += used
 
 
-__all__ = ["BatchSim", "BatchStep", "kernels", "numba_available", "static_arrays"]
+__all__ = ["BatchSim", "BatchStep", "compile_kernels", "kernels", "next_seed", "numba_available",
+           "seed_sequence", "static_arrays"]

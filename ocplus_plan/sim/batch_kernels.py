@@ -43,15 +43,18 @@ _STAY = 4
 # columns and rows of the state arrays
 C_T, C_LAYOUT, C_SWITCH, C_ORDER_ID, C_QPOS = range(5)  # clock (E, 5)
 A_POS, A_HAND = range(2)  # agents (E, 2, n_agents)
-I_STATE, I_PROG, I_WHERE, I_LOC, I_OWNER = range(5)  # items (E, 5, n_items)
+# items (E, 6, n_items); I_LIFE counts the item's respawns (batch bookkeeping, not State)
+I_STATE, I_PROG, I_WHERE, I_LOC, I_OWNER, I_LIFE = range(6)
 O_ID, O_RECIPE, O_CREATED, O_DEADLINE = range(4)  # orders (E, 4, n_orders), oldest first
 DISHES, COMPLETED, EXPIRED, BURNS, WRONG, CHOPS, COOKS, WASHES, SWITCHES = range(9)
 STAT_NAMES = ("dishes_served", "orders_completed", "orders_expired", "burns",
               "wrong_deliveries", "chops", "cooks", "washes", "layout_switches")
 # params (ints) and reward values (floats)
 (P_CHOP, P_COOK, P_BURN, P_WASH, P_HORIZON, P_LIMIT, P_STOP, P_DIRTY, P_DYNAMIC,
- P_SWITCH_STEP, P_SHARED, P_FIXED, P_RADIUS, P_ROWS, P_COLS, P_HAS_SWITCH) = range(16)
+ P_SWITCH_STEP, P_SHARED, P_FIXED, P_RADIUS, P_ROWS, P_COLS, P_HAS_SWITCH, P_OBSERVE) = range(17)
 R_SUBTASK, R_CORRECT, R_WRONG, R_STEP, R_BURNED, R_EXPIRED = range(6)
+# what each agent's bump did in the last step (bumps (E, 3, agents): kind, item, plate)
+B_NONE, B_PUTDOWN, B_PLATE_ADD = range(3)
 # observation layout: window cells and width, channel starts, feature offsets, static size
 (V_CELLS, V_WW, V_KIND0, V_STATE0, V_PROG, V_SELF, V_OTHER, V_FEAT, V_ORDER0,
  V_STATIC) = range(10)
@@ -60,7 +63,7 @@ R_SUBTASK, R_CORRECT, R_WRONG, R_STEP, R_BURNED, R_EXPIRED = range(6)
 class StaticArrays(NamedTuple):
     """What one rule set fixes (built by :func:`ocplus_plan.sim.batch.static_arrays`)."""
 
-    params: np.ndarray  # int64 (16,)
+    params: np.ndarray  # int64 (17,)
     rewards: np.ndarray  # float64 (6,)
     terrain: np.ndarray  # int64 (layouts, cells)
     walk: np.ndarray  # bool (layouts, cells)
@@ -85,12 +88,14 @@ class KitchenArrays(NamedTuple):
     clock: np.ndarray  # (E, 5) C_*
     agents: np.ndarray  # (E, 2, agents) A_*
     cells: np.ndarray  # (E, cells) item id lying there, -1
-    items: np.ndarray  # (E, 5, items) I_*
+    items: np.ndarray  # (E, 6, items) I_*
     orders: np.ndarray  # (E, 4, n_orders) O_*
     stats: np.ndarray  # (E, 9)
     queue: np.ndarray  # (E, Q) recipe indices drawn ahead
     rewards: np.ndarray  # float64 (E, agents), the last step's
     subtasks: np.ndarray  # (E, agents): chops, washes and cooks each finished in the last step
+    bumps: np.ndarray  # (E, 3, agents): each agent's last putdown (item, cell) / plate_add
+    #   (item, plate), or B_NONE
     obs: np.ndarray  # float32 (E, agents, size)
     static_at: np.ndarray  # (E, agents): layout * cells + cell whose static part is in obs
     ent_idx: np.ndarray  # (E, agents + 1, K): last entries per agent; the last row is scratch
@@ -105,6 +110,7 @@ def step_range(k, g, actions, active, start, stop):
     observations (compiled without the GIL: threads step disjoint ranges)."""
     clock, agents, cells, items, orders = k.clock, k.agents, k.cells, k.items, k.orders
     stats, queue, rewards, scratch, subtasks = k.stats, k.queue, k.rewards, k.scratch, k.subtasks
+    bumps = k.bumps
     p, rw, terrain, walk, nbrs = g.params, g.rewards, g.terrain, g.walk, g.nbrs
     kind, home, kidx, recipes = g.kind, g.home, g.kind_index, g.recipes
     pans, switch_cells = g.pans, g.switch_cells
@@ -113,11 +119,12 @@ def step_range(k, g, actions, active, start, stop):
     for e in range(start, stop):
         if active[e]:
             step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewards,
-                     subtasks, scratch, p, rw, terrain, walk, nbrs, kind, home, kidx, recipes,
-                     pans, switch_cells)
-            observe_env(e, clock, agents, items, orders, obs, static_at, ent_idx, ent_val,
-                        ent_n, p, view, kind, kidx, prog_den, recipes, static_obs, gather,
-                        terrain.shape[1])
+                     subtasks, bumps, scratch, p, rw, terrain, walk, nbrs, kind, home, kidx,
+                     recipes, pans, switch_cells)
+            if p[P_OBSERVE]:
+                observe_env(e, clock, agents, items, orders, obs, static_at, ent_idx, ent_val,
+                            ent_n, p, view, kind, kidx, prog_den, recipes, static_obs, gather,
+                            terrain.shape[1])
 
 
 def reset_some(k, g, envs):
@@ -146,6 +153,7 @@ def reset_some(k, g, envs):
             items[e, I_WHERE, i] = _CELL
             items[e, I_LOC, i] = home[i]
             items[e, I_OWNER, i] = -1
+            items[e, I_LIFE, i] = 0
             cells[e, home[i]] = i
         for s in range(stats.shape[1]):
             stats[e, s] = 0
@@ -155,12 +163,16 @@ def reset_some(k, g, envs):
             else:
                 recipe = draw(e, clock, queue)
             put_order(e, o, recipe, clock, orders, p)
-        observe_env(e, clock, agents, items, orders, obs, static_at, ent_idx, ent_val, ent_n,
-                    p, view, kind, kidx, prog_den, recipes, static_obs, gather, n_cells)
+        if p[P_OBSERVE]:
+            observe_env(e, clock, agents, items, orders, obs, static_at, ent_idx, ent_val,
+                        ent_n, p, view, kind, kidx, prog_den, recipes, static_obs, gather,
+                        n_cells)
 
 
 def observe_some(k, g, envs):
     """Bring the observations of the listed envs up to date (after a state was loaded)."""
+    if not g.params[P_OBSERVE]:
+        return
     for j in range(len(envs)):
         observe_env(envs[j], k.clock, k.agents, k.items, k.orders, k.obs, k.static_at,
                     k.ent_idx, k.ent_val, k.ent_n, g.params, g.obs_layout, g.kind,
@@ -211,11 +223,13 @@ def expire_orders(e, clock, orders, stats, queue, rewards, p, rw):
 
 # ---------------------------------------------------------------- the step
 def step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewards, subtasks,
-             scratch, p, rw, terrain, walk, nbrs, kind, home, kidx, recipes, pans, switch_cells):
+             bumps, scratch, p, rw, terrain, walk, nbrs, kind, home, kidx, recipes, pans,
+             switch_cells):
     n = agents.shape[2]
     for a in range(n):
         rewards[e, a] = rw[R_STEP]
         subtasks[e, a] = 0
+        bumps[e, 0, a] = B_NONE
     lay = clock[e, C_LAYOUT]
     moving = False
     for a in range(n):
@@ -230,8 +244,11 @@ def step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewa
             scratch[e, 0, a] = tgt
             moving = True
         else:
+            held = agents[e, A_HAND, a]
+            here = cells[e, tgt]
             interact(e, a, tgt, clock, agents, cells, items, orders, stats, queue, rewards,
                      subtasks, p, rw, terrain[lay, tgt], kind, home, kidx, recipes)
+            record_bump(e, a, tgt, held, here, agents, cells, items, bumps)
     waiting = False
     for i in range(items.shape[2]):
         if items[e, I_WHERE, i] == _WAITING:
@@ -259,6 +276,26 @@ def step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewa
             total += rewards[e, a]
         for a in range(n):
             rewards[e, a] = total
+
+
+def record_bump(e, a, cell, held, here, agents, cells, items, bumps):
+    """Note a putdown or a plate_add (step.py's events of those kinds) by agent ``a``, who
+    held ``held`` and bumped ``cell`` holding ``here`` (reward shaping reads them)."""
+    if held < 0:
+        return
+    if agents[e, A_HAND, a] < 0:
+        if cells[e, cell] == held:
+            bumps[e, 0, a] = B_PUTDOWN
+            bumps[e, 1, a] = held
+            bumps[e, 2, a] = cell
+        elif items[e, I_WHERE, held] == _PLATE:
+            bumps[e, 0, a] = B_PLATE_ADD
+            bumps[e, 1, a] = held
+            bumps[e, 2, a] = items[e, I_LOC, held]
+    elif here >= 0 and items[e, I_WHERE, here] == _PLATE and items[e, I_LOC, here] == held:
+        bumps[e, 0, a] = B_PLATE_ADD
+        bumps[e, 1, a] = here
+        bumps[e, 2, a] = held
 
 
 def resolve_moves(e, agents, scratch):
@@ -456,6 +493,7 @@ def send_home(e, it, state, cells, items, home):
     items[e, I_PROG, it] = 0
     items[e, I_OWNER, it] = -1
     items[e, I_LOC, it] = h
+    items[e, I_LIFE, it] += 1
     if cells[e, h] < 0:
         cells[e, h] = it
         items[e, I_WHERE, it] = _CELL
@@ -640,9 +678,9 @@ def entries(e, a, me, clock, agents, items, orders, idx, val, row, p, view, kind
 
 
 KERNELS = (
-    "step_range", "reset_some", "observe_some", "draw", "put_order", "replace_order", "expire_orders",
-    "step_env", "resolve_moves", "occupant", "in_chain", "tick_pan", "maybe_switch", "is_veg",
-    "plateable", "fresh_veg", "on_plate", "interact", "plate_exchange", "pick", "put",
-    "advance", "send_home", "deliver", "matching_order", "observe_env", "window_index",
-    "entries",
+    "step_range", "reset_some", "observe_some", "draw", "put_order", "replace_order",
+    "expire_orders", "step_env", "record_bump", "resolve_moves", "occupant", "in_chain",
+    "tick_pan", "maybe_switch", "is_veg", "plateable", "fresh_veg", "on_plate", "interact",
+    "plate_exchange", "pick", "put", "advance", "send_home", "deliver", "matching_order",
+    "observe_env", "window_index", "entries",
 )

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from ocplus_plan.agents.greedy import GreedyAgent
 from ocplus_plan.errors import ConfigError, DependencyNotInstalled, InvalidActionError
 from ocplus_plan.sim import make_rules, new_state, transition
-from ocplus_plan.sim.batch import BatchSim, kernels, numba_available
+from ocplus_plan.sim.batch import BatchSim, compile_kernels, kernels, numba_available
 from ocplus_plan.sim.observe import VectorEncoder
 
 needs_numba = pytest.mark.skipif(not numba_available(),
@@ -157,14 +157,14 @@ def test_compiled_kernels_without_numba_name_the_extra(monkeypatch):
             raise ImportError("no numba here")
         return real_import(name, *args, **kwargs)
 
-    kernels.cache_clear()
+    compile_kernels.cache_clear()
     monkeypatch.setattr(builtins, "__import__", no_numba)
     try:
         with pytest.raises(DependencyNotInstalled, match=r"ocplus-plan\[fast\]"):
             kernels(True)
     finally:
         monkeypatch.undo()
-        kernels.cache_clear()
+        compile_kernels.cache_clear()
 
 
 def test_memory_per_kitchen_is_reported_and_a_window_is_smaller():
@@ -190,3 +190,18 @@ def test_threads_step_disjoint_kitchens_to_the_same_result():
         [two.state(e).state_hash() for e in (0, 150, 299)]
     two.close()
     assert two._pool is None
+
+
+def test_without_observations_the_kitchens_step_the_same_in_less_memory():
+    rules = make_rules("hard", **QUICK)
+    seen, blind = (BatchSim(rules, 3, seed=2, compiled=False, observe=o) for o in (True, False))
+    seen.reset()
+    blind.reset()
+    rng = np.random.default_rng(0)
+    for _ in range(12):
+        acts = rng.integers(0, 5, size=(3, 2))
+        seen.step(acts)
+        blind.step(acts)
+    assert blind.obs.size == 0 and blind.memory_per_kitchen() < 1024
+    assert [s.state(e).state_hash() for s in (seen, blind) for e in range(3)] == \
+        [seen.state(e).state_hash() for _ in range(2) for e in range(3)]
