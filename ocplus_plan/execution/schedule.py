@@ -38,14 +38,20 @@ a planner (partial-order lifting plus list scheduling):
   onto it where it lies, the plate picked up last). The planner picks one for its cost; the
   first is a single segment one cook must walk, the second is one segment per ingredient
   that any cook can carry while another waits at the pan. The schedule tries carrying the
-  first scoops of each plate trip to the plate, in each order (:func:`plate_carries`), and
-  keeps what ends sooner.
+  first scoops of each plate trip to the plate, in each order (:func:`plate_carries`),
+  leaving a plate where it lies instead of moving it from counter to counter
+  (:func:`plate_stays_home`) and putting an ingredient straight on its station instead of
+  parking it on a counter first (:func:`unparked`), and keeps what ends sooner;
+* idle work: a segment that delivers nothing and that no later step needs is dropped
+  (:func:`without_idle_work`; a satisficing planner may fetch an ingredient no order wants).
 
-The result is the same steps with cooks reassigned, renumbered in scheduled order and
-stamped with their estimated start (a time-triggered plan's own times are replaced);
-the executive then routes, monitors and recovers as for any plan. The planner decides
-*what* is done; the schedule decides *who* and *when*. Nothing here changes a rule: the
-times are estimates (collisions are ignored) used only to order and assign.
+The result is the plan's steps (with the plating and idle-work changes above) with cooks
+reassigned, renumbered in scheduled order and stamped with their estimated start (a
+time-triggered plan's own times are replaced); the executive then routes, monitors and
+recovers as for any plan. The planner decides *what* is served from which items; the
+schedule decides *who*, *when*, and which of the equivalent routes. Nothing here changes a
+rule: the times are estimates (collisions are ignored) used only to order and assign, and
+every changed plan is checked cell by cell (:func:`_cells_agree`) before it is scheduled.
 """
 
 from __future__ import annotations
