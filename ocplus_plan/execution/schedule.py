@@ -51,7 +51,7 @@ time-triggered plan's own times are replaced); the executive then routes, monito
 recovers as for any plan. The planner decides *what* is served from which items; the
 schedule decides *who*, *when*, and which of the equivalent routes. Nothing here changes a
 rule: the times are estimates (collisions are ignored) used only to order and assign, and
-every changed plan is checked cell by cell (:func:`_cells_agree`) before it is scheduled.
+every plating variant and dish order is checked cell by cell (:func:`_cells_agree`).
 """
 
 from __future__ import annotations
