@@ -333,11 +333,17 @@ class Executive:
 
     def _already_done(self, state: State, task: Task) -> bool:
         """Chop/wash of an item that is already processed (e.g. per-level chop steps): an
-        empty hand's bump there would no longer chop or wash."""
+        empty hand's bump there would no longer chop or wash. Not before the other cooks'
+        steps it waits for are done and its item lies there: a cook that reaches the board
+        before another has put the vegetable on it finds nothing to chop, which does not
+        mean the chopping is done."""
         kind = task.step.kind
         if kind == "goto":
             return state.agent_pos[task.step.agent] == task.step.target
         if kind in _PROCESS:
+            here = state.cell_item[task.step.target]
+            if not task.deps <= self.done_steps or (task.step.items and here not in task.step.items):
+                return False
             return bump_effect(state, -1, task.step.target) != _PROCESS[kind]
         return False
 

@@ -292,3 +292,24 @@ def test_ready_steps_are_what_the_step_then_does_on_sampled_states():
                             assert "plate_add" in bump(state, a, spots[0], cell)
                         checked += 1
     assert checked >= 20
+
+
+def test_a_chop_is_not_done_before_its_vegetable_is_on_the_board():
+    """Cook 0 is to chop the tomato cook 1 puts on the board (1,6); reaching the empty board
+    first, it waits for cook 1's step and the tomato instead of taking the chop as done."""
+    from ocplus_plan.execution.executive import Task
+
+    state = new_state(make_rules("easy", n_agents=2), 0)
+    board = state.geo.flat(1, 6)
+    tomato = state.cell_item[state.geo.flat(0, 2)]
+    ex = Executive(toy_planner)
+    ex.reset(state)
+    chop = Task(PlanStep(1, 0, "chop", board, (tomato,)), frozenset({0}))
+    assert not ex._already_done(state, chop), "cook 1 has not put the tomato there yet"
+    ex.done_steps.add(0)
+    assert not ex._already_done(state, chop), "the board is still empty"
+    state.cell_item[board], state.item_loc[tomato] = tomato, board
+    state.cell_item[state.geo.flat(0, 2)] = -1
+    assert not ex._already_done(state, chop), "a fresh tomato waits to be chopped"
+    state.item_state[tomato] = int(ItemState.CHOPPED)
+    assert ex._already_done(state, chop)
