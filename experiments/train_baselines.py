@@ -32,6 +32,10 @@ CKPT = ROOT / "experiments" / "checkpoints"
 #: minibatches, 4 epochs; the network is unchanged)
 FAST = ["--n-kitchens", "32", "--batch-size", "2048", "--n-epochs", "4"]
 
+#: the imitation warm start (rl/imitation.py) and the gentle PPO that follows it
+BC = ["--bc", "greedy", "--bc-steps", "60000", "--bc-rounds", "4", "--bc-epochs", "8",
+      "--lr", "1e-4", "--ent-coef", "0.003", "--anneal-fraction", "0"]
+
 #: name -> ocplus train arguments (without --out), in order (later runs --init from earlier
 #: ones). Names starting with "_" are intermediate stages: trained, not shipped.
 RUNS: dict[str, list[str]] = {
@@ -66,11 +70,18 @@ RUNS: dict[str, list[str]] = {
                           "--init", "experiments/checkpoints/medium_2agent.zip", *FAST],
     # second: half the kitchens serve the two-ingredient steak orders medium taught, on
     # the hard map (dirty plates, layout switches), for the first 40 %
-    "hard_2agent": ["--preset", "hard", "--n-agents", "2", "--steps", "6000000",
+    "_hard_2agent_try2": ["--preset", "hard", "--n-agents", "2", "--steps", "6000000",
                     "--seed", "8", "--anneal-fraction", "0.6", "--max-wall", "600",
                     "--curriculum", "hard:steak+tomato/steak+lettuce/steak+onion",
                     "--curriculum-fraction", "0.4",
                     "--init", "experiments/checkpoints/medium_2agent.zip", *FAST],
+    # issue 16, session 5: behaviour cloning from the greedy cook (4 DAgger rounds of 60k
+    # kitchen steps), then PPO on the true reward only (no shaping: the clone already
+    # serves), with a small learning rate and entropy so PPO refines the clone
+    "hard_2agent": ["--preset", "hard", "--n-agents", "2", "--steps", "20000000",
+                    "--seed", "9", *BC, "--max-wall", "1200", *FAST],
+    "hard_1agent": ["--preset", "hard", "--steps", "20000000", "--seed", "10", *BC,
+                    "--max-wall", "900", *FAST],
     # the grid (SPEC one-hot) observation on the batched engine, from scratch
     "medium_1agent_grid": ["--preset", "medium", "--steps", "5000000", "--seed", "7",
                            "--obs", "grid", "--engine", "batch", "--anneal-fraction", "0.5",
@@ -135,6 +146,7 @@ def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None 
         "steps_per_s": summary["steps_per_s"],
         "dishes_per_episode_last50_in_training": summary["dishes_per_episode_last50"],
         "init": summary["config"]["init"],
+        "imitation": summary.get("imitation"),
         "config": summary["config"],
         "size_bytes": (CKPT / f"{name}.zip").stat().st_size,
     }
