@@ -64,7 +64,8 @@ class Imitation:
 
 @dataclass
 class Dataset:
-    """Recorded samples: one row per cook per kitchen step."""
+    """Recorded samples: one row per cook per kitchen step (observations kept as float16:
+    a grid observation of the hard kitchen has 2,300 values; the fit converts batches)."""
 
     obs: list[np.ndarray]
     actions: list[np.ndarray]
@@ -121,7 +122,7 @@ def collect(rules: Rules, obs_kind: str, obs_radius: int, teacher: Teacher, step
             ep_act.append(label)
             ep_rew.append(reward)
         rewards = np.asarray(ep_rew, np.float32) * reward_scale
-        data.obs.append(np.concatenate(ep_obs).astype(np.float32))
+        data.obs.append(np.concatenate(ep_obs).astype(np.float16))
         data.actions.append(np.asarray(ep_act, np.int64).reshape(-1))
         data.returns.append(discounted(rewards, gamma).reshape(-1))
         dishes.append(int(state.stats["dishes_served"]))
@@ -147,7 +148,7 @@ def fit(policy: Any, data: Dataset, cfg: Imitation, seed: int) -> dict[str, floa
         ce_sum = vf_sum = 0.0
         for lo in range(0, n, cfg.batch_size):
             idx = perm[lo:lo + cfg.batch_size]
-            values, log_prob, _ = policy.evaluate_actions(obs[idx], actions[idx])
+            values, log_prob, _ = policy.evaluate_actions(obs[idx].float(), actions[idx])
             loss_pi = -log_prob.mean()
             loss_vf = torch.nn.functional.mse_loss(values.flatten(), returns[idx])
             opt.zero_grad()
@@ -161,7 +162,7 @@ def fit(policy: Any, data: Dataset, cfg: Imitation, seed: int) -> dict[str, floa
     with torch.no_grad():
         hits = 0
         for lo in range(0, n, 8192):
-            dist = policy.get_distribution(obs[lo:lo + 8192])
+            dist = policy.get_distribution(obs[lo:lo + 8192].float())
             hits += int((dist.distribution.probs.argmax(1) == actions[lo:lo + 8192]).sum())
     return {"cross_entropy": round(ce, 4), "value_mse": round(vf, 5),
             "accuracy": round(hits / n, 4)}
