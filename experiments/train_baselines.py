@@ -64,9 +64,9 @@ RUNS: dict[str, list[str]] = {
     "medium_1agent": ["--preset", "medium", "--steps", "8000000", "--seed", "4",
                       "--anneal-fraction", "0.5", "--max-wall", "720",
                       "--init", "experiments/checkpoints/medium_1agent.zip", *FAST],
-    "medium_2agent": ["--preset", "medium", "--n-agents", "2", "--steps", "8000000",
-                      "--seed", "5", "--anneal-fraction", "0.5", "--max-wall", "720",
-                      "--init", "experiments/checkpoints/medium_1agent.zip", *FAST],
+    "_medium_2agent_s4": ["--preset", "medium", "--n-agents", "2", "--steps", "8000000",
+                          "--seed", "5", "--anneal-fraction", "0.5", "--max-wall", "720",
+                          "--init", "experiments/checkpoints/medium_1agent.zip", *FAST],
     # first attempt: straight onto hard from medium_2agent (served 0 in 10M steps)
     "_hard_2agent_try1": ["--preset", "hard", "--n-agents", "2", "--steps", "10000000",
                           "--seed", "6", "--anneal-fraction", "0.6", "--max-wall", "900",
@@ -83,6 +83,8 @@ RUNS: dict[str, list[str]] = {
     # serves), with a small learning rate and entropy so PPO refines the clone
     "hard_2agent": ["--preset", "hard", "--n-agents", "2", "--steps", "20000000",
                     "--seed", "9", *BC, "--max-wall", "1200", *FAST],
+    "medium_2agent": ["--preset", "medium", "--n-agents", "2", "--steps", "20000000",
+                      "--seed", "13", *BC, "--max-wall", "600", *FAST],
     "hard_1agent": ["--preset", "hard", "--steps", "20000000", "--seed", "10", *BC,
                     "--max-wall", "900", *FAST],
     # the grid (SPEC one-hot) observation on the batched engine, from scratch
