@@ -10,7 +10,10 @@ command, its wall time and CPU time on this machine, and the training summary;
 experiments/plot_learning_curves.py (``experiments/runs/`` itself is git-ignored). The
 two-agent run starts from the easy checkpoint (``--init``): the features are map- and
 agent-count-independent, so what was learned alone transfers to a shared kitchen. The
-medium checkpoint is the end of a three-stage chain (see RUNS).
+medium checkpoint is the end of a three-stage chain (see RUNS). The hard checkpoints and
+medium with 2 cooks start by cloning the greedy cook (``--bc greedy``, rl/imitation.py),
+then run PPO; their record keeps the imitation rounds and ``experiments/runs/NAME/
+bc_policy.zip`` the clone alone (evaluate it with eval_checkpoints.py to compare).
 """
 
 from __future__ import annotations
