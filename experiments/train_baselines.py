@@ -89,7 +89,7 @@ RUNS: dict[str, list[str]] = {
     "medium_2agent": ["--preset", "medium", "--n-agents", "2", "--steps", "20000000",
                       "--seed", "13", *BC, "--max-wall", "600", *FAST],
     "hard_1agent": ["--preset", "hard", "--steps", "20000000", "--seed", "10", *BC,
-                    "--max-wall", "900", *FAST],
+                    "--max-wall", "720", *FAST],
     # the grid (SPEC one-hot) observation on the batched engine, from scratch
     "_medium_1agent_grid_scratch": ["--preset", "medium", "--steps", "5000000", "--seed", "7",
                            "--obs", "grid", "--engine", "batch", "--anneal-fraction", "0.5",
