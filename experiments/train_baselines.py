@@ -88,8 +88,9 @@ RUNS: dict[str, list[str]] = {
                     "--seed", "9", *BC, "--max-wall", "1200", *FAST],
     "medium_2agent": ["--preset", "medium", "--n-agents", "2", "--steps", "20000000",
                       "--seed", "13", *BC, "--max-wall", "600", *FAST],
-    "hard_1agent": ["--preset", "hard", "--steps", "20000000", "--seed", "10", *BC,
-                    "--max-wall", "720", *FAST],
+    # (the hard preset's default is 2 cooks: --n-agents 1 is needed)
+    "hard_1agent": ["--preset", "hard", "--n-agents", "1", "--steps", "20000000",
+                    "--seed", "10", *BC, "--max-wall", "720", *FAST],
     # the grid (SPEC one-hot) observation on the batched engine, from scratch
     "_medium_1agent_grid_scratch": ["--preset", "medium", "--steps", "5000000", "--seed", "7",
                            "--obs", "grid", "--engine", "batch", "--anneal-fraction", "0.5",
