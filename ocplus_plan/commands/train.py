@@ -8,6 +8,7 @@ training steps) and OUT/train.json (configuration, command, wall time).
 from __future__ import annotations
 
 import argparse
+import functools
 import shlex
 import sys
 
@@ -105,9 +106,7 @@ def run(args: argparse.Namespace) -> int:
         from ..agents import make_controller
 
         make_controller(args.bc, args.seed)  # an unknown name fails now, not after set-up
-
-        def teacher(seed: int) -> object:
-            return make_controller(args.bc, seed)
+        teacher = functools.partial(make_controller, args.bc)  # seed -> a new teacher
     if sys.argv[1:2] == ["train"]:
         command = "ocplus " + shlex.join(sys.argv[1:])
     else:  # called in-process (tests, scripts): the essential options
