@@ -83,7 +83,7 @@ def main() -> None:
         ) from exc
     runs = sorted(p for p in (ROOT / "experiments" / "checkpoints").glob("*.episodes.csv")
                   if ".stage" not in p.name)
-    fig, ax = plt.subplots(figsize=(8, 5))
+    fig, ax = plt.subplots(figsize=(11, 5))
     for path in runs:
         name = path.name.removesuffix(".episodes.csv")
         info = json.loads((path.parent / f"{name}.json").read_text())
@@ -108,7 +108,7 @@ def main() -> None:
     ax.set_ylabel("dishes per 200-step episode")
     ax.set_title("PPO baseline (parameter-shared, path features unless noted, annealed shaping)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     out = ROOT / "experiments" / "figures" / "ppo_learning_curves.png"
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
