@@ -24,6 +24,17 @@ observations and larger batches (``--n-kitchens``, ``--fast-*``); ``fast_feature
 batch settings on the loop engine with features (what the shipped checkpoints of issue 16
 trained with); ``fast_batch_features`` the same on the batched engine. Prints one JSON
 line per setup and kitchen count.
+
+    .venv/bin/python experiments/bench_train.py --before-rev aef8f14 --rounds 3
+
+``--before-rev REV`` instead times two whole ``ocplus train`` runs per round, interleaved so
+both see the same machine load: the trainer as it was at commit REV (checked out with
+``git worktree add`` into a temporary folder, run by this venv's python with
+``PYTHONPATH`` on that tree, with its own defaults: 8 kitchens, 128-step rollouts, 512
+minibatch, 8 epochs, features, loop) and today's trainer with the fast settings
+(``--n-kitchens`` first value, ``--fast-*``, ``--obs``, ``--engine``). Each reads the
+steps/s its run wrote to train.json; a last line gives the medians and their ratio. The
+worktree is removed afterwards.
 """
 
 from __future__ import annotations
@@ -31,6 +42,8 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import statistics
+import subprocess
 import sys
 import tempfile
 import time
@@ -96,6 +109,50 @@ def measure(config: TrainConfig, steps: int) -> dict:
 SETUPS = ("before", "before_grid", "after", "fast", "fast_features", "fast_batch_features")
 
 
+def cli_rate(tree: Path, argv: list[str]) -> dict:
+    """Run ``ocplus train ARGV`` from the source tree ``tree`` (this python, PYTHONPATH on
+    the tree) into a temporary folder; its train.json's throughput and wall time."""
+    with tempfile.TemporaryDirectory() as out:
+        env = {**os.environ, "PYTHONPATH": str(tree)}
+        cmd = [sys.executable, "-m", "ocplus_plan.cli", "train", *argv, "--out", out]
+        subprocess.run(cmd, cwd=tree, env=env, check=True, stdout=subprocess.DEVNULL,
+                       stderr=subprocess.DEVNULL)
+        summary = json.loads((Path(out) / "train.json").read_text())
+    return {"steps_per_s": summary["steps_per_s"], "wall_s": summary["wall_time_s"],
+            "agent_steps": summary["timesteps"], "loadavg_1min": round(os.getloadavg()[0], 2)}
+
+
+def before_after(args: argparse.Namespace) -> None:
+    """``--before-rev``: interleaved whole-trainer runs, the trainer at REV vs today's."""
+    kitchen = ["--preset", args.preset, "--n-agents", str(args.n_agents), "--seed", "0"]
+    before = [*kitchen, "--steps", str(args.before_steps), "--no-progress"]
+    after = [*kitchen, "--steps", str(args.after_steps), "--quiet", "--obs", args.obs,
+             "--engine", args.engine, "--n-kitchens", args.n_kitchens.split(",")[0],
+             "--n-steps", str(args.fast_n_steps), "--batch-size", str(args.fast_batch_size),
+             "--n-epochs", str(args.fast_n_epochs), "--torch-threads", str(args.torch_threads)]
+    rates: dict[str, list[float]] = {"before": [], "after": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        tree = Path(tmp) / "before"
+        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", str(tree),
+                        args.before_rev], check=True, capture_output=True)
+        try:
+            for rnd in range(args.rounds):
+                for name, tree_, argv in (("before", tree, before), ("after", ROOT, after)):
+                    row = cli_rate(tree_, argv)
+                    rates[name].append(row["steps_per_s"])
+                    rev = args.before_rev if name == "before" else "HEAD"
+                    print(json.dumps({"round": rnd, "trainer": name, "rev": rev,
+                                      "args": argv, **row}), flush=True)
+        finally:
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force",
+                            str(tree)], check=False, capture_output=True)
+    med = {k: statistics.median(v) for k, v in rates.items()}
+    print(json.dumps({"summary": "median steps/s", "before_rev": args.before_rev,
+                      "before": med["before"], "after": med["after"],
+                      "ratio": round(med["after"] / med["before"], 1),
+                      "rounds": args.rounds, "uptime_loadavg": os.getloadavg()}), flush=True)
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--preset", default="medium")
@@ -110,7 +167,20 @@ def main() -> None:
     p.add_argument("--fast-n-epochs", type=int, default=4)
     p.add_argument("--torch-threads", type=int, default=1)
     p.add_argument("--hidden", default="128,128")
+    c = p.add_argument_group("before/after (--before-rev)")
+    c.add_argument("--before-rev", default=None, metavar="REV",
+                   help="time the trainer at this commit against today's, interleaved")
+    c.add_argument("--rounds", type=int, default=3)
+    c.add_argument("--before-steps", type=int, default=20_000,
+                   help="agent-steps of each run of the trainer at REV")
+    c.add_argument("--after-steps", type=int, default=300_000,
+                   help="agent-steps of each run of today's trainer")
+    c.add_argument("--engine", default="auto", help="today's trainer: --engine")
+    c.add_argument("--obs", default="features", help="today's trainer: --obs")
     args = p.parse_args()
+    if args.before_rev:
+        before_after(args)
+        return
     hidden = tuple(int(h) for h in args.hidden.split(","))
     base = dict(preset=args.preset, n_agents=args.n_agents, hidden=hidden,
                 torch_threads=args.torch_threads)

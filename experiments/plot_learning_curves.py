@@ -8,7 +8,10 @@ training steps, writes ``experiments/figures/ppo_learning_curves.png`` and print
 JSON line per run with its final bin. Steps are agent-steps, counted from the start of
 each run's first stage: a run initialised from earlier stages (the medium chain) is drawn
 after them, each up to the checkpoint that was carried on; the 2-agent run starts from
-the easy checkpoint. Episodes in curriculum kitchens are left out.
+the easy checkpoint. Episodes in curriculum kitchens are left out. Runs that started by
+cloning the greedy cook (``--bc``) are labelled so; their curve is the PPO part (its first
+bin is about what the clone serves). The step axis is logarithmic: the runs span 0.2M to
+20M steps.
 """
 
 from __future__ import annotations
@@ -80,7 +83,7 @@ def main() -> None:
         ) from exc
     runs = sorted(p for p in (ROOT / "experiments" / "checkpoints").glob("*.episodes.csv")
                   if ".stage" not in p.name)
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = plt.subplots(figsize=(11, 5))
     for path in runs:
         name = path.name.removesuffix(".episodes.csv")
         info = json.loads((path.parent / f"{name}.json").read_text())
@@ -92,17 +95,20 @@ def main() -> None:
             label = f"{name} ({len(info['lineage']) + 1} stages, curriculum kitchens excluded)"
         else:
             label = name + (f" (from {Path(init).stem})" if init else "")
+        if info.get("imitation"):
+            label += ", cloned greedy first"
         if info.get("config", {}).get("obs") == "grid":
             label += ", grid observation"
         ax.plot([x / 1000 for x in xs], ys, marker="o", markersize=3, label=label)
         print(json.dumps({"run": name, "final_bin_steps": round(xs[-1]),
                           "dishes_per_episode": round(ys[-1], 3),
                           "timesteps": info["timesteps"], "wall_time_s": info["wall_time_s"]}))
-    ax.set_xlabel("training steps (thousands of agent-steps)")
+    ax.set_xscale("log")
+    ax.set_xlabel("training steps (thousands of agent-steps, log scale)")
     ax.set_ylabel("dishes per 200-step episode")
     ax.set_title("PPO baseline (parameter-shared, path features unless noted, annealed shaping)")
     ax.grid(alpha=0.3)
-    ax.legend()
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     out = ROOT / "experiments" / "figures" / "ppo_learning_curves.png"
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()

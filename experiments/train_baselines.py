@@ -10,7 +10,10 @@ command, its wall time and CPU time on this machine, and the training summary;
 experiments/plot_learning_curves.py (``experiments/runs/`` itself is git-ignored). The
 two-agent run starts from the easy checkpoint (``--init``): the features are map- and
 agent-count-independent, so what was learned alone transfers to a shared kitchen. The
-medium checkpoint is the end of a three-stage chain (see RUNS).
+medium checkpoint is the end of a three-stage chain (see RUNS). The hard checkpoints and
+medium with 2 cooks start by cloning the greedy cook (``--bc greedy``, rl/imitation.py),
+then run PPO; their record keeps the imitation rounds and ``experiments/runs/NAME/
+bc_policy.zip`` the clone alone (evaluate it with eval_checkpoints.py to compare).
 """
 
 from __future__ import annotations
@@ -31,6 +34,13 @@ CKPT = ROOT / "experiments" / "checkpoints"
 #: the throughput settings measured by experiments/bench_train.py (32 kitchens, 2048-sample
 #: minibatches, 4 epochs; the network is unchanged)
 FAST = ["--n-kitchens", "32", "--batch-size", "2048", "--n-epochs", "4"]
+
+#: the imitation warm start (rl/imitation.py) and the gentle PPO that follows it
+BC = ["--bc", "greedy", "--bc-steps", "60000", "--bc-rounds", "4", "--bc-epochs", "8",
+      "--lr", "1e-4", "--ent-coef", "0.003", "--anneal-fraction", "0"]
+
+BC_GRID = [*BC[:2], "--bc-steps", "30000", "--bc-rounds", "3", *BC[6:]]
+GRID_FAST = ["--n-kitchens", "128", "--n-steps", "64", "--batch-size", "2048", "--n-epochs", "4"]
 
 #: name -> ocplus train arguments (without --out), in order (later runs --init from earlier
 #: ones). Names starting with "_" are intermediate stages: trained, not shipped.
@@ -57,26 +67,47 @@ RUNS: dict[str, list[str]] = {
     "medium_1agent": ["--preset", "medium", "--steps", "8000000", "--seed", "4",
                       "--anneal-fraction", "0.5", "--max-wall", "720",
                       "--init", "experiments/checkpoints/medium_1agent.zip", *FAST],
-    "medium_2agent": ["--preset", "medium", "--n-agents", "2", "--steps", "8000000",
-                      "--seed", "5", "--anneal-fraction", "0.5", "--max-wall", "720",
-                      "--init", "experiments/checkpoints/medium_1agent.zip", *FAST],
+    "_medium_2agent_s4": ["--preset", "medium", "--n-agents", "2", "--steps", "8000000",
+                          "--seed", "5", "--anneal-fraction", "0.5", "--max-wall", "720",
+                          "--init", "experiments/checkpoints/medium_1agent.zip", *FAST],
     # first attempt: straight onto hard from medium_2agent (served 0 in 10M steps)
     "_hard_2agent_try1": ["--preset", "hard", "--n-agents", "2", "--steps", "10000000",
                           "--seed", "6", "--anneal-fraction", "0.6", "--max-wall", "900",
                           "--init", "experiments/checkpoints/medium_2agent.zip", *FAST],
     # second: half the kitchens serve the two-ingredient steak orders medium taught, on
     # the hard map (dirty plates, layout switches), for the first 40 %
-    "hard_2agent": ["--preset", "hard", "--n-agents", "2", "--steps", "6000000",
+    "_hard_2agent_try2": ["--preset", "hard", "--n-agents", "2", "--steps", "6000000",
                     "--seed", "8", "--anneal-fraction", "0.6", "--max-wall", "600",
                     "--curriculum", "hard:steak+tomato/steak+lettuce/steak+onion",
                     "--curriculum-fraction", "0.4",
                     "--init", "experiments/checkpoints/medium_2agent.zip", *FAST],
+    # issue 16, session 5: behaviour cloning from the greedy cook (4 DAgger rounds of 60k
+    # kitchen steps), then PPO on the true reward only (no shaping: the clone already
+    # serves), with a small learning rate and entropy so PPO refines the clone
+    "hard_2agent": ["--preset", "hard", "--n-agents", "2", "--steps", "20000000",
+                    "--seed", "9", *BC, "--max-wall", "1200", *FAST],
+    "medium_2agent": ["--preset", "medium", "--n-agents", "2", "--steps", "20000000",
+                      "--seed", "13", *BC, "--max-wall", "600", *FAST],
+    # (the hard preset's default is 2 cooks: --n-agents 1 is needed)
+    "hard_1agent": ["--preset", "hard", "--n-agents", "1", "--steps", "20000000",
+                    "--seed", "10", *BC, "--max-wall", "720", *FAST],
     # the grid (SPEC one-hot) observation on the batched engine, from scratch
-    "medium_1agent_grid": ["--preset", "medium", "--steps", "5000000", "--seed", "7",
+    "_medium_1agent_grid_scratch": ["--preset", "medium", "--steps", "5000000", "--seed", "7",
                            "--obs", "grid", "--engine", "batch", "--anneal-fraction", "0.5",
                            "--max-wall", "300", "--n-kitchens", "128", "--n-steps", "64",
                            "--batch-size", "2048", "--n-epochs", "4"],
+    # the same imitation recipe on the grid observation (fewer, larger samples: 1,404 and
+    # 2,300 values per cook), PPO on the batched engine
+    "medium_1agent_grid": ["--preset", "medium", "--steps", "20000000", "--seed", "11",
+                           "--obs", "grid", "--engine", "batch", *BC_GRID, "--max-wall", "420",
+                           *GRID_FAST],
+    "hard_2agent_grid": ["--preset", "hard", "--n-agents", "2", "--steps", "20000000",
+                         "--seed", "12", "--obs", "grid", "--engine", "batch", *BC_GRID,
+                         "--max-wall", "420", *GRID_FAST],
 }
+#: runs whose record and training log ship but whose policy stays in experiments/runs/
+#: (grid policies are 2-4 MB and map-bound; the package data keeps to the features ones)
+RECORD_ONLY = {"medium_1agent_grid", "hard_2agent_grid"}
 #: run -> the intermediate runs it was initialised from, oldest first (recorded as lineage)
 LINEAGE: dict[str, list[str]] = {"_medium_1agent_v1": ["_medium_stage1", "_medium_stage2"]}
 
@@ -135,6 +166,7 @@ def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None 
         "steps_per_s": summary["steps_per_s"],
         "dishes_per_episode_last50_in_training": summary["dishes_per_episode_last50"],
         "init": summary["config"]["init"],
+        "imitation": summary.get("imitation"),
         "config": summary["config"],
         "size_bytes": (CKPT / f"{name}.zip").stat().st_size,
     }
@@ -144,6 +176,10 @@ def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None 
             record["wall_time_s"] + sum(x["wall_time_s"] for x in lineage), 1)
     if previous is not None:
         record["init_record"] = previous
+    if name in RECORD_ONLY:
+        (CKPT / f"{name}.zip").unlink()
+        record["checkpoint"] = str((run_dir / "policy.zip").relative_to(ROOT)) \
+            if run_dir.is_relative_to(ROOT) else str(run_dir / "policy.zip")
     (CKPT / f"{name}.json").write_text(json.dumps(record, indent=2) + "\n")
     return record
 

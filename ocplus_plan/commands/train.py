@@ -8,6 +8,7 @@ training steps) and OUT/train.json (configuration, command, wall time).
 from __future__ import annotations
 
 import argparse
+import functools
 import shlex
 import sys
 
@@ -49,6 +50,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--init", default=None, help="start from this checkpoint's weights")
     g.add_argument("--checkpoint-every", type=int, default=None,
                    help="steps between checkpoints (default: steps / 5)")
+    b = p.add_argument_group("imitation warm start")
+    b.add_argument("--bc", default=None, metavar="AGENT",
+                   help="behaviour-clone this controller first (e.g. greedy), then run PPO "
+                        "from the cloned policy; OUT/bc_policy.zip keeps the clone")
+    b.add_argument("--bc-steps", type=int, default=100_000,
+                   help="kitchen steps of teacher-labelled play per round")
+    b.add_argument("--bc-rounds", type=int, default=1,
+                   help="rounds; after the first, the learner drives and the teacher labels "
+                        "(DAgger)")
+    b.add_argument("--bc-epochs", type=int, default=8, help="fitting passes after each round")
     s = p.add_argument_group("speed")
     s.add_argument("--engine", default="auto", choices=("auto", "batch", "loop"),
                    help="batch: the batched engine (fast extra); loop: one transition per "
@@ -88,7 +99,14 @@ def run(args: argparse.Namespace) -> int:
         curriculum_fraction=args.curriculum_fraction, init=args.init,
         checkpoint_every=args.checkpoint_every, engine=args.engine,
         torch_threads=args.torch_threads, max_wall_s=args.max_wall,
+        bc=args.bc, bc_steps=args.bc_steps, bc_rounds=args.bc_rounds, bc_epochs=args.bc_epochs,
     )
+    teacher = None
+    if args.bc is not None:
+        from ..agents import make_controller
+
+        make_controller(args.bc, args.seed)  # an unknown name fails now, not after set-up
+        teacher = functools.partial(make_controller, args.bc)  # seed -> a new teacher
     if sys.argv[1:2] == ["train"]:
         command = "ocplus " + shlex.join(sys.argv[1:])
     else:  # called in-process (tests, scripts): the essential options
@@ -97,7 +115,7 @@ def run(args: argparse.Namespace) -> int:
         if args.n_agents is not None:
             parts += ["--n-agents", str(args.n_agents)]
         command = "ocplus " + shlex.join(parts)
-    summary = train(config, command=command, progress=not args.quiet)
+    summary = train(config, command=command, progress=not args.quiet, teacher=teacher)
     emit({k: summary[k] for k in (
         "policy", "timesteps", "stopped_by_wall_budget", "episodes",
         "dishes_per_episode_last50", "wall_time_s", "steps_per_s")}, args)

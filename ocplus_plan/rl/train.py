@@ -23,6 +23,7 @@ from typing import Any
 
 from ..errors import ConfigError
 from ..sim.rules import Rules, make_rules
+from .imitation import Imitation, Teacher, pretrain
 from .obs import OBS_KINDS
 from .policy import load_policy, require_rl, write_meta
 from .shaping import Shaping
@@ -64,6 +65,12 @@ class TrainConfig:
     torch_threads: int = 1
     #: stop (and save) after this many seconds of training; None = no limit
     max_wall_s: float | None = None
+    #: behaviour-cloning warm start (rl/imitation.py): the teacher's name (the caller
+    #: passes its factory to :func:`train`), kitchen steps per round, DAgger rounds, epochs
+    bc: str | None = None
+    bc_steps: int = 100_000
+    bc_rounds: int = 1
+    bc_epochs: int = 8
 
     def __post_init__(self) -> None:
         if self.engine == "auto":
@@ -95,6 +102,12 @@ class TrainConfig:
             raise ConfigError(f"max_wall_s must be positive seconds, got {self.max_wall_s}")
         if not self.hidden or any(h < 1 for h in self.hidden):
             raise ConfigError(f"hidden layer sizes must be positive, got {self.hidden}")
+        if self.bc is not None:
+            self.imitation().validate()
+
+    def imitation(self) -> Imitation:
+        """The behaviour-cloning settings of this run (meaningful when ``bc`` is set)."""
+        return Imitation(self.bc_steps, self.bc_rounds, self.bc_epochs)
 
 
 def _rules(config: TrainConfig, preset: str, with_map: bool) -> Rules:
@@ -151,8 +164,13 @@ def build(config: TrainConfig) -> tuple[Any, Any, list[Rules], Rules]:
     return model, venv, stages, target
 
 
-def train(config: TrainConfig, *, command: str | None = None, progress: bool = True) -> dict:
-    """Run one training; return the summary that is also written to ``OUT/train.json``."""
+def train(config: TrainConfig, *, command: str | None = None, progress: bool = True,
+          teacher: Teacher | None = None) -> dict:
+    """Run one training; return the summary that is also written to ``OUT/train.json``.
+    With ``config.bc``, ``teacher`` (``seed -> Controller``) is behaviour-cloned first
+    (``OUT/bc_policy.zip`` keeps the imitation-only policy), then PPO continues."""
+    if config.bc is not None and teacher is None:
+        raise ConfigError(f"bc={config.bc!r} needs the teacher's factory (train(..., teacher=))")
     model, venv, stages, target = build(config)
     import torch
 
@@ -191,7 +209,20 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         write_meta(path, {**meta_base, "train": {
             "timesteps": timesteps, "seed": config.seed, "command": command,
             "wall_time_s": round(time.perf_counter() - t0, 1),
+            **({"bc": config.bc} if config.bc else {}),
         }})
+
+    imitation = None
+    if config.bc is not None:
+        rounds = pretrain(
+            model, target, config.obs, config.obs_radius, teacher, config.imitation(),
+            seed=config.seed, gamma=config.gamma, reward_scale=config.reward_scale,
+            team_reward=config.team_reward,
+        )
+        imitation = {"teacher": config.bc, "rounds": rounds,
+                     "wall_time_s": round(time.perf_counter() - t0, 1),
+                     "policy": str(out / "bc_policy.zip")}
+        save(out / "bc_policy.zip", 0)
 
     every = config.checkpoint_every or max(config.steps // 5, 1)
     monitor = TrainingMonitor(
@@ -224,7 +255,9 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
             round(sum(monitor.recent) / len(monitor.recent), 3) if monitor.recent else None
         ),
         "wall_time_s": round(wall, 1),
-        "steps_per_s": round(model.num_timesteps / wall, 1),
+        "steps_per_s": round(model.num_timesteps / (wall - (imitation or {}).get(
+            "wall_time_s", 0.0)), 1),
+        "imitation": imitation,
         "policy": str(out / "policy.zip"),
         "machine": {"python": platform.python_version(), "cpus": _cpus(),
                     "torch_threads": torch.get_num_threads()},

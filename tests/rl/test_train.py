@@ -26,7 +26,7 @@ from ocplus_plan.sim import make_rules, new_state, transition
 SHIPPED = Path(__file__).resolve().parents[2] / "experiments" / "checkpoints"
 EXPECTED = {"easy_1agent.zip": ("easy", 1), "medium_1agent.zip": ("medium", 1),
             "easy_2agent.zip": ("easy", 2), "medium_2agent.zip": ("medium", 2),
-            "hard_2agent.zip": ("hard", 2)}
+            "hard_1agent.zip": ("hard", 1), "hard_2agent.zip": ("hard", 2)}
 
 
 @pytest.fixture(scope="module")
