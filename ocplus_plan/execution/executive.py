@@ -342,7 +342,9 @@ class Executive:
             return state.agent_pos[task.step.agent] == task.step.target
         if kind in _PROCESS:
             here = state.cell_item[task.step.target]
-            if not task.deps <= self.done_steps or (task.step.items and here not in task.step.items):
+            if not task.deps <= self.done_steps:
+                return False
+            if task.step.items and here not in task.step.items:
                 return False
             return bump_effect(state, -1, task.step.target) != _PROCESS[kind]
         return False

@@ -375,10 +375,12 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
     ``reorder_dishes``: the plan's dishes are also scheduled in every other order they can
     be served in (:func:`dish_orders`), and the schedule that ends best is kept.
 
-    ``carry_to_plates``: a plate the plan carries to its ingredients may instead stay where
-    it lies while the ingredients are carried to it (:func:`plate_carries`); each plate trip
-    keeps the variant whose schedule ends best. A plan with steps of cooks outside
-    ``agents`` is left as it is."""
+    ``carry_to_plates``: the plan's plating route may change (:func:`plating_variants`: a
+    plate that stays where it lies while its ingredients are carried to it, an ingredient
+    put straight on its station); the variant whose schedule ends best is kept.
+
+    Work that serves no order is dropped first (:func:`without_idle_work`). A plan with
+    steps of cooks outside ``agents`` is left as it is."""
     agents = tuple(agents)
     if not agents or any(s.agent not in agents for s, _, _ in steps):
         return _in_plan_order(steps)
@@ -644,10 +646,10 @@ def plate_carries(steps: list[tuple[PlanStep, str, int]], trip: PlateTrip,
     """The plan with the trip's first scoops turned into carries: each of those ingredients
     is picked up by hand and put on the plate where the plate lies, in every order, and the
     plate is picked up after the last of them (not at all when every scoop is carried and
-    the trip puts the plate back on the same counter). The carries take the place of the last scoop
-    they replace, so a variant is left out when anything else touches the plate's counter,
-    the plate, a carried ingredient or its station in between, or when the cells disagree
-    (:func:`_cells_agree`)."""
+    the trip puts the plate back on the same counter). The carries take the place of the
+    last scoop they replace, so a variant is left out when anything else touches the
+    plate's counter, the plate, a carried ingredient or its station in between, or when the
+    cells disagree (:func:`_cells_agree`)."""
     pick = steps[trip.pickup][0]
     plate, counter = pick.items[0], pick.target
     out = []
