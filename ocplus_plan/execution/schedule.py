@@ -443,7 +443,7 @@ def dish_orders(steps: list[tuple[PlanStep, str, int]],
     delivers = [i for i, (s, _, _) in enumerate(steps) if s.kind == "deliver"]
     if len(delivers) < 2 or len(delivers) > MAX_DISHES_REORDERED or rules.dirty_plates:
         return [steps]
-    plates = {i for i, kind in enumerate(state.geo.item_kind) if kind == int(Item.PLATE)}
+    plates = _plates(state)
     for q in plates:
         if (state.item_where[q] != int(Where.CELL) or state.item_loc[q] != state.geo.item_home[q]
                 or state.item_state[q] != int(ItemState.CLEAN)
@@ -490,7 +490,7 @@ def _cells_agree(steps: Sequence[tuple[PlanStep, str, int]], state: State) -> bo
     """Does every step find its cell as it needs it, played in this order from ``state``
     (something to pick up or chop there, room to put something down)?"""
     on = {c: i for c, i in enumerate(state.cell_item) if i >= 0}
-    plates = {i for i, kind in enumerate(state.geo.item_kind) if kind == int(Item.PLATE)}
+    plates = _plates(state)
     for step, _, _ in steps:
         here = on.get(step.target)
         if step.kind == "putdown":
@@ -618,7 +618,7 @@ class PlateTrip:
 def plate_trips(steps: Sequence[tuple[PlanStep, str, int]], state: State) -> list[PlateTrip]:
     """Every trip of a plate from a counter through at least one scoop to the window or
     to a counter."""
-    plates = {i for i, kind in enumerate(state.geo.item_kind) if kind == int(Item.PLATE)}
+    plates = _plates(state)
     terrain = state.geo.terrains[state.layout_index]
     out = []
     for i, (step, effect, _) in enumerate(steps):
@@ -691,16 +691,18 @@ def plate_stays_home(steps: list[tuple[PlanStep, str, int]],
     steps relabelled to the plate's counter, the pick-up and put-down dropped), and one
     with every move dropped, one after the other; each kept when the cells agree
     (:func:`_cells_agree`)."""
+    plates, terrain = _plates(state), state.geo.terrains[state.layout_index]
     out = []
     for i in range(len(steps)):
-        variant = _plate_stays(steps, i, state)
+        variant = _plate_stays(steps, i, state, plates, terrain)
         if variant is not None:
             out.append(variant)
     if len(out) > 1:
         every = out[0]
         for _ in range(len(steps)):
             nxt = next((v for i in range(len(every))
-                        if (v := _plate_stays(every, i, state)) is not None), None)
+                        if (v := _plate_stays(every, i, state, plates, terrain)) is not None),
+                       None)
             if nxt is None:
                 break
             every = nxt
@@ -708,13 +710,12 @@ def plate_stays_home(steps: list[tuple[PlanStep, str, int]],
     return out
 
 
-def _plate_stays(steps: list[tuple[PlanStep, str, int]], i: int,
-                 state: State) -> list[tuple[PlanStep, str, int]] | None:
+def _plate_stays(steps: list[tuple[PlanStep, str, int]], i: int, state: State,
+                 plates: set[int],
+                 terrain: Sequence[int]) -> list[tuple[PlanStep, str, int]] | None:
     """:func:`plate_stays_home` for the plate picked up at plan index ``i`` (None: no
     move of a plate from a counter there, or the cells disagree)."""
     step, effect, _ = steps[i]
-    plates = {q for q, kind in enumerate(state.geo.item_kind) if kind == int(Item.PLATE)}
-    terrain = state.geo.terrains[state.layout_index]
     if step.kind != "pickup" or effect != TAKE or len(step.items) != 1 \
             or step.items[0] not in plates or terrain[step.target] not in COUNTERS:
         return None
@@ -749,7 +750,7 @@ def unparked(steps: list[tuple[PlanStep, str, int]],
     (Kairos parks a tomato on a counter on its way to the board) is put on that station
     the first time, and the pick-up and second put-down go. One variant per parking, kept
     when the cells agree (:func:`_cells_agree`)."""
-    plates = {q for q, kind in enumerate(state.geo.item_kind) if kind == int(Item.PLATE)}
+    plates = _plates(state)
     terrain = state.geo.terrains[state.layout_index]
     out = []
     for i, (step, effect, _) in enumerate(steps):
@@ -828,6 +829,11 @@ def _best_plating(steps: list[tuple[PlanStep, str, int]], state: State,
             break
         steps = found
     return steps
+
+
+def _plates(state: State) -> set[int]:
+    """The kitchen's plates (item ids)."""
+    return {q for q, kind in enumerate(state.geo.item_kind) if kind == int(Item.PLATE)}
 
 
 def _takes(step: PlanStep, effect: str) -> bool:
