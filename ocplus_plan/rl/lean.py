@@ -78,7 +78,7 @@ class LeanPPO:
         self.policy = model.policy
         self.params = list(self.policy.parameters())
         self.policy.optimizer = torch.optim.Adam(
-            self.params, lr=config.learning_rate, eps=ADAM_EPS, fused=False)
+            self.params, lr=config.learning_rate, eps=ADAM_EPS)
         self.generator = torch.Generator().manual_seed(config.seed)
         slots, steps = venv.num_envs, config.n_steps
         self.batch_size = min(config.batch_size, slots * steps)
