@@ -15,12 +15,13 @@ pytest.importorskip(
 )
 
 from ocplus_plan.agents import make_controller
+from ocplus_plan.agents.base import run_episode
 from ocplus_plan.cli import main
 from ocplus_plan.errors import ConfigError
 from ocplus_plan.rl.lean import LeanPPO, gae
 from ocplus_plan.rl.policy import read_meta
 from ocplus_plan.rl.train import TrainConfig, build, train
-from ocplus_plan.sim import make_rules, new_state, transition
+from ocplus_plan.sim import make_rules, new_state
 
 TINY = dict(preset="easy", n_agents=2, n_kitchens=3, n_steps=8, batch_size=16, n_epochs=2,
             hidden=(16,), algo="lean")
@@ -62,12 +63,8 @@ def test_two_rollouts_save_a_checkpoint_the_ppo_controller_plays(tmp_path: Path)
     assert meta["train"]["algo"] == "lean" and meta["n_agents"] == 2
     assert json.loads((tmp_path / "train.json").read_text())["config"]["algo"] == "lean"
     agent = make_controller(f"ppo:{tmp_path / 'policy.zip'}", seed=0)
-    state = new_state(make_rules("easy", n_agents=2), 0)
-    agent.reset(state)
-    for _ in range(10):
-        actions = agent.act(state)
-        assert len(actions) == 2 and all(0 <= a <= 4 for a in actions)
-        transition(state, actions)
+    played = run_episode(new_state(make_rules("easy", n_agents=2, horizon=12), 0), agent)
+    assert played["t"] == 12 and agent.info()["checkpoint"].endswith("policy.zip")
 
 
 def test_the_lean_update_is_sb3_ppo_train_on_the_same_rollout(tmp_path: Path):
