@@ -127,7 +127,7 @@ def _measure_lean(model, venv, config: TrainConfig, warm: int, steps: int) -> di
     """The lean loop keeps its own split (env, forward, rollout_other, update)."""
     from ocplus_plan.rl.lean import LeanPPO
 
-    learner = LeanPPO(model, venv, config)
+    learner = LeanPPO(model, venv, config.precision, config.seed)
     learner.learn(warm)
     t = {"encode": 0.0}
     _timed(venv, "_encode" if venv.batch is None else "_batch_obs", t, "encode")

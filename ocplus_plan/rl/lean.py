@@ -1,9 +1,9 @@
-"""A lean PPO loop over the batched kitchens (``ocplus train --algo lean``).
+"""A lean PPO loop over the kitchens (``ocplus train --algo lean``).
 
-The same algorithm and network as the stable-baselines3 trainer (clipped PPO, GAE,
-per-minibatch advantage normalisation, value loss weight 0.5, gradient norm 0.5, Adam
-with eps 1e-5, the same linear learning-rate decay, the same SB3 ``MlpPolicy`` object),
-without SB3's per-step machinery: the rollout lives in preallocated torch tensors, one
+The same algorithm and network as the stable-baselines3 trainer, read from the SB3 ``PPO``
+object that :func:`ocplus_plan.rl.train.build` makes (its policy, optimiser, clip range,
+value-loss weight, gradient-norm limit, advantage normalisation and learning-rate
+schedule), without SB3's per-step machinery: the rollout lives in preallocated torch tensors, one
 forward pass per rollout step acts for every agent of every kitchen (under
 ``torch.inference_mode``), GAE runs over all slots at once, and the update draws large
 minibatches from the flat rollout. It trains ``model.policy`` in place, so ``model.save``
@@ -27,12 +27,6 @@ from typing import Any
 
 import numpy as np
 
-#: SB3's PPO defaults that the trainer never changes: kept equal so both algos optimise
-#: the same objective
-CLIP_RANGE = 0.2
-VF_COEF = 0.5
-MAX_GRAD_NORM = 0.5
-ADAM_EPS = 1e-5
 PRECISIONS = ("fp32", "bf16")
 
 
@@ -61,27 +55,24 @@ def gae(rewards: Any, values: Any, dones: Any, last_values: Any, gamma: float,
 
 
 class LeanPPO:
-    """PPO on ``model.policy`` (an SB3 ``ActorCriticPolicy``) over ``venv`` (a
-    :class:`~ocplus_plan.rl.vec_env.KitchenVecEnv`), with ``config``'s settings
-    (:class:`~ocplus_plan.rl.train.TrainConfig`: n_steps, batch_size, n_epochs,
-    learning_rate, gamma, gae_lambda, ent_coef, seed, precision).
+    """The PPO of ``model`` (an SB3 ``PPO``: its policy, optimiser and settings, n_steps,
+    batch_size and n_epochs included) over ``venv`` (a
+    :class:`~ocplus_plan.rl.vec_env.KitchenVecEnv`), with the network's matrix products in
+    ``precision`` and actions and minibatches drawn from a generator seeded ``seed``.
 
     :meth:`learn` has the signature and step counting of SB3's ``PPO.learn`` (whole
     rollouts; ``model.num_timesteps`` advances; the callback sees the same hooks), so
     :func:`ocplus_plan.rl.train.train` drives either the same way.
     """
 
-    def __init__(self, model: Any, venv: Any, config: Any) -> None:
+    def __init__(self, model: Any, venv: Any, precision: str = "fp32", seed: int = 0) -> None:
         import torch
 
-        self.model, self.venv, self.config = model, venv, config
+        self.model, self.venv, self.precision = model, venv, precision
         self.policy = model.policy
         self.params = list(self.policy.parameters())
-        self.policy.optimizer = torch.optim.Adam(
-            self.params, lr=config.learning_rate, eps=ADAM_EPS)
-        self.generator = torch.Generator().manual_seed(config.seed)
-        slots, steps = venv.num_envs, config.n_steps
-        self.batch_size = min(config.batch_size, slots * steps)
+        self.generator = torch.Generator().manual_seed(seed)
+        slots, steps = venv.num_envs, model.n_steps
         f32 = torch.float32
         self.obs = torch.zeros((steps, slots, venv.obs_size), dtype=f32)
         self.actions = torch.zeros((steps, slots), dtype=torch.int64)
@@ -97,7 +88,7 @@ class LeanPPO:
     def _autocast(self) -> Any:
         import torch
 
-        if self.config.precision == "bf16":
+        if self.precision == "bf16":
             return torch.autocast("cpu", dtype=torch.bfloat16)
         return nullcontext()
 
@@ -141,7 +132,7 @@ class LeanPPO:
         u = torch.rand(self.logits.shape, generator=self.generator).clamp_(min=1e-12)
         gumbel = -torch.log(-torch.log(u))
         going = True
-        for t in range(self.config.n_steps):
+        for t in range(self.model.n_steps):
             t0 = clock()
             obs = self.obs[t]
             obs.copy_(torch.from_numpy(self._last_obs))
@@ -172,8 +163,8 @@ class LeanPPO:
             log_p = torch.log_softmax(self.logits, dim=2)
             self.log_probs = log_p.gather(2, self.actions[..., None]).squeeze(2)
         self.advantages, self.returns = gae(
-            self.rewards, self.values, self.dones, last, self.config.gamma,
-            self.config.gae_lambda)
+            self.rewards, self.values, self.dones, last, self.model.gamma,
+            self.model.gae_lambda)
         sec["rollout_other"] += clock() - t0
         return going
 
@@ -181,42 +172,44 @@ class LeanPPO:
         import torch
 
         t0 = time.perf_counter()
-        cfg = self.config
         # SB3's progress and schedule (train._lr_schedule), as PPO.train applies them
         progress_remaining = 1.0 - self.model.num_timesteps / self._total
         for group in self.policy.optimizer.param_groups:
             group["lr"] = self.model.lr_schedule(progress_remaining)
+        self._clip = self.model.clip_range(progress_remaining)
         flat = {k: getattr(self, k).reshape(-1, *getattr(self, k).shape[2:])
                 for k in ("obs", "actions", "log_probs", "advantages", "returns")}
         n = flat["actions"].shape[0]
-        size = self.batch_size
-        for _ in range(cfg.n_epochs):
+        size = self.model.batch_size
+        for _ in range(self.model.n_epochs):
             order = torch.randperm(n, generator=self.generator)
-            for start in range(0, n - size + 1, size):
+            for start in range(0, n, size):  # the last minibatch may be short, as in SB3
                 idx = order[start:start + size]
                 self._minibatch(*(flat[k][idx] for k in (
                     "obs", "actions", "log_probs", "advantages", "returns")))
         self.seconds["update"] += time.perf_counter() - t0
 
     def _minibatch(self, obs: Any, actions: Any, old_log_p: Any, adv: Any, ret: Any) -> None:
+        """One gradient step, as SB3's ``PPO.train`` takes it on a minibatch."""
         import torch
 
+        ppo = self.model
         logits, values = self._forward(obs)
         log_p_all = torch.log_softmax(logits, dim=1)
         log_p = log_p_all.gather(1, actions[:, None]).squeeze(1)
         entropy = -(log_p_all.exp() * log_p_all).sum(dim=1).mean()
-        if len(adv) > 1:
+        if ppo.normalize_advantage and len(adv) > 1:
             adv = (adv - adv.mean()) / (adv.std() + 1e-8)
         ratio = torch.exp(log_p - old_log_p)
-        policy_loss = -torch.min(adv * ratio,
-                                 adv * ratio.clamp(1 - CLIP_RANGE, 1 + CLIP_RANGE)).mean()
+        clipped = ratio.clamp(1 - self._clip, 1 + self._clip)
+        policy_loss = -torch.min(adv * ratio, adv * clipped).mean()
         value_loss = torch.nn.functional.mse_loss(values, ret)
-        loss = policy_loss - self.config.ent_coef * entropy + VF_COEF * value_loss
+        loss = policy_loss - ppo.ent_coef * entropy + ppo.vf_coef * value_loss
         opt = self.policy.optimizer
         opt.zero_grad(set_to_none=True)
         loss.backward()
-        torch.nn.utils.clip_grad_norm_(self.params, MAX_GRAD_NORM, foreach=True)
+        torch.nn.utils.clip_grad_norm_(self.params, ppo.max_grad_norm, foreach=True)
         opt.step()
 
 
-__all__ = ["CLIP_RANGE", "MAX_GRAD_NORM", "PRECISIONS", "VF_COEF", "LeanPPO", "gae"]
+__all__ = ["PRECISIONS", "LeanPPO", "gae"]

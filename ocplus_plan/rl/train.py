@@ -247,7 +247,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
     if config.algo == "lean":
         from .lean import LeanPPO
 
-        learner = LeanPPO(model, venv, config)
+        learner = LeanPPO(model, venv, config.precision, config.seed)
     every = config.checkpoint_every or max(config.steps // 5, 1)
     monitor = TrainingMonitor(
         venv, config.steps, out, anneal_fraction=config.anneal_fraction,

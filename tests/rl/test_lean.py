@@ -73,7 +73,7 @@ def test_the_lean_update_is_sb3_ppo_train_on_the_same_rollout(tmp_path: Path):
     config = TrainConfig(**{**TINY, "n_epochs": 1, "batch_size": 48})  # one minibatch
     model, venv, _, _ = build(config)
     model.set_logger(configure(str(tmp_path), []))  # SB3's default logs into TMPDIR
-    lean = LeanPPO(model, venv, config)
+    lean = LeanPPO(model, venv, config.precision, config.seed)
     lean._last_obs = venv.reset()
     lean._collect(None)
     buf = model.rollout_buffer
