@@ -3,9 +3,9 @@
 The same algorithm and network as the stable-baselines3 trainer, read from the SB3 ``PPO``
 object that :func:`ocplus_plan.rl.train.build` makes (its policy, optimiser, clip range,
 value-loss weight, gradient-norm limit, advantage normalisation and learning-rate
-schedule), without SB3's per-step machinery: the rollout lives in preallocated torch tensors, one
-forward pass per rollout step acts for every agent of every kitchen (under
-``torch.inference_mode``), GAE runs over all slots at once, and the update draws large
+schedule), without SB3's per-step machinery: the rollout lives in preallocated torch
+tensors, one forward pass per rollout step acts for every agent of every kitchen (under
+``torch.inference_mode``), GAE runs over all slots at once, and the update draws its
 minibatches from the flat rollout. It trains ``model.policy`` in place, so ``model.save``
 writes the usual checkpoint (``ocplus eval --agents ppo:...`` loads it like any other).
 
@@ -80,8 +80,13 @@ class LeanPPO:
         self.values = torch.zeros((steps, slots), dtype=f32)
         self.rewards = torch.zeros((steps, slots), dtype=f32)
         self.dones = torch.zeros((steps, slots), dtype=torch.bool)
+        # computed at the end of each rollout (_collect)
+        self.log_probs = torch.zeros((steps, slots), dtype=f32)
+        self.advantages = torch.zeros((steps, slots), dtype=f32)
+        self.returns = torch.zeros((steps, slots), dtype=f32)
         self._last_obs: np.ndarray | None = None
         self._total = 0
+        self._clip = 0.0
         self.seconds = dict.fromkeys(("env", "forward", "rollout_other", "update"), 0.0)
 
     # ------------------------------------------------------------ network
