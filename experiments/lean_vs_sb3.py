@@ -31,7 +31,7 @@ from eval_checkpoints import evaluate
 #: trainer -> its ocplus train options. sb3 is the setting the session-5 checkpoints
 #: trained with (FAST in train_baselines.py: 32 kitchens x 128 steps, 2048-sample
 #: minibatches, 4 epochs); the lean ones run the same PPO over 256 kitchens x 16 steps
-#: (the same 4,096 samples per update), in bfloat16, with 4 or 2 epochs.
+#: (the same 4,096 samples per update), in bfloat16, with 4, 3 or 2 epochs.
 TRAINERS: dict[str, list[str]] = {
     "sb3": ["--n-kitchens", "32", "--n-steps", "128", "--batch-size", "2048",
             "--n-epochs", "4"],
@@ -39,6 +39,8 @@ TRAINERS: dict[str, list[str]] = {
              "--batch-size", "2048", "--n-epochs", "4"],
     "lean_2epochs": ["--algo", "lean", "--precision", "bf16", "--n-kitchens", "256",
                      "--n-steps", "16", "--batch-size", "2048", "--n-epochs", "2"],
+    "lean_3epochs": ["--algo", "lean", "--precision", "bf16", "--n-kitchens", "256",
+                     "--n-steps", "16", "--batch-size", "2048", "--n-epochs", "3"],
 }
 
 
