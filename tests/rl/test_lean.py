@@ -67,6 +67,21 @@ def test_two_rollouts_save_a_checkpoint_the_ppo_controller_plays(tmp_path: Path)
     assert played["t"] == 12 and agent.info()["checkpoint"].endswith("policy.zip")
 
 
+def test_lean_runs_a_curriculum_after_a_greedy_clone(tmp_path: Path):
+    from functools import partial
+
+    config = TrainConfig(**{**TINY, "n_agents": 1, "batch_size": 12}, steps=4 * 3 * 8,
+                         out=str(tmp_path), curriculum=("medium:steak",),
+                         curriculum_fraction=0.5, bc="greedy", bc_steps=50, bc_rounds=1,
+                         bc_epochs=1)
+    summary = train(config, command="test", progress=False,
+                    teacher=partial(make_controller, "greedy"))
+    assert summary["timesteps"] == 4 * 3 * 8  # 2 rollouts per stage, 3 kitchens x 8 steps
+    assert summary["imitation"]["rounds"][0]["teacher_share"] == 1.0
+    trained = read_meta(tmp_path / "policy.zip")["train"]
+    assert (trained["algo"], trained["bc"]) == ("lean", "greedy")
+
+
 def test_the_lean_update_is_sb3_ppo_train_on_the_same_rollout(tmp_path: Path):
     from stable_baselines3.common.logger import configure
 
