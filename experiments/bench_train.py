@@ -22,8 +22,13 @@ rollouts, 512 minibatch, 8 epochs); ``before_grid`` the same with grid observati
 ``TrainConfig`` picks with the ``fast`` extra); ``fast`` the batched engine with grid
 observations and larger batches (``--n-kitchens``, ``--fast-*``); ``fast_features`` those
 batch settings on the loop engine with features (what the shipped checkpoints of issue 16
-trained with); ``fast_batch_features`` the same on the batched engine. Prints one JSON
-line per setup and kitchen count.
+trained with); ``fast_batch_features`` the same on the batched engine; ``lean`` and
+``lean_bf16`` those batch settings in the lean loop (``--algo lean``, rl/lean.py, float32
+or bfloat16), which keeps its own split (``sim`` + ``encode`` = its ``env``; ``train`` = its
+``update``). Prints one JSON line per setup and kitchen count.
+
+    .venv/bin/python experiments/bench_train.py --setups fast_batch_features,lean_bf16 \
+        --n-kitchens 256 --fast-n-steps 16 --fast-batch-size 2048 --fast-n-epochs 4
 
     .venv/bin/python experiments/bench_train.py --before-rev aef8f14 --rounds 3
 
@@ -32,9 +37,14 @@ both see the same machine load: the trainer as it was at commit REV (checked out
 ``git worktree add`` into a temporary folder, run by this venv's python with
 ``PYTHONPATH`` on that tree, with its own defaults: 8 kitchens, 128-step rollouts, 512
 minibatch, 8 epochs, features, loop) and today's trainer with the fast settings
-(``--n-kitchens`` first value, ``--fast-*``, ``--obs``, ``--engine``). Each reads the
-steps/s its run wrote to train.json; a last line gives the medians and their ratio. The
-worktree is removed afterwards.
+(``--n-kitchens`` first value, ``--fast-*``, ``--obs``, ``--engine``, ``--algo``,
+``--precision``). Each reads the steps/s its run wrote to train.json; a last line gives
+the medians, their ratio and the load average. The worktree is removed afterwards. The lean
+loop against the issue-era trainer:
+
+    .venv/bin/python experiments/bench_train.py --before-rev aef8f14 --rounds 3 \
+        --algo lean --precision bf16 --n-kitchens 256 --fast-n-steps 16 \
+        --fast-batch-size 2048 --fast-n-epochs 4 --after-steps 2000000
 """
 
 from __future__ import annotations
@@ -76,26 +86,16 @@ def measure(config: TrainConfig, steps: int) -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         model.set_logger(configure(tmp, []))
         warm = venv.num_envs * config.n_steps
-        model.learn(warm)  # warm-up: numba compilation, torch allocations
-        t = dict.fromkeys(("step_wait", "encode", "forward", "rollout", "train"), 0.0)
-        _timed(venv, "step_wait", t, "step_wait")
-        _timed(venv, "_encode" if venv.batch is None else "_batch_obs", t, "encode")
-        _timed(model.policy, "forward", t, "forward")
-        _timed(model, "collect_rollouts", t, "rollout")
-        _timed(model, "train", t, "train")
-        start = model.num_timesteps
-        t0 = time.perf_counter()
-        model.learn(steps, reset_num_timesteps=False)
-        wall = time.perf_counter() - t0
-        done = model.num_timesteps - start
+        if config.algo == "lean":
+            split = _measure_lean(model, venv, config, warm, steps)
+        else:
+            split = _measure_sb3(model, venv, warm, steps)
     venv.close()
-    sim = t["step_wait"] - t["encode"]
-    other = t["rollout"] - t["step_wait"] - t["forward"]
-    split = {"sim": sim, "encode": t["encode"], "forward": t["forward"],
-             "rollout_other": other, "train": t["train"]}
+    wall, done = split.pop("wall"), split.pop("done")
     return {
         "preset": config.preset, "n_agents": config.n_agents, "obs": config.obs,
-        "engine": config.engine, "n_kitchens": config.n_kitchens, "n_steps": config.n_steps,
+        "engine": config.engine, "algo": config.algo, "precision": config.precision,
+        "n_kitchens": config.n_kitchens, "n_steps": config.n_steps,
         "batch_size": config.batch_size, "n_epochs": config.n_epochs,
         "hidden": list(config.hidden), "torch_threads": config.torch_threads,
         "agent_steps": done, "wall_s": round(wall, 2),
@@ -106,7 +106,44 @@ def measure(config: TrainConfig, steps: int) -> dict:
     }
 
 
-SETUPS = ("before", "before_grid", "after", "fast", "fast_features", "fast_batch_features")
+def _measure_sb3(model, venv, warm: int, steps: int) -> dict:
+    model.learn(warm)  # warm-up: numba compilation, torch allocations
+    t = dict.fromkeys(("step_wait", "encode", "forward", "rollout", "train"), 0.0)
+    _timed(venv, "step_wait", t, "step_wait")
+    _timed(venv, "_encode" if venv.batch is None else "_batch_obs", t, "encode")
+    _timed(model.policy, "forward", t, "forward")
+    _timed(model, "collect_rollouts", t, "rollout")
+    _timed(model, "train", t, "train")
+    start = model.num_timesteps
+    t0 = time.perf_counter()
+    model.learn(steps, reset_num_timesteps=False)
+    wall = time.perf_counter() - t0
+    return {"sim": t["step_wait"] - t["encode"], "encode": t["encode"], "forward": t["forward"],
+            "rollout_other": t["rollout"] - t["step_wait"] - t["forward"], "train": t["train"],
+            "wall": wall, "done": model.num_timesteps - start}
+
+
+def _measure_lean(model, venv, config: TrainConfig, warm: int, steps: int) -> dict:
+    """The lean loop keeps its own split (env, forward, rollout_other, update)."""
+    from ocplus_plan.rl.lean import LeanPPO
+
+    learner = LeanPPO(model, venv, config.precision, config.seed)
+    learner.learn(warm)
+    t = {"encode": 0.0}
+    _timed(venv, "_encode" if venv.batch is None else "_batch_obs", t, "encode")
+    before = dict(learner.seconds)
+    start = model.num_timesteps
+    t0 = time.perf_counter()
+    learner.learn(steps, reset_num_timesteps=False)
+    wall = time.perf_counter() - t0
+    sec = {k: v - before[k] for k, v in learner.seconds.items()}
+    return {"sim": sec["env"] - t["encode"], "encode": t["encode"], "forward": sec["forward"],
+            "rollout_other": sec["rollout_other"], "train": sec["update"],
+            "wall": wall, "done": model.num_timesteps - start}
+
+
+SETUPS = ("before", "before_grid", "after", "fast", "fast_features", "fast_batch_features",
+          "lean", "lean_bf16")
 
 
 def cli_rate(tree: Path, argv: list[str]) -> dict:
@@ -129,7 +166,8 @@ def before_after(args: argparse.Namespace) -> None:
     after = [*kitchen, "--steps", str(args.after_steps), "--quiet", "--obs", args.obs,
              "--engine", args.engine, "--n-kitchens", args.n_kitchens.split(",")[0],
              "--n-steps", str(args.fast_n_steps), "--batch-size", str(args.fast_batch_size),
-             "--n-epochs", str(args.fast_n_epochs), "--torch-threads", str(args.torch_threads)]
+             "--n-epochs", str(args.fast_n_epochs), "--torch-threads", str(args.torch_threads),
+             "--algo", args.algo, "--precision", args.precision]
     rates: dict[str, list[float]] = {"before": [], "after": []}
     with tempfile.TemporaryDirectory() as tmp:
         tree = Path(tmp) / "before"
@@ -177,6 +215,10 @@ def main() -> None:
                    help="agent-steps of each run of today's trainer")
     c.add_argument("--engine", default="auto", help="today's trainer: --engine")
     c.add_argument("--obs", default="features", help="today's trainer: --obs")
+    c.add_argument("--algo", default="sb3", choices=("sb3", "lean"),
+                   help="today's trainer: --algo")
+    c.add_argument("--precision", default="fp32", choices=("fp32", "bf16"),
+                   help="today's trainer: --precision (with --algo lean)")
     args = p.parse_args()
     if args.before_rev:
         before_after(args)
@@ -188,10 +230,12 @@ def main() -> None:
         if setup in ("before", "before_grid", "after"):
             configs = [TrainConfig(**base, obs="grid" if setup == "before_grid" else "features",
                                    engine="batch" if setup == "after" else "loop")]
-        elif setup in ("fast", "fast_features", "fast_batch_features"):
+        elif setup in ("fast", "fast_features", "fast_batch_features", "lean", "lean_bf16"):
             engine = {"fast": dict(obs="grid", engine="batch"),
                       "fast_features": dict(engine="loop"),
-                      "fast_batch_features": dict(engine="batch")}[setup]
+                      "fast_batch_features": dict(engine="batch"),
+                      "lean": dict(engine="batch", algo="lean"),
+                      "lean_bf16": dict(engine="batch", algo="lean", precision="bf16")}[setup]
             configs = [TrainConfig(**base, **engine, n_kitchens=int(k),
                                    n_steps=args.fast_n_steps, batch_size=args.fast_batch_size,
                                    n_epochs=args.fast_n_epochs)

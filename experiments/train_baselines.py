@@ -42,6 +42,14 @@ BC = ["--bc", "greedy", "--bc-steps", "60000", "--bc-rounds", "4", "--bc-epochs"
 BC_GRID = [*BC[:2], "--bc-steps", "30000", "--bc-rounds", "3", *BC[6:]]
 GRID_FAST = ["--n-kitchens", "128", "--n-steps", "64", "--batch-size", "2048", "--n-epochs", "4"]
 
+
+def _grid_run(preset: str, n_agents: int, seed: int) -> list[str]:
+    """The grid-observation recipe: clone the greedy cook (BC_GRID), then 7 minutes of PPO
+    on the batched engine (GRID_FAST)."""
+    return ["--preset", preset, "--n-agents", str(n_agents), "--steps", "20000000", "--seed",
+            str(seed), "--obs", "grid", "--engine", "batch", *BC_GRID, "--max-wall", "420",
+            *GRID_FAST]
+
 #: name -> ocplus train arguments (without --out), in order (later runs --init from earlier
 #: ones). Names starting with "_" are intermediate stages: trained, not shipped.
 RUNS: dict[str, list[str]] = {
@@ -101,13 +109,17 @@ RUNS: dict[str, list[str]] = {
     "medium_1agent_grid": ["--preset", "medium", "--steps", "20000000", "--seed", "11",
                            "--obs", "grid", "--engine", "batch", *BC_GRID, "--max-wall", "420",
                            *GRID_FAST],
-    "hard_2agent_grid": ["--preset", "hard", "--n-agents", "2", "--steps", "20000000",
-                         "--seed", "12", "--obs", "grid", "--engine", "batch", *BC_GRID,
-                         "--max-wall", "420", *GRID_FAST],
+    "hard_2agent_grid": _grid_run("hard", 2, 12),
+    # session 6: the same grid recipe on the kitchens that had no grid row
+    "easy_1agent_grid": _grid_run("easy", 1, 14),
+    "easy_2agent_grid": _grid_run("easy", 2, 15),
+    "medium_2agent_grid": _grid_run("medium", 2, 16),
+    "hard_1agent_grid": _grid_run("hard", 1, 17),
 }
 #: runs whose record and training log ship but whose policy stays in experiments/runs/
 #: (grid policies are 2-4 MB and map-bound; the package data keeps to the features ones)
-RECORD_ONLY = {"medium_1agent_grid", "hard_2agent_grid"}
+RECORD_ONLY = {"medium_1agent_grid", "hard_2agent_grid", "easy_1agent_grid",
+               "easy_2agent_grid", "medium_2agent_grid", "hard_1agent_grid"}
 #: run -> the intermediate runs it was initialised from, oldest first (recorded as lineage)
 LINEAGE: dict[str, list[str]] = {"_medium_1agent_v1": ["_medium_stage1", "_medium_stage2"]}
 

@@ -65,8 +65,17 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="batch: the batched engine (fast extra); loop: one transition per "
                         "kitchen (the reference); auto: batch when the fast extra is "
                         "installed. Same observations and rewards either way")
+    s.add_argument("--algo", default="sb3", choices=("sb3", "lean"),
+                   help="sb3: stable-baselines3's PPO; lean: the same PPO and network in a "
+                        "plain torch loop (rl/lean.py; with many kitchens, short rollouts and "
+                        "--precision bf16, see the README's Speed); both write the same "
+                        "checkpoint")
+    s.add_argument("--precision", default="fp32", choices=("fp32", "bf16"),
+                   help="--algo lean: the network's matrix products in float32 or bfloat16 "
+                        "(autocast; weights, optimiser and losses stay float32)")
     s.add_argument("--torch-threads", type=int, default=1,
-                   help="torch CPU threads (the machine is shared: 1 unless it is yours)")
+                   help="CPU threads of torch and of the batched engine (the machine is shared: 1 "
+                        "unless it is yours)")
     s.add_argument("--max-wall", type=float, default=None, metavar="SECONDS",
                    help="stop after this much training time and save the policy as usual")
     add_output_args(p, out="required",
@@ -100,6 +109,7 @@ def run(args: argparse.Namespace) -> int:
         checkpoint_every=args.checkpoint_every, engine=args.engine,
         torch_threads=args.torch_threads, max_wall_s=args.max_wall,
         bc=args.bc, bc_steps=args.bc_steps, bc_rounds=args.bc_rounds, bc_epochs=args.bc_epochs,
+        algo=args.algo, precision=args.precision,
     )
     teacher = None
     if args.bc is not None:

@@ -10,6 +10,7 @@ imported only inside the functions that train or load a policy, so importing thi
 * :mod:`.vec_env`   - a stable-baselines3 ``VecEnv`` with one slot per agent per kitchen;
 * :mod:`.callbacks` - shaping annealing, episode CSV, checkpoints, progress bar;
 * :mod:`.train`     - :func:`train` (what ``ocplus train`` runs);
+* :mod:`.lean`      - the same PPO in a plain torch loop (``ocplus train --algo lean``);
 * :mod:`.policy`    - the checkpoint format and loading a policy to act (``ppo:PATH``).
 """
 

@@ -26,15 +26,17 @@ class BatchKitchens:
     """``n_kitchens`` kitchens, each playing an episode of one of several rule sets.
 
     ``grid_scale(rules)``: the factor of ``grid`` observations (None: ``features``).
+    ``threads``: the engines' threads (:class:`BatchSim`'s; None: the cores available).
     """
 
     def __init__(self, n_kitchens: int, seed: int, shaping: Shaping, obs_radius: int = 0,
-                 grid_scale: Any = None) -> None:
+                 grid_scale: Any = None, threads: int | None = None) -> None:
         self.n_kitchens = n_kitchens
         self.seed = seed
         self.shaping = shaping
         self.obs_radius = obs_radius
         self.grid_scale = grid_scale
+        self.threads = threads
         #: id(rules) -> (rules, engine, features, kitchens active in it)
         self.engines: dict[int, tuple[Rules, BatchSim, BatchFeatures, np.ndarray]] = {}
         self.rules: list[Rules | None] = [None] * n_kitchens  # each kitchen's episode rules
@@ -43,7 +45,7 @@ class BatchKitchens:
         hit = self.engines.get(id(rules))
         if hit is None:
             sim = BatchSim(rules, self.n_kitchens, seed=self.seed, obs_radius=self.obs_radius,
-                           observe=self.grid_scale is not None)
+                           observe=self.grid_scale is not None, threads=self.threads)
             hit = (rules, sim, BatchFeatures(sim, self.shaping),
                    np.zeros(self.n_kitchens, bool))
             self.engines[id(rules)] = hit

@@ -24,9 +24,13 @@ from typing import Any
 from ..errors import ConfigError
 from ..sim.rules import Rules, make_rules
 from .imitation import Imitation, Teacher, pretrain
+from .lean import PRECISIONS
 from .obs import OBS_KINDS
 from .policy import load_policy, require_rl, write_meta
 from .shaping import Shaping
+
+
+ALGOS = ("sb3", "lean")
 
 
 @dataclass(frozen=True)
@@ -62,6 +66,7 @@ class TrainConfig:
     #: reference) or "auto": batch when the ``fast`` extra is installed, else loop. Same
     #: observations and rewards either way.
     engine: str = "auto"
+    #: torch's CPU threads, and the batched engine's (it splits 256+ kitchens over them)
     torch_threads: int = 1
     #: stop (and save) after this many seconds of training; None = no limit
     max_wall_s: float | None = None
@@ -71,6 +76,11 @@ class TrainConfig:
     bc_steps: int = 100_000
     bc_rounds: int = 1
     bc_epochs: int = 8
+    #: "sb3" (stable-baselines3's PPO.learn) or "lean" (rl/lean.py: the same PPO and
+    #: network in a torch loop over the batched kitchens); both save the same checkpoint
+    algo: str = "sb3"
+    #: the lean loop's matrix products: "fp32" or "bf16" (autocast; weights stay float32)
+    precision: str = "fp32"
 
     def __post_init__(self) -> None:
         if self.engine == "auto":
@@ -104,6 +114,14 @@ class TrainConfig:
             raise ConfigError(f"hidden layer sizes must be positive, got {self.hidden}")
         if self.bc is not None:
             self.imitation().validate()
+        if self.algo not in ALGOS:
+            raise ConfigError(f"algo must be one of {', '.join(ALGOS)}, got {self.algo!r}")
+        if self.precision not in PRECISIONS:
+            raise ConfigError(
+                f"precision must be one of {', '.join(PRECISIONS)}, got {self.precision!r}")
+        if self.precision != "fp32" and self.algo != "lean":
+            raise ConfigError(f"precision {self.precision!r} needs algo 'lean' (the SB3 "
+                              "trainer computes in float32): add --algo lean")
 
     def imitation(self) -> Imitation:
         """The behaviour-cloning settings of this run (meaningful when ``bc`` is set)."""
@@ -148,6 +166,7 @@ def build(config: TrainConfig) -> tuple[Any, Any, list[Rules], Rules]:
         [target, *stages] if stages else target, config.n_kitchens, config.seed,
         obs=config.obs, obs_radius=config.obs_radius, shaping=config.shaping,
         team_reward=config.team_reward, reward_scale=config.reward_scale, engine=config.engine,
+        threads=config.torch_threads,
     )
     venv.rule_labels = {id(r): spec for r, spec in zip(stages, config.curriculum)}
     venv.rule_labels[id(target)] = config.preset
@@ -209,7 +228,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         write_meta(path, {**meta_base, "train": {
             "timesteps": timesteps, "seed": config.seed, "command": command,
             "wall_time_s": round(time.perf_counter() - t0, 1),
-            **({"bc": config.bc} if config.bc else {}),
+            **({"bc": config.bc} if config.bc else {}), "algo": config.algo,
         }})
 
     imitation = None
@@ -224,6 +243,11 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
                      "policy": str(out / "bc_policy.zip")}
         save(out / "bc_policy.zip", 0)
 
+    learner = model
+    if config.algo == "lean":
+        from .lean import LeanPPO
+
+        learner = LeanPPO(model, venv, config.precision, config.seed)
     every = config.checkpoint_every or max(config.steps // 5, 1)
     monitor = TrainingMonitor(
         venv, config.steps, out, anneal_fraction=config.anneal_fraction,
@@ -234,12 +258,13 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         if stages:
             switch = int(config.steps * config.curriculum_fraction)
             if switch:
-                model.learn(switch, callback=monitor)
+                learner.learn(switch, callback=monitor)
             venv.set_rules(target)
             if not monitor.out_of_time:
-                model.learn(config.steps - switch, callback=monitor, reset_num_timesteps=False)
+                learner.learn(config.steps - switch, callback=monitor,
+                              reset_num_timesteps=False)
         else:
-            model.learn(config.steps, callback=monitor)
+            learner.learn(config.steps, callback=monitor)
     finally:
         monitor.close()
     wall = time.perf_counter() - t0
@@ -259,6 +284,9 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
             "wall_time_s", 0.0)), 1),
         "imitation": imitation,
         "policy": str(out / "policy.zip"),
+        # where the lean loop's time went (rl/lean.py); SB3 does not split its own
+        **({"seconds": {k: round(v, 2) for k, v in learner.seconds.items()}}
+           if config.algo == "lean" else {}),
         "machine": {"python": platform.python_version(), "cpus": _cpus(),
                     "torch_threads": torch.get_num_threads()},
     }
@@ -272,4 +300,4 @@ def _cpus() -> int:
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 0
 
 
-__all__ = ["TrainConfig", "build", "train"]
+__all__ = ["ALGOS", "TrainConfig", "build", "train"]

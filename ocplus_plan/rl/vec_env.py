@@ -47,7 +47,8 @@ class KitchenVecEnv(VecEnv):
     ``rules[j % len(rules)]``); all must have the same number of agents.
     ``team_reward``: each agent receives the team's summed true reward (plus its own
     shaping), so the agent that chops shares the delivery. ``reward_scale`` multiplies
-    everything the learner sees (the logged game reward is unscaled).
+    everything the learner sees (the logged game reward is unscaled). ``threads``: the
+    batched engine's threads (it splits 256 kitchens or more over them; None: every core).
     """
 
     def __init__(
@@ -62,6 +63,7 @@ class KitchenVecEnv(VecEnv):
         team_reward: bool = True,
         reward_scale: float = 0.02,
         engine: str = "loop",
+        threads: int | None = None,
     ) -> None:
         rule_list = [rules] if isinstance(rules, Rules) else list(rules)
         if not rule_list:
@@ -100,7 +102,7 @@ class KitchenVecEnv(VecEnv):
         #: id(rules) -> a name for the episode log (curriculum stages); default: the preset
         self.rule_labels: dict[int, str] = {}
         self.shapers = [RewardShaper(shaping or Shaping()) for _ in range(n_kitchens)]
-        self.batch = self._batch_engine(engine, shaping or Shaping(), seed)
+        self.batch = self._batch_engine(engine, shaping or Shaping(), seed, threads)
         self.states: list[State] = []
         self._game_return = [0.0] * n_kitchens
         self._train_return = np.zeros((n_kitchens, self.n_agents))
@@ -142,7 +144,8 @@ class KitchenVecEnv(VecEnv):
         state = self.states[kitchen]
         return self._encoder(state.rules).encode_all(state)
 
-    def _batch_engine(self, engine: str, shaping: Shaping, seed: int) -> Any:
+    def _batch_engine(self, engine: str, shaping: Shaping, seed: int,
+                      threads: int | None) -> Any:
         if engine == "loop":
             return None
         if engine != "batch":
@@ -153,7 +156,7 @@ class KitchenVecEnv(VecEnv):
         if self._obs_kind == "grid":
             def scale(rules: Rules) -> np.ndarray:
                 return self._encoder(rules)._scale
-        return BatchKitchens(self.n_kitchens, seed, shaping, self._obs_radius, scale)
+        return BatchKitchens(self.n_kitchens, seed, shaping, self._obs_radius, scale, threads)
 
     def _batch_obs(self) -> np.ndarray:
         """Every slot's observation (a new array: SB3 keeps the last one across a step)."""
