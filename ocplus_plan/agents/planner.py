@@ -193,7 +193,8 @@ def compile_and_solve(
                     entries += chained(compiled, result.plan, state, agents)
                 steps = (schedule(entries, state, agents) if schedule_cooks and gran == "stations"
                          else renumber([s for s, _, _ in entries]))
-                return PlanOutcome("solved", steps, time.perf_counter() - t0)
+                return PlanOutcome("solved", steps, time.perf_counter() - t0,
+                                   relaxed=problem_state is not state and tried_relaxed)
             outcome = PlanOutcome(result.status, [], time.perf_counter() - t0, result.reason)
         return outcome
 

@@ -171,6 +171,21 @@ def _heuristic(geo: Geometry, walk: Sequence[bool], goals: frozenset[int]) -> li
     return [big if v < 0 else v for v in d]
 
 
+def _window_heuristic(geo: Geometry, walk_at: WalkAt, goals: frozenset[int], start: int,
+                      horizon: int) -> list[int]:
+    """Distances to ``goals`` in the layout at relative time 0; when that layout cuts
+    ``start`` off them, over every cell walkable at some time of the window instead (a
+    lower bound on any walk that waits for a switch, so the search stays admissible)."""
+    h = _heuristic(geo, walk_at(0), goals)
+    if h[start] < geo.rows * geo.cols:
+        return h
+    layouts = {id(w): w for w in (walk_at(t) for t in range(horizon + 1))}
+    if len(layouts) < 2:
+        return h
+    union = [any(w[c] for w in layouts.values()) for c in range(geo.rows * geo.cols)]
+    return _heuristic(geo, union, goals)
+
+
 def space_time_astar(
     geo: Geometry, walk_at: WalkAt, request: PathRequest, res: Reservations,
     soft: Mapping[int, int] | None = None,
@@ -185,9 +200,9 @@ def space_time_astar(
     start = request.start
     if not goals:
         return evasion_path(geo, walk_at, request, res)
-    h = _heuristic(geo, walk_at(0), goals)
-    soft = soft or {}
     horizon = res.horizon
+    h = _window_heuristic(geo, walk_at, goals, start, horizon)
+    soft = soft or {}
     nbrs = geo.neighbors
     # node: (f, g, tie, cell, t); g counts time steps plus soft penalties
     tie = 0
@@ -232,7 +247,7 @@ def evasion_path(
     horizon = res.horizon
     start = request.start
     ref = request.goals or frozenset({start})
-    h = _heuristic(geo, walk_at(0), ref)
+    h = _window_heuristic(geo, walk_at, ref, start, horizon)
     nbrs = geo.neighbors
     layer = {start: None}
     parents: list[dict[int, int | None]] = [layer]

@@ -231,3 +231,20 @@ def test_advance_runs_a_plan_in_a_copy():
     assert first not in {o.order_id for o in after.orders}  # served in the copy
     assert state.t == 0 and first in {o.order_id for o in state.orders}  # the original is untouched
     assert after.t == sum(compiled.map_back(ai).duration for ai in result.plan.actions)
+
+
+@needs_fd
+def test_one_cook_on_mapC_plans_on_the_relaxed_kitchen_and_waits_for_switches():
+    """hard, one cook: the cook's region never reaches every station, so the plan is made
+    with every switching cell open; the executive then waits for each switch where a way
+    is closed instead of replanning on it, and the dish is served."""
+    state = new_state(make_rules("hard", n_agents=1), 0)
+    agent = PlannerAgent("fast-downward")
+    agent.reset(state, [0])
+    agent.act(state)
+    assert agent.executive.plan_relaxed
+    stats = run_episode(state, [(agent, [0])], None, 200)
+    info = agent.info()
+    assert state.stats["layout_switches"] >= 10
+    assert "layout_switch" not in info["replans_by_reason"], info["replan_log"]
+    assert stats["dishes_served"] >= 1
