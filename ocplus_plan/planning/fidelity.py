@@ -65,6 +65,8 @@ class Replay:
     served: list[int] = field(default_factory=list)
     #: the plan runs past the episode's horizon and was checked up to it only
     outlasted: bool = False
+    #: the simulator state the replay ends in (temporal replays that agree to the end)
+    final: State | None = None
 
 
 class _World:
@@ -219,10 +221,17 @@ def _sim_where(state: State, i: int) -> tuple[str, Any]:
 
 
 def advance(compiled: Compiled, plan: Any, state: State) -> State | None:
-    """The state a sequential plan leaves: its steps run in a copy of ``state`` as in a
-    replay (the acting cook walks a shortest free path and bumps; the others stay). None
-    when a step cannot run or the simulator disagrees (a blocked move, a wrong delivery,
-    a burn): what comes after it could not be planned from a state the plan predicts."""
+    """The state a plan leaves: a sequential plan's steps run in a copy of ``state`` as in a
+    replay (the acting cook walks a shortest free path and bumps; the others stay); a
+    time-triggered plan is replayed by :func:`.fidelity_temporal.replay_temporal` (every
+    cook acts at its planned times). None when a step cannot run or the simulator
+    disagrees (a blocked move, a wrong delivery, a burn, a model mismatch): what comes
+    after it could not be planned from a state the plan predicts."""
+    if hasattr(plan, "timed_actions"):
+        from .fidelity_temporal import replay_temporal
+
+        result = replay_temporal(compiled, plan, state)
+        return result.final if result.ok else None
     world = _World(state.copy())
     for ai in plan.actions:
         before = len(world.events)

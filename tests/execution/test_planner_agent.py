@@ -248,3 +248,22 @@ def test_one_cook_on_mapC_plans_on_the_relaxed_kitchen_and_waits_for_switches():
     assert state.stats["layout_switches"] >= 10
     assert "layout_switch" not in info["replans_by_reason"], info["replan_log"]
     assert stats["dishes_served"] >= 1
+
+
+def test_temporal_plans_are_chained_too(tmp_path, monkeypatch):
+    """medium, one cook, Kairos with chain2: the second order is planned from the state
+    the first temporal plan leaves, and both deliveries are in the cook's queue."""
+    from ocplus_plan.planning.engines import availability
+
+    avail = availability("kairos")
+    if not avail.ok:
+        pytest.skip(f"kairos unavailable: {avail.reason}")
+    monkeypatch.chdir(tmp_path)
+    state = new_state(make_rules("medium", n_agents=1), 0)
+    agent = PlannerAgent("kairos", encoding="temporal", chain_orders=2, timeout=60)
+    agent.reset(state, [0])
+    agent.act(state)
+    if agent.info()["statuses"].get("timeout"):
+        pytest.skip("kairos timed out on a loaded machine")
+    delivers = [t for t in agent.executive.queues[0] if t.step.kind == "deliver"]
+    assert len(delivers) == 2
