@@ -234,6 +234,27 @@ def test_advance_runs_a_plan_in_a_copy():
 
 
 @needs_fd
+def test_advance_moves_a_cook_the_plan_does_not_model_out_of_the_way():
+    """One-lane corridor, the plan models cook 0 only and cook 1 stands between it and the
+    boards: a strict replay stops there, ``advance`` (where chained plans start from) puts
+    cook 1 aside and serves the order in its copy."""
+    from ocplus_plan.planning.compile import compile as compile_state
+    from ocplus_plan.planning.engines import solve
+    from ocplus_plan.planning.fidelity import advance, replay
+
+    state = new_state(make_rules("easy", map="corridor3", n_agents=2), 0)
+    first, cooks = state.orders[0].order_id, list(state.agent_pos)
+    compiled = compile_state(state, max_orders=1, agents=[0])
+    result = solve(compiled.problem, "fast-downward", timeout=20, validate=False)
+    assert not replay(compiled, result.plan, state).ok
+    after = advance(compiled, result.plan, state)
+    assert after is not None
+    assert first not in {o.order_id for o in after.orders}
+    assert len(set(after.agent_pos)) == 2  # never two cooks on one cell
+    assert state.agent_pos == cooks and first in {o.order_id for o in state.orders}
+
+
+@needs_fd
 def test_one_cook_on_mapC_plans_on_the_relaxed_kitchen_and_waits_for_switches():
     """hard, one cook: the cook's region never reaches every station, so the plan is made
     with every switching cell open; the executive then waits for each switch where a way
