@@ -115,9 +115,9 @@ def compile_and_solve(
     ``chain_orders=K`` (stations, static layouts): after a plan for the oldest order, the
     next open orders are planned one at a time from the state the previous plan leaves
     (:func:`~ocplus_plan.planning.fidelity.advance` runs it in a copy of the simulator; a
-    temporal plan is replayed at its planned times), up to K orders; the chained plans are scheduled together, so a cook can
-    prepare the next dish while another serves this one. K small problems are solved
-    much faster than one problem with K orders."""
+    temporal plan is replayed at its planned times), up to K orders; the chained plans are
+    scheduled together, so a cook can prepare the next dish while another serves this one.
+    K small problems are solved much faster than one problem with K orders."""
     if not isinstance(chain_orders, int) or chain_orders < 1:
         raise ConfigError(f"chain_orders must be a positive int, got {chain_orders!r}")
     if plan_cooks not in ("all", "one"):

@@ -249,7 +249,8 @@ def _sim_where(state: State, i: int) -> tuple[str, Any]:
 
 def advance(compiled: Compiled, plan: Any, state: State) -> State | None:
     """The state a plan leaves: a sequential plan's steps run in a copy of ``state`` as in a
-    replay (the acting cook walks a shortest free path and bumps; the others stay); a
+    replay (the acting cook walks a shortest free path and bumps; the others stay, or are
+    put aside when they stand on its walk, see ``_World._make_way``); a
     time-triggered plan is replayed by :func:`.fidelity_temporal.replay_temporal` (every
     cook acts at its planned times). None when a step cannot run or the simulator
     disagrees (a blocked move, a wrong delivery, a burn, a model mismatch): what comes
