@@ -42,6 +42,7 @@ from .paths import (
     DistanceOracle,
     PathRequest,
     hub_cells,
+    layout_connects,
     layout_schedule,
     plan_paths,
 )
@@ -179,8 +180,13 @@ class Executive:
             self.prev_layout = state.layout_index
             # an anticipated switch on time is what the plan was made for; a late one
             # (somebody stood on a closing cell) is a surprise; a plan made on the relaxed
-            # kitchen expects every switch (it waits where a way is still closed)
-            expected = (self.anticipate and state.t in self.expected_switches) or self.plan_relaxed
+            # kitchen expects every switch (it waits where a way is still closed) unless the
+            # new layout lets the cooks reach every station: the real kitchen may then be
+            # plannable again (two cooks on MapC), and a plan for it is made
+            expected = (self.anticipate and state.t in self.expected_switches) or (
+                self.plan_relaxed and not layout_connects(
+                    state.geo, state.layout_index,
+                    [state.agent_pos[a] for a in self.agent_ids]))
             if (not expected and self._switch_matters(state)) or self.failures_in_row:
                 self._trigger(state, "layout_switch", out)
         if state.stats["burns"] > self.prev_burns:

@@ -28,7 +28,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 from ..errors import ConfigError
-from ..sim.codes import Action
+from ..sim.codes import STATIONS, Action
 from ..sim.queries import direction, distances, interaction_spots
 from ..sim.state import Geometry, State
 
@@ -58,12 +58,19 @@ class DistanceOracle:
         return self.to_goals(layout_index, spots) if spots else [-1] * len(self.geo.neighbors)
 
 
+def layout_connects(geo: Geometry, layout: int, cooks: Sequence[int]) -> bool:
+    """Can the cooks at cells ``cooks``, between them, reach every station of the kitchen
+    in ``layout`` (each station from some cook)?"""
+    walk = geo.walkables[layout]
+    reach = distances(geo.neighbors, walk, [p for p in cooks if walk[p]])
+    return all(any(nb >= 0 and walk[nb] and reach[nb] >= 0 for nb in geo.neighbors[cell])
+               for cell, code in enumerate(geo.terrains[layout]) if code in STATIONS)
+
+
 def hub_cells(geo: Geometry) -> frozenset[int]:
     """Floor cells (walkable in every layout) from which the most stations can be reached,
     summed over the layouts: where an agent with nothing to do waits on a map whose
     layout switches, so that it is not cut off from the work after the next switch."""
-    from ..sim.codes import STATIONS
-
     stations = [c for c, v in enumerate(geo.terrains[0]) if v in STATIONS]
     n = geo.rows * geo.cols
     score = [0] * n
