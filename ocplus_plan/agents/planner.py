@@ -112,12 +112,12 @@ def compile_and_solve(
     (``schedule_cooks``). A classical planner minimising total cost gains nothing from a
     second cook, and each modelled cook multiplies any planner's search space.
 
-    ``chain_orders=K`` (classical, stations, static layouts): after a plan for the oldest
-    order, the next open orders are planned one at a time from the state the previous plan
-    leaves (:func:`~ocplus_plan.planning.fidelity.advance` runs it in a copy of the
-    simulator), up to K orders; the chained plans are scheduled together, so a cook can
-    prepare the next dish while another serves this one. K small problems are solved
-    much faster than one problem with K orders."""
+    ``chain_orders=K`` (stations, static layouts): after a plan for the oldest order, the
+    next open orders are planned one at a time from the state the previous plan leaves
+    (:func:`~ocplus_plan.planning.fidelity.advance` runs it in a copy of the simulator; a
+    temporal plan is replayed at its planned times), up to K orders; the chained plans are
+    scheduled together, so a cook can prepare the next dish while another serves this one.
+    K small problems are solved much faster than one problem with K orders."""
     if not isinstance(chain_orders, int) or chain_orders < 1:
         raise ConfigError(f"chain_orders must be a positive int, got {chain_orders!r}")
     if plan_cooks not in ("all", "one"):
@@ -189,11 +189,12 @@ def compile_and_solve(
             if result.status == "solved" and result.plan is not None:
                 entries = plan_entries(compiled, result.plan, state, gran == "cells")
                 if max_orders == 1 and problem_state is state and gran == "stations" \
-                        and encoding == "classical" and not state.rules.dynamic:
+                        and not state.rules.dynamic:
                     entries += chained(compiled, result.plan, state, agents)
                 steps = (schedule(entries, state, agents) if schedule_cooks and gran == "stations"
                          else renumber([s for s, _, _ in entries]))
-                return PlanOutcome("solved", steps, time.perf_counter() - t0)
+                return PlanOutcome("solved", steps, time.perf_counter() - t0,
+                                   relaxed=problem_state is not state and tried_relaxed)
             outcome = PlanOutcome(result.status, [], time.perf_counter() - t0, result.reason)
         return outcome
 

@@ -42,6 +42,7 @@ from .paths import (
     DistanceOracle,
     PathRequest,
     hub_cells,
+    layout_connects,
     layout_schedule,
     plan_paths,
 )
@@ -125,6 +126,8 @@ class Executive:
         self.prev_layout = state.layout_index
         #: switch times the current plan was made for (anticipate_switches)
         self.expected_switches: frozenset[int] = frozenset()
+        #: the current plan was made on the relaxed kitchen (``PlanOutcome.relaxed``)
+        self.plan_relaxed = False
         self.prev_burns = state.stats["burns"]
         self.last_plan_t: int | None = None
         self.next_retry = 0
@@ -176,8 +179,14 @@ class Executive:
         if state.layout_index != self.prev_layout:
             self.prev_layout = state.layout_index
             # an anticipated switch on time is what the plan was made for; a late one
-            # (somebody stood on a closing cell) is a surprise
-            expected = self.anticipate and state.t in self.expected_switches
+            # (somebody stood on a closing cell) is a surprise; a plan made on the relaxed
+            # kitchen expects every switch (it waits where a way is still closed) unless the
+            # new layout lets the cooks reach every station: the real kitchen may then be
+            # plannable again (two cooks on MapC), and a plan for it is made
+            expected = (self.anticipate and state.t in self.expected_switches) or (
+                self.plan_relaxed and not layout_connects(
+                    state.geo, state.layout_index,
+                    [state.agent_pos[a] for a in self.agent_ids]))
             if (not expected and self._switch_matters(state)) or self.failures_in_row:
                 self._trigger(state, "layout_switch", out)
         if state.stats["burns"] > self.prev_burns:
@@ -255,6 +264,7 @@ class Executive:
         self.failures_in_row = 0
         self.last_plan_t = state.t
         self.plan_id += 1
+        self.plan_relaxed = outcome.relaxed
         self.planned_orders = {o.order_id for o in state.orders}
         self.install(outcome.steps)
         # a target out of reach already when the plan was made (planned on a relaxed kitchen,
@@ -269,10 +279,15 @@ class Executive:
             first = max(state.t + 1, state.next_switch)
             self.expected_switches = frozenset(range(first, state.rules.horizon + 1, period))
 
+    def _waits_for_switches(self) -> bool:
+        """Does the current plan expect the layout to switch (anticipated switches, or a plan
+        made on the relaxed kitchen)? Then a cut-off way is waited for, not replanned."""
+        return self.anticipate or self.plan_relaxed
+
     def _waiting_for_switch(self, state: State) -> bool:
-        """With anticipated switches: is a driven agent's next target out of reach until the
-        layout switches? Such a wait is in the plan, not a deadlock."""
-        if not self.anticipate:
+        """With a plan that expects switches: is a driven agent's next target out of reach
+        until the layout switches? Such a wait is in the plan, not a deadlock."""
+        if not self._waits_for_switches():
             return False
         for a in self.agent_ids:
             task = self._current(a)
@@ -282,10 +297,10 @@ class Executive:
         return False
 
     def _out_of_reach(self, state: State, pos: int, target: int) -> bool:
-        """Is ``target`` cut off from ``pos``? With anticipated switches, only if no walk
-        over the cells of every layout reaches it (the plan may cross in several layouts,
-        waiting for each switch)."""
-        if not self.anticipate:
+        """Is ``target`` cut off from ``pos``? With a plan that expects switches, only if no
+        walk over the cells of every layout reaches it (the plan may cross in several
+        layouts, waiting for each switch)."""
+        if not self._waits_for_switches():
             return self.oracle.to_station(state.layout_index, target)[pos] < 0
         geo = state.geo
         reach = distances(geo.neighbors, self.any_layout, [pos])
@@ -476,8 +491,10 @@ class Executive:
                 requests.append(((2, 0, a) if waiting else (1, 1, a), PathRequest(a, pos, goal)))
                 continue
             spots = frozenset(self._spots(state, task.step.target))
-            if self.hubs and self.oracle.to_station(state.layout_index, task.step.target)[pos] < 0:
-                # cut off by the layout: wait where the next layout will connect us
+            if self.hubs and not self._waits_for_switches() and \
+                    self.oracle.to_station(state.layout_index, task.step.target)[pos] < 0:
+                # cut off by the layout: wait where the next layout will connect us (a plan
+                # that expects switches walks on: its paths know when each switch comes)
                 park = self.hubs if pos not in self.hubs else frozenset()
                 requests.append(((3, 0, a), PathRequest(a, pos, park)))
                 continue
@@ -509,7 +526,7 @@ class Executive:
             # agents we do not drive, and our agents that bump this step, stay where they are
             others = {b: state.agent_pos[b] for b in range(state.n_agents)
                       if b not in self.queues or b in actions}
-            walk_at = layout_schedule(state, self.anticipate)
+            walk_at = layout_schedule(state, self._waits_for_switches())
             paths = plan_paths(geo, [r for _, r in requests], others,
                                horizon=self.path_horizon, walk_at=walk_at)
             for a, res in paths.items():

@@ -28,7 +28,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 from ..errors import ConfigError
-from ..sim.codes import Action
+from ..sim.codes import STATIONS, Action
 from ..sim.queries import direction, distances, interaction_spots
 from ..sim.state import Geometry, State
 
@@ -58,12 +58,19 @@ class DistanceOracle:
         return self.to_goals(layout_index, spots) if spots else [-1] * len(self.geo.neighbors)
 
 
+def layout_connects(geo: Geometry, layout: int, cooks: Sequence[int]) -> bool:
+    """Can the cooks at cells ``cooks``, between them, reach every station of the kitchen
+    in ``layout`` (each station from some cook)?"""
+    walk = geo.walkables[layout]
+    reach = distances(geo.neighbors, walk, [p for p in cooks if walk[p]])
+    return all(any(nb >= 0 and walk[nb] and reach[nb] >= 0 for nb in geo.neighbors[cell])
+               for cell, code in enumerate(geo.terrains[layout]) if code in STATIONS)
+
+
 def hub_cells(geo: Geometry) -> frozenset[int]:
     """Floor cells (walkable in every layout) from which the most stations can be reached,
     summed over the layouts: where an agent with nothing to do waits on a map whose
     layout switches, so that it is not cut off from the work after the next switch."""
-    from ..sim.codes import STATIONS
-
     stations = [c for c, v in enumerate(geo.terrains[0]) if v in STATIONS]
     n = geo.rows * geo.cols
     score = [0] * n
@@ -171,6 +178,21 @@ def _heuristic(geo: Geometry, walk: Sequence[bool], goals: frozenset[int]) -> li
     return [big if v < 0 else v for v in d]
 
 
+def _window_heuristic(geo: Geometry, walk_at: WalkAt, goals: frozenset[int], start: int,
+                      horizon: int) -> list[int]:
+    """Distances to ``goals`` in the layout at relative time 0; when that layout cuts
+    ``start`` off them, over every cell walkable at some time of the window instead (a
+    lower bound on any walk that waits for a switch, so the search stays admissible)."""
+    h = _heuristic(geo, walk_at(0), goals)
+    if h[start] < geo.rows * geo.cols:
+        return h
+    layouts = {id(w): w for w in (walk_at(t) for t in range(horizon + 1))}
+    if len(layouts) < 2:
+        return h
+    union = [any(w[c] for w in layouts.values()) for c in range(geo.rows * geo.cols)]
+    return _heuristic(geo, union, goals)
+
+
 def space_time_astar(
     geo: Geometry, walk_at: WalkAt, request: PathRequest, res: Reservations,
     soft: Mapping[int, int] | None = None,
@@ -185,9 +207,9 @@ def space_time_astar(
     start = request.start
     if not goals:
         return evasion_path(geo, walk_at, request, res)
-    h = _heuristic(geo, walk_at(0), goals)
-    soft = soft or {}
     horizon = res.horizon
+    h = _window_heuristic(geo, walk_at, goals, start, horizon)
+    soft = soft or {}
     nbrs = geo.neighbors
     # node: (f, g, tie, cell, t); g counts time steps plus soft penalties
     tie = 0
@@ -232,7 +254,7 @@ def evasion_path(
     horizon = res.horizon
     start = request.start
     ref = request.goals or frozenset({start})
-    h = _heuristic(geo, walk_at(0), ref)
+    h = _window_heuristic(geo, walk_at, ref, start, horizon)
     nbrs = geo.neighbors
     layer = {start: None}
     parents: list[dict[int, int | None]] = [layer]

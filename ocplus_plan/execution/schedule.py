@@ -724,6 +724,8 @@ def _plate_stays(steps: list[tuple[PlanStep, str, int]], i: int, state: State,
     if put is None or steps[put][0].kind != "putdown" or steps[put][0].items != (plate,):
         return None
     away = steps[put][0].target
+    if terrain[away] not in COUNTERS:  # a sink (the plate is washed there), not a counter
+        return None
     stay = []  # the steps at the other counter while the plate lies there
     if away != home:
         for j in range(put + 1, len(steps)):

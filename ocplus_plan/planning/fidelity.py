@@ -21,7 +21,7 @@ import numpy as np
 
 from ..sim import make_rules, new_state, transition
 from ..sim.codes import Action, ItemState, Where
-from ..sim.queries import direction, walk_actions
+from ..sim.queries import direction, distances, walk_actions, walk_to, walks
 from ..sim.state import State
 from .compile import Compiled
 from .names import MappedAction
@@ -65,14 +65,19 @@ class Replay:
     served: list[int] = field(default_factory=list)
     #: the plan runs past the episode's horizon and was checked up to it only
     outlasted: bool = False
+    #: the simulator state the replay ends in (temporal replays that agree to the end)
+    final: State | None = None
 
 
 class _World:
     """The simulator side of a replay: runs plan steps, collects events."""
 
-    def __init__(self, state: State) -> None:
+    def __init__(self, state: State, make_way: bool = False) -> None:
         self.state = state
         self.events: list[Any] = []
+        #: a cook the plan does not move steps aside when it stands in the acting cook's
+        #: way (``advance``: the next plan starts from roughly where everybody is)
+        self.make_way = make_way
 
     def act(self, agent: int, action: int) -> None:
         joint = [int(Action.STAY)] * self.state.n_agents
@@ -90,8 +95,10 @@ class _World:
         taken = 0
         if step.kind in ("move", "rescue") and spot is not None:
             others = frozenset(p for a, p in enumerate(st.agent_pos) if a != agent)
-            path = walk_actions(geo.neighbors, geo.walkables[st.layout_index],
-                                st.agent_pos[agent], spot, others)
+            walk = geo.walkables[st.layout_index]
+            path = walk_actions(geo.neighbors, walk, st.agent_pos[agent], spot, others)
+            if path is None and self.make_way:
+                path = self._make_way(agent, spot)
             if path is None:
                 return 0, f"agent {agent} has no free path to {step.spot}"
             for action in path:
@@ -119,6 +126,28 @@ class _World:
             self.act(agent, bump)
             taken += 1
         return taken, ""
+
+    def _make_way(self, agent: int, goal: int) -> list[int] | None:
+        """A shortest walk of ``agent`` to ``goal`` through the other cooks, each of which
+        on it is first moved (placed, not walked) to the nearest free floor cell off it (the
+        cell ``agent`` leaves included: in a one-lane corridor they trade places)."""
+        st, geo = self.state, self.state.geo
+        walk = geo.walkables[st.layout_index]
+        found = walks(geo.neighbors, walk, [st.agent_pos[agent]])
+        cells = walk_to(found, goal)
+        if cells is None:
+            return None
+        keep_off = set(cells)
+        for other in range(st.n_agents):
+            if other == agent or st.agent_pos[other] not in keep_off:
+                continue
+            taken = {p for a, p in enumerate(st.agent_pos) if a != agent} | keep_off
+            near = distances(geo.neighbors, walk, [st.agent_pos[other]])
+            free = [c for c in range(len(near)) if near[c] >= 0 and c not in taken]
+            if not free:
+                return None
+            st.agent_pos[other] = min(free, key=lambda c: (near[c], c))
+        return [list(geo.neighbors[found.parent[c]]).index(c) for c in cells]
 
 
 class _ModelView:
@@ -219,11 +248,19 @@ def _sim_where(state: State, i: int) -> tuple[str, Any]:
 
 
 def advance(compiled: Compiled, plan: Any, state: State) -> State | None:
-    """The state a sequential plan leaves: its steps run in a copy of ``state`` as in a
-    replay (the acting cook walks a shortest free path and bumps; the others stay). None
-    when a step cannot run or the simulator disagrees (a blocked move, a wrong delivery,
-    a burn): what comes after it could not be planned from a state the plan predicts."""
-    world = _World(state.copy())
+    """The state a plan leaves: a sequential plan's steps run in a copy of ``state`` as in a
+    replay (the acting cook walks a shortest free path and bumps; the others stay, or are
+    put aside when they stand on its walk, see ``_World._make_way``); a
+    time-triggered plan is replayed by :func:`.fidelity_temporal.replay_temporal` (every
+    cook acts at its planned times). None when a step cannot run or the simulator
+    disagrees (a blocked move, a wrong delivery, a burn, a model mismatch): what comes
+    after it could not be planned from a state the plan predicts."""
+    if hasattr(plan, "timed_actions"):
+        from .fidelity_temporal import replay_temporal
+
+        result = replay_temporal(compiled, plan, state)
+        return result.final if result.ok else None
+    world = _World(state.copy(), make_way=True)
     for ai in plan.actions:
         before = len(world.events)
         _, trouble = world.run(compiled.map_back(ai))

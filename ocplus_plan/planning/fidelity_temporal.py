@@ -456,6 +456,7 @@ def replay_temporal(compiled: Compiled, plan: Any, state: State,
                           if model.get_value(expr).bool_constant_value())
     if sorted(out.served) != model_served:
         return _fail(out, f"served {sorted(out.served)}, model served {model_served}", "orders")
+    out.final = copy
     return out
 
 

@@ -201,6 +201,35 @@ def test_anticipated_switches_on_schedule_are_not_surprises():
     assert stats_a["dishes_served"] >= stats["dishes_served"] >= 1
 
 
+def _relaxed_planner(state, agents, reason=""):
+    from dataclasses import replace
+
+    return replace(toy_planner(state, agents, reason), relaxed=True)
+
+
+def test_a_plan_made_on_the_relaxed_kitchen_waits_for_switches_instead_of_replanning():
+    """MapC, one cook: no layout connects the cook to every station, so a plan made on the
+    relaxed kitchen is carried out across the switches."""
+    rules = make_rules("hard", n_agents=1, recipes=["tomato"], dirty_plates=False,
+                       map_switch_step=10)
+    stats, waited, state = play(rules, steps=120, planner=_relaxed_planner)
+    assert state.stats["layout_switches"] >= 10
+    for reason in ("layout_switch", "unreachable", "deadlock"):
+        assert reason not in waited["replans_by_reason"]
+    assert stats["dishes_served"] >= 1
+
+
+def test_a_relaxed_plan_is_replaced_once_a_layout_connects_the_cooks_to_every_station():
+    """hard_switch, two cooks: every layout lets them reach every station, so a switch
+    that changes their walks makes a plan for the real kitchen (as for any plan)."""
+    rules = make_rules("hard", map="hard_switch", recipes=["tomato"], dirty_plates=False,
+                       map_switch_step=10)
+    stats, info, state = play(rules, steps=120, planner=_relaxed_planner)
+    assert state.stats["layout_switches"] >= 10
+    assert info["replans_by_reason"].get("layout_switch", 0) >= 1
+    assert stats["max_agents_per_cell"] == 1
+
+
 # a 3x7 kitchen with a pan (0, 3) and a sink (2, 3) (map G of tests/sim/test_items.py)
 G = [[1, 10, 1, 9, 1, 3, 1], [5, 0, 0, 0, 0, 0, 7], [1, 12, 6, 11, 1, 1, 1]]
 

@@ -12,6 +12,7 @@ from ocplus_plan.execution.paths import (
     PathRequest,
     Reservations,
     check_paths,
+    layout_connects,
     layout_schedule,
     plan_paths,
     space_time_astar,
@@ -208,3 +209,14 @@ def test_corridor3_three_agents_shift_without_conflict():
         ev = transition(s, acts).events
         assert not [e for e in ev if e.kind == "move_blocked"], (t, s.describe())
     assert s.agent_pos[2] == geo.flat(1, 3)
+
+
+def test_layout_connects_says_whether_the_cooks_reach_every_station():
+    """MapC: one cook never reaches every station in one layout; two cooks, one on each
+    side, do; a small open kitchen always does."""
+    one = new_state(make_rules("hard", n_agents=1), 0)
+    two = new_state(make_rules("hard", n_agents=2), 0)
+    assert not any(layout_connects(one.geo, k, one.agent_pos) for k in range(2))
+    assert all(layout_connects(two.geo, k, two.agent_pos) for k in range(2))
+    easy = new_state(make_rules("easy", n_agents=1), 0)
+    assert layout_connects(easy.geo, 0, easy.agent_pos)

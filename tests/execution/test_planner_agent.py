@@ -231,3 +231,60 @@ def test_advance_runs_a_plan_in_a_copy():
     assert first not in {o.order_id for o in after.orders}  # served in the copy
     assert state.t == 0 and first in {o.order_id for o in state.orders}  # the original is untouched
     assert after.t == sum(compiled.map_back(ai).duration for ai in result.plan.actions)
+
+
+@needs_fd
+def test_advance_moves_a_cook_the_plan_does_not_model_out_of_the_way():
+    """One-lane corridor, the plan models cook 0 only and cook 1 stands between it and the
+    boards: a strict replay stops there, ``advance`` (where chained plans start from) puts
+    cook 1 aside and serves the order in its copy."""
+    from ocplus_plan.planning.compile import compile as compile_state
+    from ocplus_plan.planning.engines import solve
+    from ocplus_plan.planning.fidelity import advance, replay
+
+    state = new_state(make_rules("easy", map="corridor3", n_agents=2), 0)
+    first, cooks = state.orders[0].order_id, list(state.agent_pos)
+    compiled = compile_state(state, max_orders=1, agents=[0])
+    result = solve(compiled.problem, "fast-downward", timeout=20, validate=False)
+    assert not replay(compiled, result.plan, state).ok
+    after = advance(compiled, result.plan, state)
+    assert after is not None
+    assert first not in {o.order_id for o in after.orders}
+    assert len(set(after.agent_pos)) == 2  # never two cooks on one cell
+    assert state.agent_pos == cooks and first in {o.order_id for o in state.orders}
+
+
+@needs_fd
+def test_one_cook_on_mapC_plans_on_the_relaxed_kitchen_and_waits_for_switches():
+    """hard, one cook: the cook's region never reaches every station, so the plan is made
+    with every switching cell open; the executive then waits for each switch where a way
+    is closed instead of replanning on it, and the dish is served."""
+    state = new_state(make_rules("hard", n_agents=1), 0)
+    agent = PlannerAgent("fast-downward")
+    agent.reset(state, [0])
+    agent.act(state)
+    assert agent.executive.plan_relaxed
+    stats = run_episode(state, [(agent, [0])], None, 200)
+    info = agent.info()
+    assert state.stats["layout_switches"] >= 10
+    assert "layout_switch" not in info["replans_by_reason"], info["replan_log"]
+    assert stats["dishes_served"] >= 1
+
+
+def test_temporal_plans_are_chained_too(tmp_path, monkeypatch):
+    """medium, one cook, Kairos with chain2: the second order is planned from the state
+    the first temporal plan leaves, and both deliveries are in the cook's queue."""
+    from ocplus_plan.planning.engines import availability
+
+    avail = availability("kairos")
+    if not avail.ok:
+        pytest.skip(f"kairos unavailable: {avail.reason}")
+    monkeypatch.chdir(tmp_path)
+    state = new_state(make_rules("medium", n_agents=1), 0)
+    agent = PlannerAgent("kairos", encoding="temporal", chain_orders=2, timeout=60)
+    agent.reset(state, [0])
+    agent.act(state)
+    if agent.info()["statuses"].get("timeout"):
+        pytest.skip("kairos timed out on a loaded machine")
+    delivers = [t for t in agent.executive.queues[0] if t.step.kind == "deliver"]
+    assert len(delivers) == 2

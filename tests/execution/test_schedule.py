@@ -563,3 +563,18 @@ def test_an_ingredient_parked_on_a_counter_may_go_straight_to_its_board():
     (variant,) = unparked(plan, state)
     assert [(s.kind, s.target) for s, _, _ in variant] == [
         ("pickup", _cell(state, 0, 2)), ("putdown", board), ("chop", board)]
+
+
+def test_a_plate_taken_to_the_sink_is_not_a_plate_that_may_stay_home():
+    """hard (MapC): the plate goes from its counter to the sink, is washed there and picked
+    up again; that is no move between counters, and washing stays at the sink."""
+    state = new_state(make_rules("hard", n_agents=2), 0)
+    plate = _item_at(state, 3, 8)
+    home, sink = _cell(state, 3, 8), _cell(state, 8, 7)
+    plan = [
+        (PlanStep(0, 0, "pickup", home, (plate,)), TAKE, 1),
+        (PlanStep(1, 0, "putdown", sink, (plate,)), RELEASE, 1),
+        (PlanStep(2, 0, "wash", sink, (plate,)), KEEP, 3),
+        (PlanStep(3, 0, "pickup", sink, (plate,)), TAKE, 1),
+    ]
+    assert plate_stays_home(plan, state) == []

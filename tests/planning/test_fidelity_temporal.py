@@ -240,3 +240,26 @@ def test_kairos_plans_with_anticipated_switches_hold_while_the_layout_switches()
     # the same plan with the layout frozen at layout 0 breaks: the switches are real
     frozen = replay_temporal(compiled, result.plan, state, freeze_layout=True, until_horizon=True)
     assert not frozen.ok
+
+
+@pytest.mark.usefixtures("_private_cwd")
+def test_advance_replays_a_temporal_plan_to_the_state_it_leaves() -> None:
+    """``advance`` (what chained planning starts the next order from) takes a Kairos plan:
+    the copy has the order served at the plan's end, the original is untouched."""
+    from ocplus_plan.planning.fidelity import advance
+
+    avail = availability("kairos")
+    if not avail.ok:
+        pytest.skip(f"kairos unavailable: {avail.reason}")
+    state = new_state(make_rules("medium", n_agents=1), 0)
+    first = state.orders[0].order_id
+    compiled = compile(state, encoding="temporal", max_orders=1)
+    result = solve(compiled.problem, "kairos", timeout=60, use_val=False)
+    if result.status == "timeout":
+        pytest.skip("kairos timed out on a loaded machine")
+    after = advance(compiled, result.plan, state)
+    assert after is not None and after is not state
+    assert first not in {o.order_id for o in after.orders}
+    assert state.t == 0 and first in {o.order_id for o in state.orders}
+    end = max(float(start) + float(dur or 0) for start, _, dur in result.plan.timed_actions)
+    assert after.t == int(end)
