@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 from ..errors import ConfigError
 from ..sim.codes import STATIONS, Action
-from ..sim.queries import direction, distances, interaction_spots
+from ..sim.queries import direction, distances, interaction_spots, walkable_in_any_layout
 from ..sim.state import Geometry, State
 
 #: walkable flags per cell for the layout in force at a relative time step
@@ -63,7 +63,7 @@ def layout_connects(geo: Geometry, layout: int, cooks: Sequence[int]) -> bool:
     in ``layout`` (each station from some cook)?"""
     walk = geo.walkables[layout]
     reach = distances(geo.neighbors, walk, [p for p in cooks if walk[p]])
-    return all(any(nb >= 0 and walk[nb] and reach[nb] >= 0 for nb in geo.neighbors[cell])
+    return all(any(reach[spot] >= 0 for spot in interaction_spots(geo.neighbors, walk, cell))
                for cell, code in enumerate(geo.terrains[layout]) if code in STATIONS)
 
 
@@ -181,16 +181,14 @@ def _heuristic(geo: Geometry, walk: Sequence[bool], goals: frozenset[int]) -> li
 def _window_heuristic(geo: Geometry, walk_at: WalkAt, goals: frozenset[int], start: int,
                       horizon: int) -> list[int]:
     """Distances to ``goals`` in the layout at relative time 0; when that layout cuts
-    ``start`` off them, over every cell walkable at some time of the window instead (a
-    lower bound on any walk that waits for a switch, so the search stays admissible)."""
-    h = _heuristic(geo, walk_at(0), goals)
-    if h[start] < geo.rows * geo.cols:
+    ``start`` off them and the layout switches inside the window, over every cell walkable
+    in some layout instead (a lower bound on any walk that waits for a switch, so the
+    search stays admissible)."""
+    now = walk_at(0)
+    h = _heuristic(geo, now, goals)
+    if h[start] < geo.rows * geo.cols or all(walk_at(t) is now for t in range(1, horizon + 1)):
         return h
-    layouts = {id(w): w for w in (walk_at(t) for t in range(horizon + 1))}
-    if len(layouts) < 2:
-        return h
-    union = [any(w[c] for w in layouts.values()) for c in range(geo.rows * geo.cols)]
-    return _heuristic(geo, union, goals)
+    return _heuristic(geo, walkable_in_any_layout(geo), goals)
 
 
 def space_time_astar(

@@ -133,8 +133,7 @@ class _World:
         cell ``agent`` leaves included: in a one-lane corridor they trade places)."""
         st, geo = self.state, self.state.geo
         walk = geo.walkables[st.layout_index]
-        found = walks(geo.neighbors, walk, [st.agent_pos[agent]])
-        cells = walk_to(found, goal)
+        cells = walk_to(walks(geo.neighbors, walk, [st.agent_pos[agent]]), goal)
         if cells is None:
             return None
         keep_off = set(cells)
@@ -147,7 +146,8 @@ class _World:
             if not free:
                 return None
             st.agent_pos[other] = min(free, key=lambda c: (near[c], c))
-        return [list(geo.neighbors[found.parent[c]]).index(c) for c in cells]
+        others = frozenset(p for a, p in enumerate(st.agent_pos) if a != agent)
+        return walk_actions(geo.neighbors, walk, st.agent_pos[agent], goal, others)
 
 
 class _ModelView:
