@@ -112,10 +112,11 @@ def compile_and_solve(
     (``schedule_cooks``). A classical planner minimising total cost gains nothing from a
     second cook, and each modelled cook multiplies any planner's search space.
 
-    ``chain_orders=K`` (stations, static layouts): after a plan for the oldest order, the
+    ``chain_orders=K`` (stations): after a plan for the oldest order, the
     next open orders are planned one at a time from the state the previous plan leaves
     (:func:`~ocplus_plan.planning.fidelity.advance` runs it in a copy of the simulator; a
-    temporal plan is replayed at its planned times), up to K orders; the chained plans are
+    temporal plan is replayed at its planned times; on a switching map the copy keeps the
+    current layout, as the plan's model does), up to K orders; the chained plans are
     scheduled together, so a cook can prepare the next dish while another serves this one.
     K small problems are solved much faster than one problem with K orders."""
     if not isinstance(chain_orders, int) or chain_orders < 1:
@@ -153,7 +154,7 @@ def compile_and_solve(
 
         out: list[Entry] = []
         for _ in range(chain_orders - 1):
-            after = advance(compiled, plan, state)
+            after = advance(compiled, plan, state, freeze_layout=state.rules.dynamic)
             if after is None or not after.orders:
                 break
             compiled, result = attempt(after, agents, 1, granularity)
@@ -188,8 +189,7 @@ def compile_and_solve(
                 attempts = [(1, relaxed_state(state))]
             if result.status == "solved" and result.plan is not None:
                 entries = plan_entries(compiled, result.plan, state, gran == "cells")
-                if max_orders == 1 and problem_state is state and gran == "stations" \
-                        and not state.rules.dynamic:
+                if max_orders == 1 and problem_state is state and gran == "stations":
                     entries += chained(compiled, result.plan, state, agents)
                 steps = (schedule(entries, state, agents) if schedule_cooks and gran == "stations"
                          else renumber([s for s, _, _ in entries]))

@@ -247,27 +247,42 @@ def _sim_where(state: State, i: int) -> tuple[str, Any]:
     return ("cell", state.geo.rc(loc))
 
 
-def advance(compiled: Compiled, plan: Any, state: State) -> State | None:
+def advance(compiled: Compiled, plan: Any, state: State, freeze_layout: bool = False) -> State | None:
     """The state a plan leaves: a sequential plan's steps run in a copy of ``state`` as in a
     replay (the acting cook walks a shortest free path and bumps; the others stay, or are
     put aside when they stand on its walk, see ``_World._make_way``); a
     time-triggered plan is replayed by :func:`.fidelity_temporal.replay_temporal` (every
     cook acts at its planned times). None when a step cannot run or the simulator
     disagrees (a blocked move, a wrong delivery, a burn, a model mismatch): what comes
-    after it could not be planned from a state the plan predicts."""
+    after it could not be planned from a state the plan predicts.
+
+    ``freeze_layout``: on a switching map, the copy keeps the current layout (as the plan's
+    model does); the state returned has the real rules back, and its layout is the current
+    one: a prediction of where the items will be, not of the layout then."""
     if hasattr(plan, "timed_actions"):
         from .fidelity_temporal import replay_temporal
 
-        result = replay_temporal(compiled, plan, state)
-        return result.final if result.ok else None
-    world = _World(state.copy(), make_way=True)
-    for ai in plan.actions:
-        before = len(world.events)
-        _, trouble = world.run(compiled.map_back(ai))
-        kinds = {e.kind for e in world.events[before:]}
-        if trouble or kinds & {"wrong_delivery", "move_blocked", "burnt", "layout_switch"}:
-            return None
-    return world.state
+        result = replay_temporal(compiled, plan, state, freeze_layout=freeze_layout)
+        final = result.final if result.ok else None
+    else:
+        copy = state.copy()
+        if freeze_layout and copy.rules.dynamic:
+            from ..sim.rules import with_overrides
+
+            copy.rules = with_overrides(copy.rules, dynamic=False)
+        world = _World(copy, make_way=True)
+        final = world.state
+        for ai in plan.actions:
+            before = len(world.events)
+            _, trouble = world.run(compiled.map_back(ai))
+            kinds = {e.kind for e in world.events[before:]}
+            if trouble or kinds & {"wrong_delivery", "move_blocked", "burnt", "layout_switch"}:
+                final = None
+                break
+    if final is not None and final.rules is not state.rules:
+        final.rules = state.rules
+        final.next_switch = max(final.next_switch, final.t)
+    return final
 
 
 def replay(compiled: Compiled, plan: Any, state: State, freeze_layout: bool = False) -> Replay:

@@ -255,6 +255,41 @@ def test_advance_moves_a_cook_the_plan_does_not_model_out_of_the_way():
 
 
 @needs_fd
+def test_advance_on_a_switching_map_keeps_the_layout_when_frozen():
+    """hard, two cooks: the plan is made for the current layout; replayed as it is, a
+    switch on the way stops it (None); with ``freeze_layout`` the copy keeps the layout the
+    plan was made on and returns the state after the dish, with the real (switching) rules."""
+    from ocplus_plan.planning.compile import compile as compile_state
+    from ocplus_plan.planning.engines import solve
+    from ocplus_plan.planning.fidelity import advance
+
+    state = new_state(make_rules("hard", n_agents=2), 0)
+    first = state.orders[0].order_id
+    compiled = compile_state(state, max_orders=1)
+    result = solve(compiled.problem, "fast-downward", timeout=20, validate=False)
+    assert advance(compiled, result.plan, state) is None  # the layout switches at step 15
+    after = advance(compiled, result.plan, state, freeze_layout=True)
+    assert after is not None
+    assert first not in {o.order_id for o in after.orders}
+    assert after.rules is state.rules and after.rules.dynamic
+    assert after.layout_index == state.layout_index and after.next_switch >= after.t
+    assert state.t == 0 and first in {o.order_id for o in state.orders}
+
+
+@needs_fd
+def test_chained_plans_on_a_switching_map_cover_the_next_order():
+    """hard, two cooks, chain2: the second open order is planned from the state the first
+    plan leaves (layout frozen in the copy), so both deliveries are queued at once."""
+    state = new_state(make_rules("hard", n_agents=2), 0)
+    assert len(state.orders) >= 2
+    agent = PlannerAgent("fast-downward", chain_orders=2)
+    agent.reset(state, [0, 1])
+    agent.act(state)
+    delivers = [t for q in agent.executive.queues.values() for t in q if t.step.kind == "deliver"]
+    assert len(delivers) == 2
+
+
+@needs_fd
 def test_one_cook_on_mapC_plans_on_the_relaxed_kitchen_and_waits_for_switches():
     """hard, one cook: the cook's region never reaches every station, so the plan is made
     with every switching cell open; the executive then waits for each switch where a way
