@@ -48,7 +48,7 @@ def run_one(planner: str, preset: str, n_agents: int, seed: int, steps: int | No
             policy: str, faults: str, granularity: str, timeout: float,
             anticipate: bool = False, schedule_cooks: bool = True,
             orders_per_plan: int | str | None = "auto", plan_cooks: str = "all",
-            chain_orders: int = 1) -> dict:
+            chain_orders: int = 1, over_switches: bool = False) -> dict:
     rules = make_rules(preset, n_agents=n_agents)
     state = new_state(rules, seed)
     from ocplus_plan.planning.engines import get_planner
@@ -57,7 +57,7 @@ def run_one(planner: str, preset: str, n_agents: int, seed: int, steps: int | No
     agent = PlannerAgent(planner, encoding, granularity, policy, timeout=timeout,
                          anticipate_switches=anticipate, schedule_cooks=schedule_cooks,
                          orders_per_plan=orders_per_plan, plan_cooks=plan_cooks,
-                         chain_orders=chain_orders)
+                         chain_orders=chain_orders, over_switches=over_switches)
     schedule = None
     if faults == "burns":
         schedule = FaultSchedule(burns=[20, 80, 140])
@@ -72,10 +72,11 @@ def run_one(planner: str, preset: str, n_agents: int, seed: int, steps: int | No
         "planner": planner, "encoding": encoding, "preset": preset, "agents": n_agents,
         "seed": seed, "policy": policy, "faults": faults, "anticipate": anticipate,
         "schedule": schedule_cooks, "orders_per_plan": orders_per_plan, "plan_cooks": plan_cooks,
-        "chain_orders": chain_orders,
+        "chain_orders": chain_orders, "over_switches": over_switches,
         "options": "+".join(o for o, on in (("anticipate", anticipate),
                                             ("one-cook", plan_cooks == "one"),
                                             (f"chain{chain_orders}", chain_orders > 1),
+                                            ("over-switches", over_switches),
                                             ("no-schedule", not schedule_cooks)) if on),
         "steps": stats["t"],
         "dishes": stats["dishes_served"], "burns": stats["burns"],
@@ -156,6 +157,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--chain-orders", type=int, default=1,
                    help="classical: plan up to K open orders one after the other, each from the "
                         "state the previous plan leaves (default: %(default)s)")
+    p.add_argument("--over-switches", action="store_true",
+                   help="switching maps: schedule the plan's walks over the coming layout "
+                        "switches and expect every switch instead of replanning on it")
     p.add_argument("--orders-per-plan", default="auto",
                    help="'auto', 'all' or K: open orders one planner call covers (default: auto)")
     p.add_argument("--table", type=Path, nargs="+", default=None,
@@ -178,7 +182,8 @@ def main(argv: list[str] | None = None) -> int:
         for seed in range(args.seeds):
             row = run_one(planner, preset, int(n or 1), seed, args.steps, policy, args.faults,
                           args.granularity, args.timeout, args.anticipate,
-                          not args.no_schedule, orders, args.plan_cooks, args.chain_orders)
+                          not args.no_schedule, orders, args.plan_cooks, args.chain_orders,
+                          args.over_switches)
             rows.append(row)
             for line in (json.dumps(row),):
                 print(line, flush=True)

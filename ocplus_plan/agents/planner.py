@@ -11,7 +11,8 @@ executive keeps the last valid plan and agents without work keep out of the way.
 
 Registered as ``planner`` in :data:`ocplus_plan.agents.FACTORIES`: ``planner:fast-downward``,
 ``planner:kairos`` (temporal), or ``planner:NAME:GRANULARITY:POLICY:OPTIONS`` for the rest
-(OPTIONS joined by ``+``: ``anticipate``, ``one-cook``, ``chainK``, ``no-schedule``).
+(OPTIONS joined by ``+``: ``anticipate``, ``one-cook``, ``chainK``, ``no-schedule``,
+``over-switches``).
 """
 
 from __future__ import annotations
@@ -99,7 +100,7 @@ def compile_and_solve(
     planner: str, encoding: str = "classical", granularity: str = "stations",
     anticipate_switches: bool = False, timeout: float = 10.0, validate: bool = False,
     orders_per_plan: int | str | None = "auto", schedule_cooks: bool = True,
-    plan_cooks: str = "all", chain_orders: int = 1,
+    plan_cooks: str = "all", chain_orders: int = 1, over_switches: bool = False,
 ) -> PlanFunction:
     """A :data:`PlanFunction` that compiles the state and solves it with a named planner.
 
@@ -118,7 +119,12 @@ def compile_and_solve(
     temporal plan is replayed at its planned times; on a switching map the copy keeps the
     current layout, as the plan's model does), up to K orders; the chained plans are
     scheduled together, so a cook can prepare the next dish while another serves this one.
-    K small problems are solved much faster than one problem with K orders."""
+    K small problems are solved much faster than one problem with K orders.
+
+    ``over_switches`` (stations, switching maps): the plan's work is scheduled with walks
+    timed over the coming layout switches (:func:`~ocplus_plan.execution.schedule.schedule`
+    with ``switches``), and the executive then expects every switch instead of replanning
+    on it (cut-off cooks walk on, waiting where the next layout opens their way)."""
     if not isinstance(chain_orders, int) or chain_orders < 1:
         raise ConfigError(f"chain_orders must be a positive int, got {chain_orders!r}")
     if plan_cooks not in ("all", "one"):
@@ -191,10 +197,13 @@ def compile_and_solve(
                 entries = plan_entries(compiled, result.plan, state, gran == "cells")
                 if max_orders == 1 and problem_state is state and gran == "stations":
                     entries += chained(compiled, result.plan, state, agents)
-                steps = (schedule(entries, state, agents) if schedule_cooks and gran == "stations"
+                scheduled = schedule_cooks and gran == "stations"
+                timed = scheduled and over_switches and state.rules.dynamic
+                steps = (schedule(entries, state, agents, switches=timed) if scheduled
                          else renumber([s for s, _, _ in entries]))
                 return PlanOutcome("solved", steps, time.perf_counter() - t0,
-                                   relaxed=problem_state is not state and tried_relaxed)
+                                   relaxed=problem_state is not state and tried_relaxed,
+                                   over_switches=timed)
             outcome = PlanOutcome(result.status, [], time.perf_counter() - t0, result.reason)
         return outcome
 
@@ -283,7 +292,8 @@ class PlannerAgent(Controller):
         granularity: str = "stations", policy: str | Policy = "on_event", *,
         anticipate_switches: bool = False, timeout: float = 10.0,
         orders_per_plan: int | str | None = "auto", schedule_cooks: bool = True,
-        plan_cooks: str = "all", chain_orders: int = 1, **executive_options: Any,
+        plan_cooks: str = "all", chain_orders: int = 1, over_switches: bool = False,
+        **executive_options: Any,
     ) -> None:
         from ..planning.model import ENCODINGS, GRANULARITIES
 
@@ -295,7 +305,7 @@ class PlannerAgent(Controller):
         fn = planner if callable(planner) else compile_and_solve(
             planner, encoding, granularity, anticipate_switches, timeout,
             orders_per_plan=orders_per_plan, schedule_cooks=schedule_cooks,
-            plan_cooks=plan_cooks, chain_orders=chain_orders)
+            plan_cooks=plan_cooks, chain_orders=chain_orders, over_switches=over_switches)
         self.encoding, self.granularity = encoding, granularity
         self.executive = Executive(fn, Policy.parse(policy),
                                    anticipate_switches=anticipate_switches, **executive_options)
@@ -315,7 +325,7 @@ class PlannerAgent(Controller):
 
 
 #: the fourth field of ``planner:NAME:GRANULARITY:POLICY:OPTIONS`` (options joined by '+')
-PLANNER_OPTIONS = ("anticipate", "one-cook", "chainK", "no-schedule")
+PLANNER_OPTIONS = ("anticipate", "one-cook", "chainK", "no-schedule", "over-switches")
 
 
 def parse_planner_options(text: str, spec: str) -> dict[str, Any]:
@@ -328,6 +338,8 @@ def parse_planner_options(text: str, spec: str) -> dict[str, Any]:
             out["plan_cooks"] = "one"
         elif token == "no-schedule":
             out["schedule_cooks"] = False
+        elif token == "over-switches":
+            out["over_switches"] = True
         elif token.startswith("chain") and token[5:].isdigit() and int(token[5:]) >= 1:
             out["chain_orders"] = int(token[5:])
         else:
@@ -335,7 +347,8 @@ def parse_planner_options(text: str, spec: str) -> dict[str, Any]:
                 f"planner:{spec}: unknown option {token!r} in the fourth field; options, joined "
                 f"by '+': anticipate (temporal: plan around the coming layout switches), one-cook "
                 f"(model one cook, schedule its plan over all), chainK (plan up to K orders one "
-                f"after the other), no-schedule (keep the cooks the planner chose)")
+                f"after the other), no-schedule (keep the cooks the planner chose), "
+                f"over-switches (schedule walks over the coming layout switches)")
     return out
 
 

@@ -128,6 +128,8 @@ class Executive:
         self.expected_switches: frozenset[int] = frozenset()
         #: the current plan was made on the relaxed kitchen (``PlanOutcome.relaxed``)
         self.plan_relaxed = False
+        #: the current plan's schedule knew the coming switches (``PlanOutcome.over_switches``)
+        self.plan_over_switches = False
         self.prev_burns = state.stats["burns"]
         self.last_plan_t: int | None = None
         self.next_retry = 0
@@ -183,8 +185,8 @@ class Executive:
             # kitchen expects every switch (it waits where a way is still closed) unless the
             # new layout lets the cooks reach every station: the real kitchen may then be
             # plannable again (two cooks on MapC), and a plan for it is made
-            expected = (self.anticipate and state.t in self.expected_switches) or (
-                self.plan_relaxed and not layout_connects(
+            expected = (self.anticipate and state.t in self.expected_switches) or \
+                self.plan_over_switches or (self.plan_relaxed and not layout_connects(
                     state.geo, state.layout_index,
                     [state.agent_pos[a] for a in self.agent_ids]))
             if (not expected and self._switch_matters(state)) or self.failures_in_row:
@@ -265,6 +267,7 @@ class Executive:
         self.last_plan_t = state.t
         self.plan_id += 1
         self.plan_relaxed = outcome.relaxed
+        self.plan_over_switches = outcome.over_switches
         self.planned_orders = {o.order_id for o in state.orders}
         self.install(outcome.steps)
         # a target out of reach already when the plan was made (planned on a relaxed kitchen,
@@ -280,9 +283,10 @@ class Executive:
             self.expected_switches = frozenset(range(first, state.rules.horizon + 1, period))
 
     def _waits_for_switches(self) -> bool:
-        """Does the current plan expect the layout to switch (anticipated switches, or a plan
-        made on the relaxed kitchen)? Then a cut-off way is waited for, not replanned."""
-        return self.anticipate or self.plan_relaxed
+        """Does the current plan expect the layout to switch (anticipated switches, a plan
+        made on the relaxed kitchen or scheduled over the switches)? Then a cut-off way is
+        waited for, not replanned."""
+        return self.anticipate or self.plan_relaxed or self.plan_over_switches
 
     def _waiting_for_switch(self, state: State) -> bool:
         """With a plan that expects switches: is a driven agent's next target out of reach

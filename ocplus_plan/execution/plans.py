@@ -43,6 +43,9 @@ class PlanOutcome:
     #: the plan already assumes the ways a layout switch opens and closes, so the executive
     #: waits for switches instead of replanning on them
     relaxed: bool = False
+    #: the plan's work was scheduled with walks timed over the coming layout switches
+    #: (``execution.schedule.schedule(switches=True)``): every switch on time is expected
+    over_switches: bool = False
 
     @property
     def ok(self) -> bool:

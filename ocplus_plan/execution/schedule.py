@@ -70,7 +70,7 @@ from ..sim.queries import (
     walkable_in_any_layout,
 )
 from ..sim.state import State
-from .paths import DistanceOracle
+from .paths import DistanceOracle, layout_at, switching_walks
 from .plans import PlanStep
 
 #: what a step does to its cook's hand
@@ -121,22 +121,42 @@ def segments(steps: Sequence[tuple[PlanStep, str, int]], state: State) -> list[S
 
 class _Walks:
     """Walking estimates for the schedule: current layout first, any layout as a fallback.
-    Answers are kept: one schedule call asks the same walks for every candidate it tries."""
+    With ``switches`` (a switching map), a walk that starts ``at`` steps from now is timed
+    over the coming layout switches instead (:class:`~.paths.SwitchingWalks`: it may wait
+    for a switch to open its way). Answers are kept: one schedule call asks the same walks
+    for every candidate it tries."""
 
-    def __init__(self, state: State, oracle: DistanceOracle) -> None:
+    def __init__(self, state: State, oracle: DistanceOracle, switches: bool = False) -> None:
         self.geo, self.layout, self.oracle = state.geo, state.layout_index, oracle
         self.walk = state.geo.walkables[state.layout_index]
         self.any_walk = walkable_in_any_layout(state.geo)
         self.detour = max(1, state.rules.map_switch_step) if state.rules.dynamic else 0
         self._any: dict[int, list[int]] = {}
-        self._known: dict[tuple[int, int], tuple[int, int]] = {}
+        self._known: dict[tuple[int, int, int, int], tuple[int, int]] = {}
+        self.timed = None
+        if switches and state.rules.dynamic and len(state.geo.walkables) == 2:
+            self.timed = switching_walks(state.geo, state.rules.map_switch_step)
+            self.due = max(0, state.next_switch - state.t)
+            self.period = self.timed.period
 
-    def to(self, pos: int, target: int) -> tuple[int, int]:
-        """(steps to reach a spot of ``target`` from ``pos``, the spot reached)."""
-        key = (pos, target)
+    def to(self, pos: int, target: int, at: int = 0) -> tuple[int, int]:
+        """(steps to reach a spot of ``target`` from ``pos``, the spot reached), leaving
+        ``at`` steps from now."""
+        if self.timed is None:
+            key = (pos, target, 0, 0)
+        else:  # the walk depends on the layout then and on when it next switches
+            layout = layout_at(self.layout, self.due, self.period, at)
+            due = self.due - at if at < self.due else self.period - (at - self.due) % self.period
+            key = (pos, target, layout, due)
         if key not in self._known:
-            self._known[key] = self._to(pos, target)
+            self._known[key] = self._to(pos, target) if self.timed is None \
+                else self._timed(pos, target, key[2], key[3])
         return self._known[key]
+
+    def _timed(self, pos: int, target: int, layout: int, due: int) -> tuple[int, int]:
+        assert self.timed is not None
+        found = self.timed.arrival(pos, target, layout, due)
+        return found if found is not None else (10 * len(self.walk), pos)
 
     def _to(self, pos: int, target: int) -> tuple[int, int]:
         spots = interaction_spots(self.geo.neighbors, self.walk, target)
@@ -216,7 +236,7 @@ class _Scheduler:
         here = p.pos[a] if here is None else here
         starts = []
         for step, effect, bumps in self.segs[k].steps:
-            walk, here = self.walks.to(here, step.target)
+            walk, here = self.walks.to(here, step.target, t)
             t += walk
             ready = max((p.busy_until.get(r, 0) for r in self.resources[id(step)]), default=0)
             if step.target in p.pan_ready and _takes(step, effect):
@@ -352,7 +372,8 @@ LOOKAHEAD = 4
 def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
              agents: Sequence[int], oracle: DistanceOracle | None = None,
              lookahead: int = LOOKAHEAD, swap_stations: bool = True,
-             reorder_dishes: bool = True, carry_to_plates: bool = True) -> list[PlanStep]:
+             reorder_dishes: bool = True, carry_to_plates: bool = True,
+             switches: bool = False) -> list[PlanStep]:
     """Reassign and reorder a sequential plan's steps over ``agents`` (see the module doc).
 
     ``steps`` are in plan order, each with its hand effect (TAKE, RELEASE, KEEP) and the
@@ -379,12 +400,16 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
     plate that stays where it lies while its ingredients are carried to it, an ingredient
     put straight on its station); the variant whose schedule ends best is kept.
 
+    ``switches`` (a switching map): walks are timed over the coming layout switches (a cook
+    cut off now waits for the switch that opens its way; one free now may be cut off when
+    it gets there), so the work goes to the cook that can get there at that time.
+
     Work that serves no order is dropped first (:func:`without_idle_work`). A plan with
     steps of cooks outside ``agents`` is left as it is."""
     agents = tuple(agents)
     if not agents or any(s.agent not in agents for s, _, _ in steps):
         return _in_plan_order(steps)
-    walks = _Walks(state, oracle or DistanceOracle(state.geo))
+    walks = _Walks(state, oracle or DistanceOracle(state.geo), switches)
     steps = without_idle_work(list(steps), state)
     best = None
     for order in dish_orders(steps, state) if reorder_dishes else [steps]:

@@ -12,10 +12,12 @@ from ocplus_plan.execution.paths import (
     PathRequest,
     Reservations,
     check_paths,
+    layout_at,
     layout_connects,
     layout_schedule,
     plan_paths,
     space_time_astar,
+    switching_walks,
 )
 from ocplus_plan.sim import make_rules, new_state, transition
 from ocplus_plan.sim.codes import Action
@@ -220,3 +222,35 @@ def test_layout_connects_says_whether_the_cooks_reach_every_station():
     assert all(layout_connects(two.geo, k, two.agent_pos) for k in range(2))
     easy = new_state(make_rules("easy", n_agents=1), 0)
     assert layout_connects(easy.geo, 0, easy.agent_pos)
+
+
+# two rooms joined by a cell that is a wall in the first layout and floor in the second:
+# tomato (0,1) and window (1,0) on the left, board (0,5) and plates (2,6) on the right
+SWITCHING = {
+    "name": "t", "max_n_agent": 2, "agent_spawn_points": [[1, 1], [2, 5]],
+    "game_map": [[1, 3, 1, 1, 1, 6, 1], [7, 0, 0, -1, 0, 0, 1], [1, 0, 0, 1, 0, 0, 5],
+                 [1, 1, 1, 1, 1, 1, 1]],
+    "switch_map": [[1, 3, 1, 1, 1, 6, 1], [7, 0, 0, 0, 0, 0, 1], [1, 0, 0, 1, 0, 0, 5],
+                   [1, 1, 1, 1, 1, 1, 1]],
+    "is_dynamic_map": True, "map_switch_step": 10,
+}
+
+
+def test_layout_at_follows_the_switch_schedule():
+    assert [layout_at(0, 3, 5, t) for t in range(14)] == [0] * 3 + [1] * 5 + [0] * 5 + [1]
+    assert layout_at(1, 0, 5, 0) == 0  # a switch due now is in force from now
+
+
+def test_switching_walks_wait_for_the_switch_that_opens_the_way():
+    s = new_state(make_rules("easy", map=SWITCHING, n_agents=2, dynamic=True), 0)
+    geo = s.geo
+    walks = switching_walks(geo, 10)
+    start, board, spot = geo.flat(1, 1), geo.flat(0, 5), geo.flat(1, 5)
+    # closed for 10 steps: one step to the wall, wait, then three through the opened cell
+    assert walks.arrival(start, board, 0, 10) == (13, spot)
+    assert walks.arrival(start, board, 1, 10) == (4, spot)  # open now: the plain walk
+    assert walks.arrival(start, board, 1, 2) == (4, spot)  # it closes behind the cook
+    # open for one more step only: the cook is cut off after (1,2) until it reopens
+    assert walks.arrival(start, board, 1, 1) == (1 + 10 + 3, spot)
+    assert walks.arrival(start, geo.flat(3, 3), 0, 10) is None  # no floor next to it ever
+    assert switching_walks(geo, 10) is walks  # one per geometry and period

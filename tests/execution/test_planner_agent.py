@@ -191,6 +191,7 @@ def test_planner_options_field():
 
     assert parse_planner_options("one-cook+chain3+no-schedule", "x") == {
         "plan_cooks": "one", "chain_orders": 3, "schedule_cooks": False}
+    assert parse_planner_options("over-switches", "x") == {"over_switches": True}
     agent = make_controller("planner:fast-downward:stations:on_event:one-cook+chain2")
     assert agent.planner_name == "fast-downward"
     for bad in ("chain0", "chain", "two-cooks"):
@@ -323,3 +324,18 @@ def test_temporal_plans_are_chained_too(tmp_path, monkeypatch):
         pytest.skip("kairos timed out on a loaded machine")
     delivers = [t for t in agent.executive.queues[0] if t.step.kind == "deliver"]
     assert len(delivers) == 2
+
+
+@needs_fd
+def test_a_plan_scheduled_over_the_switches_expects_them():
+    """hard, two cooks, ``over-switches``: the plan's walks are timed over the coming layout
+    switches, so the executive expects every switch (no replan on one) and the cooks,
+    cut off or not, still serve."""
+    state = new_state(make_rules("hard", n_agents=2), 0)
+    agent = make_controller("planner:fast-downward:stations:on_event:over-switches")
+    stats = run_episode(state, [(agent, [0, 1])], None, 120)
+    info = agent.info()
+    assert agent.executive.plan_over_switches
+    assert state.stats["layout_switches"] >= 6
+    assert "layout_switch" not in info["replans_by_reason"], info["replan_log"]
+    assert stats["dishes_served"] >= 1

@@ -578,3 +578,27 @@ def test_a_plate_taken_to_the_sink_is_not_a_plate_that_may_stay_home():
         (PlanStep(3, 0, "pickup", sink, (plate,)), TAKE, 1),
     ]
     assert plate_stays_home(plan, state) == []
+
+
+def test_switch_aware_schedule_times_walks_over_the_coming_switches():
+    """Two rooms joined by a cell that switches between wall and floor every 10 steps
+    (``test_paths.SWITCHING``); cook 0 carries the tomato (0,1) to the board (0,5). The
+    plain estimate walks over any layout's floor plus a period's detour; ``switches``
+    times the walk: closed now, the cook crosses when the switch opens the way (step 10,
+    three steps on); open now but closing in one step, it is cut off until it reopens."""
+    from tests.execution.test_paths import SWITCHING
+
+    state = new_state(make_rules("easy", map=SWITCHING, n_agents=2, dynamic=True), 0)
+    geo = state.geo
+    veg, board = _item_at(state, 0, 1), geo.flat(0, 5)
+    plan = [(PlanStep(0, 0, "pickup", geo.flat(0, 1), (veg,)), TAKE, 1),
+            (PlanStep(1, 0, "putdown", board, (veg,)), RELEASE, 1)]
+
+    def put_at(**kw):
+        return next(s.start for s in schedule(plan, state, (0, 1), **kw) if s.kind == "putdown")
+
+    assert put_at() == 1 + 4 + 10
+    assert put_at(switches=True) == 1 + 9 + 3
+    state.layout_index, state.next_switch = 1, 1  # open, closing after this step
+    assert put_at() == 1 + 4
+    assert put_at(switches=True) == 1 + 10 + 3  # it reopens at step 11
