@@ -23,6 +23,7 @@ from typing import Any
 
 from ..errors import ConfigError
 from ..execution.executive import Executive, PlanFunction, PlanOutcome, PlanStep, Policy
+from ..execution.paths import layout_connects
 from ..execution.schedule import KEEP, RELEASE, TAKE, schedule
 from ..sim.state import State
 from .base import Controller
@@ -154,11 +155,13 @@ def compile_and_solve(
             return None, f"compile: {exc}"
         return compiled, solve(compiled.problem, planner, timeout=timeout, validate=validate)
 
-    def chained(compiled: Any, plan: Any, state: State, agents: tuple[int, ...]) -> list[Entry]:
-        """Plans for the next open orders, each from the state the previous plan leaves."""
+    def chained(compiled: Any, plan: Any, state: State,
+                agents: tuple[int, ...]) -> list[tuple[list[Entry], tuple[int, ...]]]:
+        """Plans for the next open orders, each from the state the previous plan leaves:
+        (its entries, the orders it serves) per plan."""
         from ..planning.fidelity import advance
 
-        out: list[Entry] = []
+        out: list[tuple[list[Entry], tuple[int, ...]]] = []
         for _ in range(chain_orders - 1):
             after = advance(compiled, plan, state, freeze_layout=state.rules.dynamic)
             if after is None or not after.orders:
@@ -167,7 +170,7 @@ def compile_and_solve(
             if compiled is None or result.status != "solved" or result.plan is None:
                 break
             plan, state = result.plan, after
-            out += plan_entries(compiled, plan, state)
+            out.append((plan_entries(compiled, plan, state), compiled.goal_orders))
         return out
 
     def plan(state: State, agents: tuple[int, ...], reason: str = "") -> PlanOutcome:
@@ -180,6 +183,14 @@ def compile_and_solve(
                                                                                  (1, state)]
         outcome = PlanOutcome("error", [], 0.0, "no open order")
         tried_relaxed = False
+        if encoding == "temporal" and not anticipate_switches and state.rules.dynamic \
+                and len(state.geo.walkables) > 1 and not layout_connects(
+                    state.geo, state.layout_index, list(state.agent_pos)):
+            # no cook reaches some station in this layout: the problem is unsolvable, but a
+            # temporal planner does not prove it (Kairos on hard, two cooks, searched to its
+            # time limit in every such state): plan on the relaxed kitchen at once
+            tried_relaxed = True
+            attempts = [(1, relaxed_state(state))]
         while attempts:
             max_orders, problem_state = attempts.pop(0)
             compiled, result = attempt(problem_state, agents, max_orders, gran)
@@ -194,16 +205,27 @@ def compile_and_solve(
                 tried_relaxed = True
                 attempts = [(1, relaxed_state(state))]
             if result.status == "solved" and result.plan is not None:
-                entries = plan_entries(compiled, result.plan, state, gran == "cells")
-                if max_orders == 1 and problem_state is state and gran == "stations":
-                    entries += chained(compiled, result.plan, state, agents)
+                parts = [plan_entries(compiled, result.plan, state, gran == "cells")]
+                served = [compiled.goal_orders]
+                if max_orders == 1 and gran == "stations":
+                    # (a relaxed plan chains on in the relaxed kitchen)
+                    for more, goals in chained(compiled, result.plan, problem_state, agents):
+                        parts.append(more)
+                        served.append(goals)
                 scheduled = schedule_cooks and gran == "stations"
                 timed = scheduled and over_switches and state.rules.dynamic
-                steps = (schedule(entries, state, agents, switches=timed) if scheduled
-                         else renumber([s for s, _, _ in entries]))
+                steps = None if scheduled else renumber([s for part in parts for s, _, _ in part])
+                while steps is None:
+                    # chained plans whose work cannot be scheduled together (a plate trip
+                    # that must interleave with another cook's work) are left for later:
+                    # the executive plans the next order when a cook runs out of work
+                    steps = schedule([e for part in parts for e in part], state, agents,
+                                     switches=timed, fallback=len(parts) == 1)
+                    parts = parts if steps is not None else parts[:-1]
+                orders = tuple(o for goals in served[:len(parts)] for o in goals)
                 return PlanOutcome("solved", steps, time.perf_counter() - t0,
                                    relaxed=problem_state is not state and tried_relaxed,
-                                   over_switches=timed)
+                                   over_switches=timed, orders=orders)
             outcome = PlanOutcome(result.status, [], time.perf_counter() - t0, result.reason)
         return outcome
 

@@ -45,6 +45,7 @@ from .paths import (
     layout_connects,
     layout_schedule,
     plan_paths,
+    switching_walks,
 )
 from .plans import (
     STEP_KINDS,
@@ -119,6 +120,9 @@ class Executive:
         self.queues: dict[int, deque[Task]] = {a: deque() for a in self.agent_ids}
         self.done_steps: set[int] = set()
         self.planned_orders: set[int] = set()
+        #: the orders open when the current plan was made, and the cooks it gave no work
+        self.seen_orders: set[int] = set()
+        self.idle_in_plan: set[int] = set()
         self.pending: dict[int, _Bump] = {}
         self.last_pos: dict[int, int] = {a: state.agent_pos[a] for a in self.agent_ids}
         self.stuck: Counter[int] = Counter()
@@ -195,10 +199,14 @@ class Executive:
             self.prev_burns = state.stats["burns"]
             self._trigger(state, "burnt", out)
         open_ids = {o.order_id for o in state.orders}
-        idle = any(not q for q in self.queues.values())
-        if self.last_plan_t is not None and open_ids - self.planned_orders and idle:
-            # a new order is planned for as soon as a driven agent has nothing to do (replanning
-            # at once would cost a planner call per dish while everybody is busy anyway)
+        idle = {a for a, q in self.queues.items() if not q}
+        left_out = open_ids - self.planned_orders
+        if self.last_plan_t is not None and left_out and idle and (
+                left_out - self.seen_orders or idle - self.idle_in_plan):
+            # a new order is planned for as soon as a driven agent has nothing to do
+            # (replanning at once would cost a planner call per dish while everybody is busy
+            # anyway); one the plan left out, once a cook that had work in it runs out (a
+            # cook the plan gave nothing would get nothing from the same call again)
             self.planned_orders |= open_ids
             self._trigger(state, "new_order", out)
         self._check_burn_risk(state, out)
@@ -268,8 +276,11 @@ class Executive:
         self.plan_id += 1
         self.plan_relaxed = outcome.relaxed
         self.plan_over_switches = outcome.over_switches
-        self.planned_orders = {o.order_id for o in state.orders}
+        self.planned_orders = {o.order_id for o in state.orders} if outcome.orders is None \
+            else set(outcome.orders)
+        self.seen_orders = {o.order_id for o in state.orders}
         self.install(outcome.steps)
+        self.idle_in_plan = {a for a, q in self.queues.items() if not q}
         # a target out of reach already when the plan was made (planned on a relaxed kitchen,
         # waiting for a switch) is not a surprise: only one that becomes unreachable is
         for a in self.agent_ids:
@@ -456,23 +467,36 @@ class Executive:
                 self._trigger(state, "burn_risk", out)
 
     def _eta(self, state: State, pan: int) -> int | None:
-        """Estimated steps until a queued task bumps ``pan`` to take its steak (None: no task)."""
+        """Estimated steps until a queued task bumps ``pan`` to take its steak (None: no task).
+        With a plan scheduled over the switches, walks are timed over them too."""
         best = None
         layout = state.layout_index
+        timed = switching_walks(state.geo, state.rules.map_switch_step) \
+            if self.plan_over_switches and len(state.geo.walkables) == 2 else None
+        due = max(0, state.next_switch - state.t)
         for a in self.agent_ids:
             pos, total = state.agent_pos[a], 0
             for task in self.queues[a]:
-                d = self.oracle.to_station(layout, task.step.target)[pos]
-                if d < 0:
-                    break
+                if timed is not None:
+                    found = timed.arrival(pos, task.step.target,
+                                          *timed.phase(layout, due, total))
+                    if found is None:
+                        break
+                    d, spot = found
+                else:
+                    d = self.oracle.to_station(layout, task.step.target)[pos]
+                    if d < 0:
+                        break
+                    spots = self._spots(state, task.step.target)
+                    spot = min(spots, key=lambda c: self.oracle.to_goals(layout, [pos])[c]) \
+                        if spots else pos
                 total += d + 1
-                spots = self._spots(state, task.step.target)
                 if task.step.target == pan and task.step.kind != "putdown":
                     best = total if best is None else min(best, total)
                     break
                 if task.step.kind in _PROCESS:
                     total += bumps_needed(state.rules, _PROCESS[task.step.kind]) - 1
-                pos = min(spots, key=lambda c: self.oracle.to_goals(layout, [pos])[c]) if spots else pos
+                pos = spot
         return best
 
     # ------------------------------------------------------------------ actions

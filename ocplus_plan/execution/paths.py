@@ -158,6 +158,13 @@ class SwitchingWalks:
                 self.geo.neighbors, self.geo.walkables[layout], target))
         return self._spots[key]
 
+    def phase(self, layout: int, due: int, at: int) -> tuple[int, int]:
+        """(layout, steps to its next switch) ``at`` steps after a moment when ``layout``
+        was in force with its next switch ``due`` steps away."""
+        if at < due:
+            return layout, due - at
+        return layout_at(layout, due, self.period, at), self.period - (at - due) % self.period
+
     def arrival(self, pos: int, target: int, layout: int, due: int) -> tuple[int, int] | None:
         """(steps, spot) of the earliest arrival next to ``target`` from ``pos`` when the
         current layout is ``layout`` and the next switch is ``due`` steps away; None if no

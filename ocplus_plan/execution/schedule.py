@@ -70,7 +70,7 @@ from ..sim.queries import (
     walkable_in_any_layout,
 )
 from ..sim.state import State
-from .paths import DistanceOracle, layout_at, switching_walks
+from .paths import DistanceOracle, switching_walks
 from .plans import PlanStep
 
 #: what a step does to its cook's hand
@@ -137,7 +137,6 @@ class _Walks:
         if switches and state.rules.dynamic and len(state.geo.walkables) == 2:
             self.timed = switching_walks(state.geo, state.rules.map_switch_step)
             self.due = max(0, state.next_switch - state.t)
-            self.period = self.timed.period
 
     def to(self, pos: int, target: int, at: int = 0) -> tuple[int, int]:
         """(steps to reach a spot of ``target`` from ``pos``, the spot reached), leaving
@@ -145,9 +144,7 @@ class _Walks:
         if self.timed is None:
             key = (pos, target, 0, 0)
         else:  # the walk depends on the layout then and on when it next switches
-            layout = layout_at(self.layout, self.due, self.period, at)
-            due = self.due - at if at < self.due else self.period - (at - self.due) % self.period
-            key = (pos, target, layout, due)
+            key = (pos, target, *self.timed.phase(self.layout, self.due, at))
         if key not in self._known:
             self._known[key] = self._to(pos, target) if self.timed is None \
                 else self._timed(pos, target, key[2], key[3])
@@ -373,7 +370,7 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
              agents: Sequence[int], oracle: DistanceOracle | None = None,
              lookahead: int = LOOKAHEAD, swap_stations: bool = True,
              reorder_dishes: bool = True, carry_to_plates: bool = True,
-             switches: bool = False) -> list[PlanStep]:
+             switches: bool = False, fallback: bool = True) -> list[PlanStep] | None:
     """Reassign and reorder a sequential plan's steps over ``agents`` (see the module doc).
 
     ``steps`` are in plan order, each with its hand effect (TAKE, RELEASE, KEEP) and the
@@ -405,7 +402,9 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
     it gets there), so the work goes to the cook that can get there at that time.
 
     Work that serves no order is dropped first (:func:`without_idle_work`). A plan with
-    steps of cooks outside ``agents`` is left as it is."""
+    steps of cooks outside ``agents`` is left as it is, and so is a plan whose segments
+    cannot be scheduled (two cooks' segments that must interleave), unless ``fallback`` is
+    False: then None says so (the caller may schedule a shorter plan)."""
     agents = tuple(agents)
     if not agents or any(s.agent not in agents for s, _, _ in steps):
         return _in_plan_order(steps)
@@ -420,7 +419,9 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
         out = _Scheduler(order, state, agents, walks, lookahead).run()
         if out is not None and (best is None or out[1] < best[1]):
             best = out
-    return _in_plan_order(steps) if best is None else best[0]
+    if best is None:
+        return _in_plan_order(steps) if fallback else None
+    return best[0]
 
 
 def without_idle_work(steps: list[tuple[PlanStep, str, int]],

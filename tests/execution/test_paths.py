@@ -254,3 +254,6 @@ def test_switching_walks_wait_for_the_switch_that_opens_the_way():
     assert walks.arrival(start, board, 1, 1) == (1 + 10 + 3, spot)
     assert walks.arrival(start, geo.flat(3, 3), 0, 10) is None  # no floor next to it ever
     assert switching_walks(geo, 10) is walks  # one per geometry and period
+    # the phase some steps later: (layout, steps to its next switch)
+    assert [walks.phase(0, 3, at) for at in (0, 2, 3, 12, 13)] == [(0, 3), (0, 1), (1, 10),
+                                                                    (1, 1), (0, 10)]
