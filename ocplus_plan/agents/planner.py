@@ -23,7 +23,6 @@ from typing import Any
 
 from ..errors import ConfigError
 from ..execution.executive import Executive, PlanFunction, PlanOutcome, PlanStep, Policy
-from ..execution.paths import layout_connects
 from ..execution.schedule import KEEP, RELEASE, TAKE, schedule
 from ..sim.state import State
 from .base import Controller
@@ -183,14 +182,6 @@ def compile_and_solve(
                                                                                  (1, state)]
         outcome = PlanOutcome("error", [], 0.0, "no open order")
         tried_relaxed = False
-        if encoding == "temporal" and not anticipate_switches and state.rules.dynamic \
-                and len(state.geo.walkables) > 1 and not layout_connects(
-                    state.geo, state.layout_index, list(state.agent_pos)):
-            # no cook reaches some station in this layout: the problem is unsolvable, but a
-            # temporal planner does not prove it (Kairos on hard, two cooks, searched to its
-            # time limit in every such state): plan on the relaxed kitchen at once
-            tried_relaxed = True
-            attempts = [(1, relaxed_state(state))]
         while attempts:
             max_orders, problem_state = attempts.pop(0)
             compiled, result = attempt(problem_state, agents, max_orders, gran)

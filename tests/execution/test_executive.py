@@ -342,3 +342,28 @@ def test_a_chop_is_not_done_before_its_vegetable_is_on_the_board():
     assert not ex._already_done(state, chop), "a fresh tomato waits to be chopped"
     state.item_state[tomato] = int(ItemState.CHOPPED)
     assert ex._already_done(state, chop)
+
+
+def _oldest_only(state, agents, reason=""):
+    """The toy plan (the oldest order, by the first cook), saying it serves that order only."""
+    from dataclasses import replace
+
+    return replace(toy_planner(state, agents, reason), orders=(state.orders[0].order_id,))
+
+
+def test_an_order_the_plan_leaves_out_waits_for_a_cook_that_had_work():
+    """easy, two cooks, two open orders, plans for the oldest only (cook 0's work): cook 1,
+    idle in every plan, does not make the executive replan each step; once cook 0 (who had
+    work) runs out, the left-out order is planned for."""
+    rules = make_rules("easy", n_agents=2)
+    stats, info, _ = play(rules, steps=100, planner=_oldest_only)
+    assert stats["dishes_served"] >= 2
+    assert info["planner_calls"] <= 2 * stats["dishes_served"] + 2, info["replan_log"]
+    state = new_state(rules, 0)
+    ex = Executive(_oldest_only)
+    ex.reset(state, [0, 1])
+    ex.act(state)
+    assert ex.idle_in_plan == {1} and len(state.orders) == 2
+    assert "new_order" not in ex._monitor(state)
+    ex.idle_in_plan = set()  # as if cook 1 had had work in the plan and finished it
+    assert "new_order" in ex._monitor(state)

@@ -339,3 +339,16 @@ def test_a_plan_scheduled_over_the_switches_expects_them():
     assert state.stats["layout_switches"] >= 6
     assert "layout_switch" not in info["replans_by_reason"], info["replan_log"]
     assert stats["dishes_served"] >= 1
+
+
+@needs_fd
+def test_a_plan_made_on_the_relaxed_kitchen_chains_on_in_it():
+    """hard, one cook, chain2: the first plan is made on the relaxed kitchen (MapC never
+    connects one cook to every station), and the next order is planned from the state it
+    leaves there: both deliveries are queued."""
+    state = new_state(make_rules("hard", n_agents=1), 0)
+    agent = PlannerAgent("fast-downward", chain_orders=2)
+    agent.reset(state, [0])
+    agent.act(state)
+    assert agent.executive.plan_relaxed
+    assert sum(t.step.kind == "deliver" for t in agent.executive.queues[0]) == 2

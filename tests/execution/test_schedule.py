@@ -212,6 +212,7 @@ def test_segments_that_would_interleave_leave_the_plan_alone():
     segs = segments(plan, state)
     assert 1 in segs[0].deps and 0 in segs[1].deps  # a cycle
     assert schedule(plan, state, (0, 1)) == [s for s, _, _ in plan]
+    assert schedule(plan, state, (0, 1), fallback=False) is None  # or it says so
 
 
 def _fd():
