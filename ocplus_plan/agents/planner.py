@@ -193,6 +193,8 @@ def compile_and_solve(
                 # nothing is reachable enough in this layout alone (MapC never connects every
                 # station at once): plan as if every switching cell were open, and let the
                 # executive wait for the switch where the way is still closed
+                from ..planning.spots import relaxed_state
+
                 tried_relaxed = True
                 attempts = [(1, relaxed_state(state))]
             if result.status == "solved" and result.plan is not None:
@@ -221,36 +223,6 @@ def compile_and_solve(
         return outcome
 
     return plan
-
-
-_RELAXED: dict[int, Any] = {}
-
-
-def relaxed_state(state: State) -> State:
-    """A copy of ``state`` whose current layout has every cell that is floor in some layout
-    as floor (unless an item lies on it): an optimistic kitchen for planning on maps whose
-    layout switches. The simulator state itself is never changed."""
-    from dataclasses import replace
-
-    from ..sim.codes import Cell
-    from ..sim.queries import walkable_in_any_layout
-
-    geo = state.geo
-    key = id(geo)
-    if key not in _RELAXED or _RELAXED[key][0] is not geo:
-        floor = walkable_in_any_layout(geo)
-        terrain = tuple(int(Cell.FLOOR) if floor[c] else geo.terrains[0][c]
-                        for c in range(len(floor)))
-        walk = tuple(floor)
-        _RELAXED[key] = (geo, replace(geo, terrains=(terrain, terrain), walkables=(walk, walk)))
-    relaxed = state.copy()
-    base = _RELAXED[key][1]
-    if any(state.cell_item[c] >= 0 and base.walkables[0][c] and not geo.walkables[state.layout_index][c]
-           for c in range(len(state.cell_item))):
-        return state  # an item lies on a counter that the other layout opens: keep it real
-    relaxed.geo = base
-    relaxed.layout_index = 0
-    return relaxed
 
 
 def hand_effects(record: Any) -> list[tuple[str, int]]:

@@ -34,6 +34,7 @@ from ..sim.queries import (
     distances,
     interaction_spots,
     is_plateable,
+    switching_walks,
     ticks_until_burnt,
     walkable_in_any_layout,
 )
@@ -45,7 +46,6 @@ from .paths import (
     layout_connects,
     layout_schedule,
     plan_paths,
-    switching_walks,
 )
 from .plans import (
     STEP_KINDS,

@@ -39,7 +39,7 @@ class PlanOutcome:
     steps: list[PlanStep] = field(default_factory=list)
     planning_time: float = 0.0
     message: str = ""
-    #: planned on a kitchen with every switching cell open (``agents.planner.relaxed_state``):
+    #: planned on a kitchen with every switching cell open (``planning.spots.relaxed_state``):
     #: the plan already assumes the ways a layout switch opens and closes, so the executive
     #: waits for switches instead of replanning on them
     relaxed: bool = False

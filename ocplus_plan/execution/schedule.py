@@ -65,12 +65,13 @@ from ..sim.codes import COUNTERS, Cell, Item, ItemState, Where
 from ..sim.queries import (
     distances,
     interaction_spots,
+    switching_walks,
     ticks_until_burnt,
     ticks_until_cooked,
     walkable_in_any_layout,
 )
 from ..sim.state import State
-from .paths import DistanceOracle, switching_walks
+from .paths import DistanceOracle
 from .plans import PlanStep
 
 #: what a step does to its cook's hand
@@ -122,8 +123,8 @@ def segments(steps: Sequence[tuple[PlanStep, str, int]], state: State) -> list[S
 class _Walks:
     """Walking estimates for the schedule: current layout first, any layout as a fallback.
     With ``switches`` (a switching map), a walk that starts ``at`` steps from now is timed
-    over the coming layout switches instead (:class:`~.paths.SwitchingWalks`: it may wait
-    for a switch to open its way). Answers are kept: one schedule call asks the same walks
+    over the coming layout switches instead (:class:`~ocplus_plan.sim.queries.SwitchingWalks`:
+    it may wait for a switch to open its way). Answers are kept: one schedule call asks the same walks
     for every candidate it tries."""
 
     def __init__(self, state: State, oracle: DistanceOracle, switches: bool = False) -> None:

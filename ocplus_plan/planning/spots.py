@@ -23,15 +23,23 @@ own spawn tile (a foreign item there would make the tile's owner wait to respawn
 
 Everything that depends only on the layout (regions, all-pairs distances, the
 station and counter choice) is computed once per geometry and layout and cached.
+
+The *relaxed kitchen* (:func:`relaxed_state`) of a map whose layout switches has every
+cell that is floor in some layout as floor: a plan exists there when no single layout
+lets the cooks reach every station (MapC). Its ``stations`` moves cost the walk's
+expected steps over the real switches (a walk may wait for the switch that opens its
+way; mean over the phases of the switch schedule), not the relaxed floor's distance,
+so a plan there hands items over a counter rather than carrying them across a way that
+is closed half of the time.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 from ..sim.codes import COUNTERS, Cell
-from ..sim.queries import distances, interaction_spots, walkable_in_any_layout
+from ..sim.queries import distances, interaction_spots, switching_walks, walkable_in_any_layout
 from ..sim.state import Geometry, State
 
 #: Cell codes that are places whatever they hold (counters are chosen, see the module doc).
@@ -173,8 +181,10 @@ def build_spots(state: State, granularity: str = "stations", extra_counters: int
         spot_set.update(state.agent_pos)
         spots = tuple(sorted(spot_set))
         links_list = []
+        real = real_geometry(geo)
         for s in spots:
-            ds = info.dist[s]
+            ds = info.dist[s] if real is None else \
+                expected_walks(real, state.rules.map_switch_step, s)
             for t in targets:
                 if t != s and t in ds:
                     links_list.append((s, t, ds[t]))
@@ -190,6 +200,72 @@ def build_spots(state: State, granularity: str = "stations", extra_counters: int
                                     if t != s and t in ds and ds[t] < period)
     return SpotGraph(places, spots, tuple(sorted(adjacent)), links,
                      tuple(state.agent_pos), info, tuple(layout_links))
+
+
+_RELAXED: dict[int, tuple[Geometry, Geometry]] = {}  # id(real) -> (real, relaxed)
+_REAL: dict[int, Geometry] = {}  # id(relaxed) -> real
+
+
+def relaxed_geometry(geo: Geometry) -> Geometry:
+    """``geo`` with every cell that is floor in some layout as floor, in both layouts."""
+    known = _RELAXED.get(id(geo))
+    if known is None or known[0] is not geo:
+        floor = walkable_in_any_layout(geo)
+        terrain = tuple(int(Cell.FLOOR) if floor[c] else geo.terrains[0][c]
+                        for c in range(len(floor)))
+        relaxed = replace(geo, terrains=(terrain, terrain), walkables=(floor, floor))
+        _RELAXED[id(geo)] = known = (geo, relaxed)
+        _REAL[id(relaxed)] = geo
+    return known[1]
+
+
+def real_geometry(geo: Geometry) -> Geometry | None:
+    """The switching geometry a relaxed one was made from (None: ``geo`` is not relaxed)."""
+    real = _REAL.get(id(geo))
+    if real is None or _RELAXED.get(id(real), (None, None))[1] is not geo:
+        return None
+    return real
+
+
+def relaxed_state(state: State) -> State:
+    """A copy of ``state`` in the relaxed kitchen (see the module doc); ``state`` itself
+    when an item lies on a counter that the other layout opens (keep it real). The
+    simulator state is never changed."""
+    geo = state.geo
+    base = relaxed_geometry(geo)
+    if any(state.cell_item[c] >= 0 and base.walkables[0][c] and not geo.walkables[state.layout_index][c]
+           for c in range(len(state.cell_item))):
+        return state
+    relaxed = state.copy()
+    relaxed.geo = base
+    relaxed.layout_index = 0
+    return relaxed
+
+
+@lru_cache(maxsize=4096)
+def expected_walks(geo: Geometry, period: int, start: int) -> dict[int, int]:
+    """Cell -> expected steps from ``start`` to it on the switching map ``geo`` (rounded
+    mean over every phase of the switch schedule of the earliest arrival, waiting for
+    switches allowed); cells some phase never reaches are left out."""
+    walks = switching_walks(geo, period)
+    phases = [(layout, due) for layout in range(2) for due in range(1, walks.period + 1)]
+    total: dict[int, int] = {}
+    for layout, due in phases:
+        seen = 0
+        for t, front in enumerate(walks.fronts(start, layout, due)):
+            new = front & ~seen
+            seen |= front
+            while new:
+                low = new & -new
+                cell = low.bit_length() - 1
+                total[cell] = total.get(cell, 0) + t
+                new ^= low
+    reached = dict.fromkeys(total, 0)
+    for layout, due in phases:  # keep the cells every phase reaches
+        last = walks.fronts(start, layout, due)[-1]
+        for cell in reached:
+            reached[cell] += last >> cell & 1
+    return {c: round(total[c] / len(phases)) for c in total if reached[c] == len(phases)}
 
 
 def walk_distance(state: State, start: int, goal: int, blocked: frozenset[int]) -> int | None:

@@ -131,6 +131,90 @@ def walkable_in_any_layout(geo: Geometry) -> tuple[bool, ...]:
     return tuple(any(flags) for flags in zip(*geo.walkables))
 
 
+def layout_at(layout: int, due: int, period: int, t: int) -> int:
+    """The layout in force ``t`` steps from now on a two-layout map whose next switch is due
+    in ``due`` steps and then every ``period`` steps (switches on time)."""
+    if t < due:
+        return layout
+    return layout if (1 + (t - due) // period) % 2 == 0 else 1 - layout
+
+
+class SwitchingWalks:
+    """Earliest arrivals on a map whose two layouts alternate on a known schedule: a walk may
+    wait for a switch to open its way. One reachability front per (start cell, layout,
+    steps to the next switch), as bit masks over the grid, kept for the geometry's life;
+    other cooks are ignored (as in every walking estimate of the schedule)."""
+
+    def __init__(self, geo: Geometry, period: int) -> None:
+        self.geo, self.period = geo, max(1, period)
+        cols, n = geo.cols, geo.rows * geo.cols
+        self.full = (1 << n) - 1
+        self.not_first = sum(1 << c for c in range(n) if c % cols != 0)
+        self.not_last = sum(1 << c for c in range(n) if c % cols != cols - 1)
+        self.walk = [sum(1 << c for c in range(n) if w[c]) for w in geo.walkables]
+        self._spots: dict[tuple[int, int], int] = {}
+        self._fronts: dict[tuple[int, int, int], list[int]] = {}
+
+    def _grow(self, front: int) -> int:
+        cols = self.geo.cols
+        return (front | ((front & self.not_last) << 1) | ((front & self.not_first) >> 1)
+                | (front << cols) | (front >> cols)) & self.full
+
+    def fronts(self, pos: int, layout: int, due: int) -> list[int]:
+        """Cells reachable from ``pos`` within 0, 1, 2, ... steps (until nothing changes for
+        two whole periods, after which nothing will)."""
+        key = (pos, layout, due)
+        out = self._fronts.get(key)
+        if out is None:
+            front, out, still = 1 << pos, [1 << pos], 0
+            limit = due + 2 * self.period + 4 * (self.geo.rows + self.geo.cols)
+            for t in range(limit):
+                grown = (self._grow(front) & self.walk[layout_at(layout, due, self.period, t)]) | front
+                still = still + 1 if grown == front else 0
+                front = grown
+                out.append(front)
+                if still >= 2 * self.period:
+                    break
+            self._fronts[key] = out
+        return out
+
+    def spot_mask(self, target: int, layout: int) -> int:
+        key = (target, layout)
+        if key not in self._spots:
+            self._spots[key] = sum(1 << c for c in interaction_spots(
+                self.geo.neighbors, self.geo.walkables[layout], target))
+        return self._spots[key]
+
+    def phase(self, layout: int, due: int, at: int) -> tuple[int, int]:
+        """(layout, steps to its next switch) ``at`` steps after a moment when ``layout``
+        was in force with its next switch ``due`` steps away."""
+        if at < due:
+            return layout, due - at
+        return layout_at(layout, due, self.period, at), self.period - (at - due) % self.period
+
+    def arrival(self, pos: int, target: int, layout: int, due: int) -> tuple[int, int] | None:
+        """(steps, spot) of the earliest arrival next to ``target`` from ``pos`` when the
+        current layout is ``layout`` and the next switch is ``due`` steps away; None if no
+        walk over the switches reaches it."""
+        for t, front in enumerate(self.fronts(pos, layout, due)):
+            hit = front & self.spot_mask(target, layout_at(layout, due, self.period, t))
+            if hit:
+                return t, (hit & -hit).bit_length() - 1
+        return None
+
+
+_SWITCHING: dict[int, SwitchingWalks] = {}
+
+
+def switching_walks(geo: Geometry, period: int) -> SwitchingWalks:
+    """The :class:`SwitchingWalks` of a geometry (one per geometry and period)."""
+    key = id(geo)
+    walks = _SWITCHING.get(key)
+    if walks is None or walks.geo is not geo or walks.period != max(1, period):
+        walks = _SWITCHING[key] = SwitchingWalks(geo, period)
+    return walks
+
+
 def direction(geo: Geometry, src: int, dst: int) -> int:
     """The action that moves from ``src`` into the neighbouring ``dst`` (or bumps it);
     STAY when they are the same cell. Cells that are not neighbours are a ConfigError."""
@@ -250,7 +334,7 @@ def plate_fits(contents: Counter[int], recipe: Counter[int]) -> bool:
     return not (contents - recipe)
 
 
-__all__ = ["Bump", "Walks", "bump_effect", "bumps_needed", "direction", "distances",
-           "grid_neighbors", "interaction_spots", "is_plateable", "plate_fits",
-           "ticks_until_burnt", "ticks_until_cooked", "walk_actions", "walk_to",
-           "walkable_in_any_layout", "walks"]
+__all__ = ["Bump", "SwitchingWalks", "Walks", "bump_effect", "bumps_needed", "direction", "distances",
+           "grid_neighbors", "interaction_spots", "is_plateable", "layout_at", "plate_fits",
+           "switching_walks", "ticks_until_burnt", "ticks_until_cooked", "walk_actions",
+           "walk_to", "walkable_in_any_layout", "walks"]

@@ -12,16 +12,20 @@ from ocplus_plan.execution.paths import (
     PathRequest,
     Reservations,
     check_paths,
-    layout_at,
     layout_connects,
     layout_schedule,
     plan_paths,
     space_time_astar,
-    switching_walks,
 )
 from ocplus_plan.sim import make_rules, new_state, transition
 from ocplus_plan.sim.codes import Action
-from ocplus_plan.sim.queries import direction, distances, interaction_spots
+from ocplus_plan.sim.queries import (
+    direction,
+    distances,
+    interaction_spots,
+    layout_at,
+    switching_walks,
+)
 
 
 def kitchen(grid, spawns, preset="easy", **kw):
