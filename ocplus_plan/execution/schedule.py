@@ -44,6 +44,8 @@ a planner (partial-order lifting plus list scheduling):
   parking it on a counter first (:func:`unparked`), and keeps what ends sooner;
 * idle work: a segment that delivers nothing and that no later step needs is dropped
   (:func:`without_idle_work`; a satisficing planner may fetch an ingredient no order wants).
+* layout switches (``switches``): walks are timed over the coming switches (a cook cut
+  off now waits for the switch that opens its way; one free now may be cut off later).
 
 The result is the plan's steps (with the plating and idle-work changes above) with cooks
 reassigned, renumbered in scheduled order and stamped with their estimated start (a
