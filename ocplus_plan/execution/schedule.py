@@ -126,8 +126,8 @@ class _Walks:
     """Walking estimates for the schedule: current layout first, any layout as a fallback.
     With ``switches`` (a switching map), a walk that starts ``at`` steps from now is timed
     over the coming layout switches instead (:class:`~ocplus_plan.sim.queries.SwitchingWalks`:
-    it may wait for a switch to open its way). Answers are kept: one schedule call asks the same walks
-    for every candidate it tries."""
+    it may wait for a switch to open its way). Answers are kept: one schedule call asks the
+    same walks for every candidate it tries."""
 
     def __init__(self, state: State, oracle: DistanceOracle, switches: bool = False) -> None:
         self.geo, self.layout, self.oracle = state.geo, state.layout_index, oracle

@@ -265,6 +265,28 @@ def test_burn_eta_waits_wash_steps_for_a_wash_not_chop_steps():
     assert etas == {3: 2 + 3 + 0 + 1, 7: 2 + 7 + 0 + 1}
 
 
+def test_burn_eta_of_a_plan_scheduled_over_the_switches_waits_for_the_way():
+    """MapC, the cook in the top room and the pan in the bottom one: no walk reaches the pan
+    in this layout (plain ETA: none), so a plan scheduled over the switches times the walk
+    over them (``SwitchingWalks``), as the schedule did."""
+    from collections import deque
+
+    from ocplus_plan.execution.executive import Task
+    from ocplus_plan.sim.queries import switching_walks
+
+    state = new_state(make_rules("hard", n_agents=1), 0)
+    geo = state.geo
+    pan = geo.pans[0]
+    ex = Executive(toy_planner)
+    ex.reset(state)
+    ex.queues[0] = deque([Task(PlanStep(0, 0, "pickup", pan, ()), frozenset())])
+    assert ex._eta(state, pan) is None
+    ex.plan_over_switches = True
+    walk, _ = switching_walks(geo, state.rules.map_switch_step).arrival(
+        state.agent_pos[0], pan, state.layout_index, state.next_switch - state.t)
+    assert walk > 15 and ex._eta(state, pan) == walk + 1
+
+
 def test_ready_steps_are_what_the_step_then_does_on_sampled_states():
     """On sampled states the executive's expectations agree with the step: a chop / wash
     step is ready exactly when the agent's bump chops / washes, and done exactly when an
