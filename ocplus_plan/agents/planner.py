@@ -215,7 +215,12 @@ def compile_and_solve(
                     steps = schedule([e for part in parts for e in part], state, agents,
                                      switches=timed, fallback=len(parts) == 1)
                     parts = parts if steps is not None else parts[:-1]
-                orders = tuple(o for goals in served[:len(parts)] for o in goals)
+                # a chain cut short says which orders it still serves (the executive plans
+                # the rest when a cook runs out of work); otherwise the plan stands for every
+                # open order until it is done (replanning a one-order plan whenever a cook
+                # runs out of work cost the default planner a dish on hard, seeds 1 and 9)
+                orders = None if len(parts) == len(served) else \
+                    tuple(o for goals in served[:len(parts)] for o in goals)
                 return PlanOutcome("solved", steps, time.perf_counter() - t0,
                                    relaxed=problem_state is not state and tried_relaxed,
                                    over_switches=timed, orders=orders)

@@ -46,8 +46,9 @@ class PlanOutcome:
     #: the plan's work was scheduled with walks timed over the coming layout switches
     #: (``execution.schedule.schedule(switches=True)``): every switch on time is expected
     over_switches: bool = False
-    #: the open orders the plan serves (None: every open order); a cook that runs out of
-    #: work while an open order is left out asks for a plan that takes it in
+    #: the open orders the plan serves when it leaves some out on purpose (a chain of
+    #: plans cut short; None: it stands for every open order): a cook that runs out of
+    #: work while one is left out asks for a plan that takes it in
     orders: tuple[int, ...] | None = None
 
     @property
