@@ -250,6 +250,7 @@ def expected_walks(geo: Geometry, period: int, start: int) -> dict[int, int]:
     walks = switching_walks(geo, period)
     phases = [(layout, due) for layout in range(2) for due in range(1, walks.period + 1)]
     total: dict[int, int] = {}
+    reached: dict[int, int] = {}  # in how many phases
     for layout, due in phases:
         seen = 0
         for t, front in enumerate(walks.fronts(start, layout, due)):
@@ -259,12 +260,8 @@ def expected_walks(geo: Geometry, period: int, start: int) -> dict[int, int]:
                 low = new & -new
                 cell = low.bit_length() - 1
                 total[cell] = total.get(cell, 0) + t
+                reached[cell] = reached.get(cell, 0) + 1
                 new ^= low
-    reached = dict.fromkeys(total, 0)
-    for layout, due in phases:  # keep the cells every phase reaches
-        last = walks.fronts(start, layout, due)[-1]
-        for cell in reached:
-            reached[cell] += last >> cell & 1
     return {c: round(total[c] / len(phases)) for c in total if reached[c] == len(phases)}
 
 

@@ -80,10 +80,10 @@ class LeanPPO:
         self.values = torch.zeros((steps, slots), dtype=f32)
         self.rewards = torch.zeros((steps, slots), dtype=f32)
         self.dones = torch.zeros((steps, slots), dtype=torch.bool)
-        # computed at the end of each rollout (_collect)
-        self.log_probs = torch.zeros((steps, slots), dtype=f32)
-        self.advantages = torch.zeros((steps, slots), dtype=f32)
-        self.returns = torch.zeros((steps, slots), dtype=f32)
+        # computed from the whole rollout at its end (_collect)
+        self.log_probs: Any = None
+        self.advantages: Any = None
+        self.returns: Any = None
         self._last_obs: np.ndarray | None = None
         self._total = 0
         self._clip = 0.0

@@ -154,6 +154,7 @@ class SwitchingWalks:
         self.walk = [sum(1 << c for c in range(n) if w[c]) for w in geo.walkables]
         self._spots: dict[tuple[int, int], int] = {}
         self._fronts: dict[tuple[int, int, int], list[int]] = {}
+        self._arrivals: dict[tuple[int, int, int, int], tuple[int, int] | None] = {}
 
     def _grow(self, front: int) -> int:
         cols = self.geo.cols
@@ -195,12 +196,17 @@ class SwitchingWalks:
     def arrival(self, pos: int, target: int, layout: int, due: int) -> tuple[int, int] | None:
         """(steps, spot) of the earliest arrival next to ``target`` from ``pos`` when the
         current layout is ``layout`` and the next switch is ``due`` steps away; None if no
-        walk over the switches reaches it."""
-        for t, front in enumerate(self.fronts(pos, layout, due)):
-            hit = front & self.spot_mask(target, layout_at(layout, due, self.period, t))
-            if hit:
-                return t, (hit & -hit).bit_length() - 1
-        return None
+        walk over the switches reaches it (answers are kept: the executive asks the same
+        ones at every step while a steak cooks)."""
+        key = (pos, target, layout, due)
+        if key not in self._arrivals:
+            self._arrivals[key] = None
+            for t, front in enumerate(self.fronts(pos, layout, due)):
+                hit = front & self.spot_mask(target, layout_at(layout, due, self.period, t))
+                if hit:
+                    self._arrivals[key] = (t, (hit & -hit).bit_length() - 1)
+                    break
+        return self._arrivals[key]
 
 
 _SWITCHING: dict[int, SwitchingWalks] = {}
