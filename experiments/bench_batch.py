@@ -1,6 +1,6 @@
 """Batched kitchens: env-steps/s against the number of kitchens, ours beside JaxMARL.
 
-Ours: :class:`ocplus_plan.sim.batch.BatchSim` (hard preset, MapC, 2 cooks, whole-map vector
+Ours: :class:`ocplus_plan.sim.fast.batch.BatchSim` (hard preset, MapC, 2 cooks, whole-map vector
 observations of every cook kept up to date), compiled with numba (the ``fast`` extra), and
 the Gymnasium vector env over it (``make_vec(..., vectorization_mode="vector_entry_point")``,
 ``copy=True`` and ``copy=False``). JaxMARL Overcooked V1 and V2 (the ``compare`` extra, CPU
@@ -8,7 +8,7 @@ jax): ``jit(vmap(step))`` inside ``lax.scan`` over random actions, compile time 
 each step's observations are summed into the scan output so XLA cannot drop them.
 ``ours_batch_features``: what the trainer's batched engine does per step (the step
 without vector observations, the shaped rewards and every cook's ``features`` observation,
-:class:`ocplus_plan.rl.features_batch.BatchFeatures`).
+:class:`ocplus_plan.rl.fast.features_batch.BatchFeatures`).
 Random uniform actions everywhere; medians of ``--runs`` rounds. One JSON line per
 measurement. ``--memory`` prints instead the bytes held per kitchen (state, observations
 and bookkeeping) for each observation the engine can keep.
@@ -40,7 +40,7 @@ def _load() -> str:
 
 
 def bench_ours(n_envs: int, env_steps: int, runs: int, system: str) -> dict[str, Any]:
-    from ocplus_plan.sim.batch import BatchSim
+    from ocplus_plan.sim.fast.batch import BatchSim
 
     rules = make_rules("hard", n_agents=2)
     steps = max(20, env_steps // n_envs)
@@ -85,8 +85,8 @@ def bench_ours(n_envs: int, env_steps: int, runs: int, system: str) -> dict[str,
 
 
 def _features_batch(rules: Any, n_envs: int) -> tuple[Any, Any]:
-    from ocplus_plan.rl.features_batch import BatchFeatures
-    from ocplus_plan.sim.batch import BatchSim
+    from ocplus_plan.rl.fast.features_batch import BatchFeatures
+    from ocplus_plan.sim.fast.batch import BatchSim
 
     sim = BatchSim(rules, n_envs, seed=0, compiled=True, observe=False)
     sim.reset()
@@ -98,7 +98,7 @@ def _features_batch(rules: Any, n_envs: int) -> tuple[Any, Any]:
 
 def memory_rows(n_envs: int = 64) -> list[dict[str, Any]]:
     """Bytes per kitchen (hard, MapC, 2 cooks) for each observation the engine keeps."""
-    from ocplus_plan.sim.batch import BatchSim
+    from ocplus_plan.sim.fast.batch import BatchSim
 
     rules = make_rules("hard", n_agents=2)
     rows = []
@@ -109,7 +109,7 @@ def memory_rows(n_envs: int = 64) -> list[dict[str, Any]]:
     sim = BatchSim(rules, n_envs, compiled=False, observe=False)
     rows.append({"observation": "none (state only)", "obs_bytes": 0,
                  "bytes_per_kitchen": sim.memory_per_kitchen()})
-    from ocplus_plan.rl.features_batch import BatchFeatures
+    from ocplus_plan.rl.fast.features_batch import BatchFeatures
 
     feats = BatchFeatures(sim)
     rows.append({"observation": "features + shaping (the trainer's)",

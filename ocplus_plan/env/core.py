@@ -20,7 +20,7 @@ import numpy as np
 from ..errors import ConfigError, InvalidActionError
 from ..sim import Rules, State, StepResult, make_rules, new_state, transition
 from ..sim.observe import VectorEncoder, snapshot
-from ..sim.observe_incremental import IncrementalEncoder
+from ..sim.fast.observe_incremental import IncrementalEncoder
 from ..sim.observe_text import text_observations
 from .comm import CommChannel, CommConfig
 from .paper import PAPER_ONLY_KEYWORDS, translate_paper_keywords

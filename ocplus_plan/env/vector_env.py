@@ -3,8 +3,8 @@ N kitchens in one :class:`gymnasium.vector.VectorEnv`, stepped by the batched en
 
 Every kitchen is an :class:`~ocplus_plan.env.gym_env.OvercookedPlusEnv` in ``vector``
 mode with the same keywords, spaces and rewards (the same rules, bit for bit: the engine
-is held to ``transition`` by ``tests/sim/test_batch.py``), stepped together by
-:class:`ocplus_plan.sim.batch.BatchSim` instead of one by one.
+is held to ``transition`` by ``tests/sim/fast/test_batch.py``), stepped together by
+:class:`ocplus_plan.sim.fast.batch.BatchSim` instead of one by one.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from ..errors import ConfigError
-from ..sim.batch import BatchSim
+from ..sim.fast.batch import BatchSim
 from .core import parse_env_kwargs
 
 

@@ -36,8 +36,8 @@ the same board; the BFS per (layout, own cell, others' cells) is cached, so one 
 costs a scan over the map's interaction cells.
 
 The batched engine computes the same vector as array code
-(:mod:`ocplus_plan.rl.features_kernels`): a change here goes there too, and
-``tests/rl/test_features_batch.py`` fails until the two agree bit for bit.
+(:mod:`ocplus_plan.rl.fast.features_kernels`): a change here goes there too, and
+``tests/rl/fast/test_features_batch.py`` fails until the two agree bit for bit.
 """
 
 from __future__ import annotations

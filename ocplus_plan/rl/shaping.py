@@ -24,8 +24,8 @@ policy unchanged, and putting a carried thing down *costs* what picking it up pa
   grows from 1x to 2x the weight as the agent nears the serving window.
 
 The batched engine pays the same rewards from array code
-(:func:`ocplus_plan.rl.features_kernels.shaping_range`): a change here goes there too, and
-``tests/rl/test_features_batch.py`` fails until the two agree bit for bit.
+(:func:`ocplus_plan.rl.fast.features_kernels.shaping_range`): a change here goes there too, and
+``tests/rl/fast/test_features_batch.py`` fails until the two agree bit for bit.
 """
 
 from __future__ import annotations

@@ -84,7 +84,7 @@ class TrainConfig:
 
     def __post_init__(self) -> None:
         if self.engine == "auto":
-            from ..sim.batch import numba_available
+            from ..sim.fast.batch import numba_available
 
             object.__setattr__(self, "engine", "batch" if numba_available() else "loop")
 

@@ -8,14 +8,14 @@ network from its own observation, and every agent's experience trains it.
 Two engines step the kitchens, with the same results bit for bit. ``engine="loop"``
 (default) runs ``transition``, the encoder and :class:`RewardShaper` per kitchen: the
 reference. ``engine="batch"`` steps all kitchens in the batched engine
-(:class:`ocplus_plan.sim.batch.BatchSim`, one per rule set of a curriculum:
-:class:`ocplus_plan.rl.batch_kitchens.BatchKitchens`) and computes ``features``
+(:class:`ocplus_plan.sim.fast.batch.BatchSim`, one per rule set of a curriculum:
+:class:`ocplus_plan.rl.fast.batch_kitchens.BatchKitchens`) and computes ``features``
 observations and the full shaping as arrays
-(:class:`ocplus_plan.rl.features_batch.BatchFeatures`; ``grid`` observations are the
+(:class:`ocplus_plan.rl.fast.features_batch.BatchFeatures`; ``grid`` observations are the
 engine's own). Episodes end at the rules' horizon; kitchen ``j`` then resets with the
-next seed of its own sequence (:func:`ocplus_plan.sim.batch.seed_sequence`, the same on
+next seed of its own sequence (:func:`ocplus_plan.sim.fast.batch.seed_sequence`, the same on
 both engines, so the same actions give the same observations and rewards: see
-``tests/rl/test_features_batch.py``). Finished episodes are queued in
+``tests/rl/fast/test_features_batch.py``). Finished episodes are queued in
 :attr:`KitchenVecEnv.finished` for the logging callback.
 
 Imports stable-baselines3 at module level: import it only where the ``rl`` extra is
@@ -32,7 +32,7 @@ from gymnasium import spaces
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
 from ..errors import ConfigError
-from ..sim.batch import next_seed, seed_sequence
+from ..sim.fast.batch import next_seed, seed_sequence
 from ..sim.rules import Rules
 from ..sim.state import State, new_state
 from ..sim.step import transition
@@ -150,7 +150,7 @@ class KitchenVecEnv(VecEnv):
             return None
         if engine != "batch":
             raise ConfigError(f"engine must be 'loop' or 'batch', got {engine!r}")
-        from .batch_kitchens import BatchKitchens
+        from .fast.batch_kitchens import BatchKitchens
 
         scale = None
         if self._obs_kind == "grid":

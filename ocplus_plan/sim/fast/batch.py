@@ -2,7 +2,7 @@
 
 :class:`BatchSim` holds ``n_envs`` kitchens (same :class:`Rules`, independent seeds and
 actions) in flat arrays and steps them all with the kernels of
-:mod:`ocplus_plan.sim.batch_kernels`, compiled by numba when the ``fast`` extra is
+:mod:`ocplus_plan.sim.fast.kernels`, compiled by numba when the ``fast`` extra is
 installed and run as plain Python otherwise (correct, about 80 times slower).
 It keeps every agent's vector observation (SPEC section 8, exactly what
 :class:`VectorEncoder` gives) up to date in :attr:`BatchSim.obs`, rewriting only the
@@ -17,7 +17,7 @@ so a batch is reproducible from ``seed`` alone; :meth:`BatchSim.state` rebuilds 
 kitchen as a :class:`State` (same :meth:`State.state_hash` as :func:`transition` gives).
 
 Design note: this is a second implementation of the rules, kept the same kitchen as
-``step.py`` by a differential property test (``tests/sim/test_batch.py``), not by being
+``step.py`` by a differential property test (``tests/sim/fast/test_batch.py``), not by being
 the one implementation. ``transition`` stays the readable reference: it returns events,
 which planners, the executive and reward shaping read, and its list state is what every
 other layer inspects.
@@ -34,12 +34,12 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from ..errors import ConfigError, DependencyNotInstalled, InvalidActionError
-from . import batch_kernels as bk
-from .codes import Item
-from .observe import _CH_KIND0, _CH_STATE0, CH_OTHER, CH_PROGRESS, CH_SELF, VectorEncoder
-from .rules import Rules
-from .state import Order, State, geometry_for, new_state
+from ...errors import ConfigError, DependencyNotInstalled, InvalidActionError
+from . import kernels as bk
+from ..codes import Item
+from ..observe import _CH_KIND0, _CH_STATE0, CH_OTHER, CH_PROGRESS, CH_SELF, VectorEncoder
+from ..rules import Rules
+from ..state import Order, State, geometry_for, new_state
 
 _SEED_HIGH = 2**31 - 1
 #: batches this large are split over threads (below it waking a thread costs more)

@@ -14,10 +14,10 @@ from ocplus_plan.agents.greedy import GreedyAgent
 from ocplus_plan.sim import Item, ItemState, make_rules, new_state, transition
 from ocplus_plan.sim.codes import Action
 from ocplus_plan.sim.observe import VectorEncoder, snapshot
-from ocplus_plan.sim.observe_incremental import IncrementalEncoder
+from ocplus_plan.sim.fast.observe_incremental import IncrementalEncoder
 
-from .conftest import kitchen
-from .helpers import give, item_of, place, set_pos
+from ..conftest import kitchen
+from ..helpers import give, item_of, place, set_pos
 
 R, D, L, U, S = (int(a) for a in (Action.RIGHT, Action.DOWN, Action.LEFT, Action.UP, Action.STAY))
 

@@ -1,13 +1,13 @@
 """The RL baseline's features and reward shaping as array kernels over the batched engine's
-state (:class:`ocplus_plan.sim.batch_kernels.KitchenArrays`), written in the subset of
+state (:class:`ocplus_plan.sim.fast.kernels.KitchenArrays`), written in the subset of
 Python that numba compiles (plain Python without the ``fast`` extra, as the engine's own
-kernels: see :func:`ocplus_plan.sim.batch.compile_kernels`).
+kernels: see :func:`ocplus_plan.sim.fast.batch.compile_kernels`).
 
 They follow :class:`ocplus_plan.rl.features.FeatureEncoder` and
 :class:`ocplus_plan.rl.shaping.RewardShaper` line for line and in the same order of
-floating-point operations, so the values are the same bits (``tests/rl/test_features_batch.py``
+floating-point operations, so the values are the same bits (``tests/rl/fast/test_features_batch.py``
 steps both side by side). The glue (tables, scratch, the per-call API) is
-:mod:`ocplus_plan.rl.features_batch`.
+:mod:`ocplus_plan.rl.fast.features_batch`.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..sim.batch_kernels import (
+from ...sim.fast.kernels import (
     A_HAND, A_POS, B_PLATE_ADD, B_PUTDOWN, C_LAYOUT, C_SWITCH, C_T, I_LIFE, I_LOC, I_PROG,
     I_STATE, I_WHERE, O_RECIPE,
 )
@@ -54,7 +54,7 @@ W_SUBTASK_SCALE, W_STAGE, W_USEFUL_PLATE, W_CARRY_FRESH, W_CARRY_READY, W_CARRY_
 
 
 class FeatureTables(NamedTuple):
-    """One rule set's tables (built by :mod:`ocplus_plan.rl.features_batch`)."""
+    """One rule set's tables (built by :mod:`ocplus_plan.rl.fast.features_batch`)."""
 
     params: np.ndarray  # int64 (7,) Q_*
     terrain: np.ndarray  # int64 (layouts, cells)

@@ -39,8 +39,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .codes import Where
-from .observe import (
+from ..codes import Where
+from ..observe import (
     _CH_KIND0,
     _CH_STATE0,
     _KIND_INDEX,
@@ -53,7 +53,7 @@ from .observe import (
     ITEM_STATES,
     VectorEncoder,
 )
-from .state import State
+from ..state import State
 
 _CELL, _HAND, _PLATE = int(Where.CELL), int(Where.HAND), int(Where.PLATE)
 _UNSET = object()

@@ -3,8 +3,8 @@
 :class:`BatchFeatures` reads the batched engine's arrays and gives, per kitchen and agent,
 exactly what :class:`ocplus_plan.rl.features.FeatureEncoder` and
 :class:`ocplus_plan.rl.shaping.RewardShaper` (mixed as :class:`KitchenVecEnv` mixes them)
-give for the same state: the same bits, held so by ``tests/rl/test_features_batch.py``.
-The work is done by the kernels of :mod:`ocplus_plan.rl.features_kernels`, compiled by
+give for the same state: the same bits, held so by ``tests/rl/fast/test_features_batch.py``.
+The work is done by the kernels of :mod:`ocplus_plan.rl.fast.features_kernels`, compiled by
 numba when the batch is (the ``fast`` extra), plain Python otherwise.
 
 The shaping needs two things the engine's arrays keep for it and ``transition`` reports as
@@ -16,13 +16,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sim.batch import BatchSim, compile_kernels
-from ..sim.codes import COUNTERS, Item
-from ..sim.rules import Rules
-from ..sim.state import geometry_for
+from ...sim.fast.batch import BatchSim, compile_kernels
+from ...sim.codes import COUNTERS, Item
+from ...sim.rules import Rules
+from ...sim.state import geometry_for
 from . import features_kernels as fk
-from .features import FeatureEncoder
-from .shaping import Shaping, delivery_distances
+from ..features import FeatureEncoder
+from ..shaping import Shaping, delivery_distances
 
 _KINDS = (Item.TOMATO, Item.LETTUCE, Item.ONION, Item.STEAK, Item.PLATE)
 

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from ocplus_plan.agents.greedy import GreedyAgent
 from ocplus_plan.errors import ConfigError, DependencyNotInstalled, InvalidActionError
 from ocplus_plan.sim import make_rules, new_state, transition
-from ocplus_plan.sim.batch import BatchSim, compile_kernels, kernels, numba_available
+from ocplus_plan.sim.fast.batch import BatchSim, compile_kernels, kernels, numba_available
 from ocplus_plan.sim.observe import VectorEncoder
 
 needs_numba = pytest.mark.skipif(not numba_available(),

@@ -14,12 +14,12 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ConfigError
-from ..sim.batch import BatchSim
-from ..sim.batch_kernels import C_T, DISHES
-from ..sim.rules import Rules
+from ...errors import ConfigError
+from ...sim.fast.batch import BatchSim
+from ...sim.fast.kernels import C_T, DISHES
+from ...sim.rules import Rules
 from .features_batch import BatchFeatures
-from .shaping import Shaping
+from ..shaping import Shaping
 
 
 class BatchKitchens:

@@ -2,11 +2,11 @@
 at a time, written in the subset of Python that numba compiles.
 
 Plain Python as it stands (the fallback, and what ``numba`` compiles: see
-:func:`ocplus_plan.sim.batch.kernels`). The state of ``E`` kitchens lives in a few integer
+:func:`ocplus_plan.sim.fast.batch.kernels`). The state of ``E`` kitchens lives in a few integer
 arrays whose first axis is the env (:class:`KitchenArrays`); the tables of one rule set in
 :class:`StaticArrays`. The functions follow ``step.py`` rule for rule and in the same order
 (bumps in agent order, waiting respawns, simultaneous moves, pans, layout switch, expiry);
-a differential property test (``tests/sim/test_batch.py``) holds the two to the same
+a differential property test (``tests/sim/fast/test_batch.py``) holds the two to the same
 kitchen, bit for bit.
 
 Design notes (profiled with numba 0.68):
@@ -61,7 +61,7 @@ B_NONE, B_PUTDOWN, B_PLATE_ADD = range(3)
 
 
 class StaticArrays(NamedTuple):
-    """What one rule set fixes (built by :func:`ocplus_plan.sim.batch.static_arrays`)."""
+    """What one rule set fixes (built by :func:`ocplus_plan.sim.fast.batch.static_arrays`)."""
 
     params: np.ndarray  # int64 (17,)
     rewards: np.ndarray  # float64 (6,)

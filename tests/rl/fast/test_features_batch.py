@@ -14,13 +14,13 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from ocplus_plan.agents.greedy import GreedyAgent
-from ocplus_plan.rl import features_kernels as fk
+from ocplus_plan.rl.fast import features_kernels as fk
 from ocplus_plan.rl.features import FeatureEncoder
-from ocplus_plan.rl.features_batch import BatchFeatures
+from ocplus_plan.rl.fast.features_batch import BatchFeatures
 from ocplus_plan.rl.shaping import RewardShaper, Shaping
 from ocplus_plan.sim import make_rules, new_state, transition
-from ocplus_plan.sim.batch import BatchSim, numba_available
-from tests.sim.test_batch import QUICK, kitchens
+from ocplus_plan.sim.fast.batch import BatchSim, numba_available
+from tests.sim.fast.test_batch import QUICK, kitchens
 
 needs_numba = pytest.mark.skipif(not numba_available(),
                                  reason="numba is not installed (the 'fast' extra)")
