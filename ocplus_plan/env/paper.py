@@ -40,6 +40,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+import gymnasium
+import numpy as np
+
 from ..errors import ConfigError
 from ..sim import PRESETS, load_map
 from ..sim.codes import Cell
@@ -157,35 +160,90 @@ def preset_for_map(layout: Layout) -> str:
                       "(cutting boards at least)")
 
 
-def create_env(preset: str | None = None, **kwargs: Any) -> Any:
-    """The paper's ``create_env``: a preset of its own (``easy`` mapA, ``medium`` mapB,
-    ``hard`` mapC, as in its ``env_creater``) updated with ``kwargs``, or ``kwargs`` alone
-    (then the paper constructor's defaults, ``map_name="mapC"`` and ``obs_radius=2``, and
-    the hardest of our presets the map has stations for, with the map's own switching).
+def paper_config(kwargs: dict[str, Any], preset: str | None = None) -> dict[str, Any]:
+    """The keywords the paper's constructor means by ``kwargs`` (and its ``create_env``
+    preset, if any), as this package's env keywords.
 
-    Returns a Gymnasium env (``gymnasium.make("Overcooked-Plus", ...)``) whose ``step``
-    gives one reward per cook (``reward_scope="per_agent"``, the paper's loop reads
-    ``reward[i]``); pass ``reward_scope="team"`` for the team's sum as a float.
+    With a paper preset: that preset's keywords (``easy`` mapA, ``medium`` mapB, ``hard``
+    mapC), updated with ``kwargs``, on our preset of the same name. Without one: the paper
+    constructor's defaults (``map_name="mapC"``, ``obs_radius=2``), the hardest of our
+    presets whose stations the map has (unless ``preset`` is among ``kwargs``), and the
+    map's own switching (unless ``dynamic_map`` says otherwise). Rewards are per cook
+    (``reward_scope="per_agent"``) unless ``reward_scope`` is given.
     """
-    import gymnasium
-
     if preset is not None and preset not in PAPER_PRESETS:
         raise ConfigError(f"unknown preset {preset!r}; the paper's presets are "
                           f"{', '.join(PAPER_PRESETS)}")
     config = {**(PAPER_PRESETS[preset] if preset else PAPER_DEFAULTS), **kwargs}
-    if preset is None:
-        map_spec = config.get("map_name", config.get("map"))
-        layout = load_map(map_spec)
-        config.setdefault("preset", preset_for_map(layout))
+    if preset is not None:
+        config.setdefault("preset", preset)
+    elif "preset" not in config:
+        layout = load_map(config.get("map_name", config.get("map")))
+        config["preset"] = preset_for_map(layout)
         if config.get("dynamic_map", config.get("dynamic")) is None:
             config["dynamic_map"] = layout.is_dynamic
-    else:
-        config.setdefault("preset", preset)
     config.setdefault("reward_scope", "per_agent")
-    # per-cook rewards are not Gymnasium's scalar reward, which its passive checker tests
-    config.setdefault("disable_env_checker", config["reward_scope"] == "per_agent")
-    return gymnasium.make("Overcooked-Plus", **config)
+    return config
 
 
-__all__ = ["PAPER_PRESETS", "PAPER_TASKS", "create_env", "human_cooks", "preset_for_map",
+def make_paper_env(**kwargs: Any) -> Any:
+    """The entry point of ``gymnasium.make("Overcooked-Plus", **kwargs)``: the env the
+    paper's constructor builds from ``kwargs`` (see :func:`paper_config`), so ``make`` and
+    ``create_env(**kwargs)`` give the same kitchen on every map the paper ships (mapA-D, F)."""
+    from .gym_env import OvercookedPlusEnv
+
+    config = paper_config(kwargs)
+    return OvercookedPlusEnv(config.pop("preset"), **config)
+
+
+def create_env(preset: str | None = None, **kwargs: Any) -> Any:
+    """The paper's ``create_env``: a preset of its own (``easy`` mapA, ``medium`` mapB,
+    ``hard`` mapC, as in its ``env_creater``) updated with ``kwargs``, or ``kwargs`` alone
+    (then what ``gymnasium.make("Overcooked-Plus", **kwargs)`` builds: see
+    :func:`paper_config`).
+
+    Returns a Gymnasium env whose ``step`` gives one reward per cook
+    (``reward_scope="per_agent"``, the paper's loop reads ``reward[i]``); pass
+    ``reward_scope="team"`` for the team's sum as a float.
+    """
+    return gymnasium.make("Overcooked-Plus", **paper_config(kwargs, preset))
+
+
+class OneCook(gymnasium.Wrapper):
+    """A one-cook paper env as a plain single-agent Gymnasium env: the cook's own ``Box``
+    observation, a ``Discrete`` action and a float reward instead of one-entry tuples, which
+    is what stable-baselines3's ``PPO("MlpPolicy", ...)`` takes (the part of the paper
+    tutorial's ``_patch_env(env)`` that is still needed). Two or more cooks are refused: use
+    ``OvercookedPlusSingle-v0`` (one learner, the others driven by a partner) or
+    ``ocplus train``."""
+
+    def __init__(self, env: Any) -> None:
+        space = env.observation_space
+        n = len(space) if isinstance(space, gymnasium.spaces.Tuple) else 0
+        if n != 1:
+            raise ConfigError(
+                f"one_cook needs an env with exactly one cook (n_agent=1), got "
+                f"{n or 'a non-tuple observation space'}; for more cooks use "
+                "gymnasium.make('OvercookedPlusSingle-v0', ...) or ocplus train")
+        super().__init__(env)
+        self.observation_space = space[0]
+        self.action_space = gymnasium.spaces.Discrete(int(env.action_space.nvec[0]))
+
+    def reset(self, **kwargs: Any) -> tuple[Any, dict[str, Any]]:
+        obs, info = self.env.reset(**kwargs)
+        return obs[0], info
+
+    def step(self, action: Any) -> tuple[Any, float, bool, bool, dict[str, Any]]:
+        obs, reward, terminated, truncated, info = self.env.step([int(action)])
+        return obs[0], float(np.sum(reward)), terminated, truncated, info
+
+
+def one_cook(env: Any) -> OneCook:
+    """``env`` (one cook, from ``create_env`` or ``gymnasium.make("Overcooked-Plus", ...)``)
+    as a single-agent env for stable-baselines3 and the like (see :class:`OneCook`)."""
+    return OneCook(env)
+
+
+__all__ = ["PAPER_PRESETS", "PAPER_TASKS", "OneCook", "create_env", "human_cooks",
+           "make_paper_env", "one_cook", "paper_config", "preset_for_map",
            "translate_paper_keywords"]
