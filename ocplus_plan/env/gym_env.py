@@ -203,8 +203,9 @@ class OvercookedPlusEnv(_Base):
     **Termination.** ``truncated`` after ``horizon`` (200) steps; ``terminated`` only when
     ``stop_after_orders`` orders have been served (off by default).
 
-    **Registered configurations.** ``OvercookedPlus-v0`` and ``Overcooked-Plus`` (this
-    class, preset ``hard``, 2 cooks, MapC) and ``OvercookedPlusSingle-v0``
+    **Registered configurations.** ``OvercookedPlus-v0`` (this class, preset ``hard``, 2
+    cooks, MapC), ``Overcooked-Plus`` (this class as the paper's constructor builds it:
+    :func:`ocplus_plan.env.paper.make_paper_env`) and ``OvercookedPlusSingle-v0``
     (:class:`OvercookedPlusSingleEnv`); ``import ocplus_plan`` registers them, or use
     ``gymnasium.make("ocplus_plan:OvercookedPlus-v0")`` with no import of ours first.
     """
