@@ -174,7 +174,16 @@ def fact_words(fluent: str, args: list[str] | tuple[str, ...], value: Any = None
     template = FACT_WORDS.get(fluent)
     if template is None:
         return f"{fluent}({', '.join(args)})" + ("" if value is None else f" = {value}")
-    return template.format(*args, n=value)
+    return _ONE_STEPS.sub(r"\1 step", template.format(*args, n=value))
+
+
+_ONE_STEPS = re.compile(r"\b(1|one) steps\b")
+
+#: facts that only fix the order in which an action names a plate's ingredients, so that a
+#: planner does not try each order of them: they say nothing about the kitchen
+SYMMETRY_FLUENTS = frozenset({"lt"})
+#: numbers that only mean something where a boolean fact holds (a walk needs its link)
+_NUMBER_GUARDS = {"dist": ("link", slice(0, 2)), "ldist": ("llink", slice(0, 3))}
 
 
 def step_words(compiled: Any, action: str, args: list[str] | tuple[str, ...]) -> str:
@@ -281,6 +290,28 @@ def _arg_names(expr: Any) -> list[str]:
     return [str(a) for a in expr.args]
 
 
+def _initial_facts(problem: Any) -> tuple[list[str], list[str], list[str]]:
+    """The initial state in words: true facts, non-zero numbers (a walk only where its link
+    holds), and the symmetry-breaking facts apart."""
+    values = problem.explicit_initial_values
+    true = {(fe.fluent().name, *_arg_names(fe)) for fe, v in values.items()
+            if v.is_bool_constant() and v.bool_constant_value()}
+    facts, numbers, symmetry = [], [], []
+    for fluent_exp, value in values.items():
+        name, args = fluent_exp.fluent().name, _arg_names(fluent_exp)
+        if value.is_bool_constant():
+            if value.bool_constant_value():
+                (symmetry if name in SYMMETRY_FLUENTS else facts).append(fact_words(name, args))
+            continue
+        if value.constant_value() == 0:
+            continue
+        guard = _NUMBER_GUARDS.get(name)
+        if guard and (guard[0], *args[guard[1]]) not in true:
+            continue
+        numbers.append(fact_words(name, args, value))
+    return facts, numbers, symmetry
+
+
 def describe_problem(compiled: Any) -> str:
     """A compiled problem in English: what each object is, the facts at the start (static
     numbers included), facts that change at given times, and the goal."""
@@ -293,15 +324,15 @@ def describe_problem(compiled: Any) -> str:
     for typ, objs in by_type.items():
         lines.append(f"- {TYPE_WORDS.get(typ, typ)}:")
         lines += [f"  - {o}: {object_words(compiled, o)}" for o in objs]
+    facts, numbers, symmetry = _initial_facts(problem)
     lines += ["", "At the start:"]
-    for fluent_exp, value in problem.explicit_initial_values.items():
-        name = fluent_exp.fluent().name
-        if value.is_bool_constant():
-            if value.bool_constant_value():
-                lines.append(f"- {fact_words(name, _arg_names(fluent_exp))}")
-        else:
-            lines.append(f"- {fact_words(name, _arg_names(fluent_exp), value)}")
-    lines.append("- every other fact is false")
+    lines += [f"- {w}" for w in facts + numbers]
+    lines.append("- every other fact is false, and every number not listed is 0")
+    if symmetry:
+        lines += ["", "Symmetry breaking (serving or emptying a plate names its ingredients "
+                      "in this fixed order, so a planner does not try every order of the same "
+                      "ingredients; nothing here is a fact about the kitchen):"]
+        lines += [f"- {w}" for w in symmetry]
     timed = getattr(problem, "timed_effects", {}) or {}
     if timed:
         lines += ["", "Changes at given times (steps from now):"]
@@ -351,6 +382,7 @@ def check_complete() -> list[str]:
     return sorted(f for f in {**FLUENTS, **SWITCH_FLUENTS} if f not in FACT_WORDS)
 
 
-__all__ = ["ACTION_WORDS", "FACT_WORDS", "PLACE_WORDS", "TYPE_WORDS", "action_template",
+__all__ = ["ACTION_WORDS", "FACT_WORDS", "PLACE_WORDS", "SYMMETRY_FLUENTS", "TYPE_WORDS",
+           "action_template",
            "check_complete", "describe_domain", "describe_problem", "fact_words",
            "kitchen_words", "object_words", "position_words", "step_words"]

@@ -300,6 +300,18 @@ def _check_options(encoding: str, granularity: str) -> None:
 
 
 @lru_cache(maxsize=16)
+def parameter_names(signature: tuple[str, ...]) -> list[tuple[str, str]]:
+    """A fluent's parameters named after their types (``("spot", "spot")`` -> ``spot``,
+    ``spot2``): one name per type and position everywhere, so PDDL writers keep the names
+    (numbered names like ``x0`` used with different types come out mangled, ``?x0_1``)."""
+    seen: dict[str, int] = {}
+    out = []
+    for t in signature:
+        seen[t] = seen.get(t, 0) + 1
+        out.append((t if seen[t] == 1 else f"{t}{seen[t]}", t))
+    return out
+
+
 def build_domain(encoding: str = "classical", granularity: str = "stations",
                  k_max: int = 3, switches: bool = False) -> Domain:
     """The UP types, fluents and actions of one encoding and granularity (cached).
@@ -322,7 +334,7 @@ def build_domain(encoding: str = "classical", granularity: str = "stations",
         if name.startswith("size") and int(name[4:]) > k_max:
             continue
         typ = tm.IntType() if name in NUMERIC else tm.BoolType()
-        fluents[name] = Fluent(name, typ, **{f"x{j}": types[t] for j, t in enumerate(sig)})
+        fluents[name] = Fluent(name, typ, **{p: types[t] for p, t in parameter_names(sig)})
     dom = Domain(encoding, granularity, k_max, types, fluents, {}, {})
     for sch in schemas(encoding, granularity, k_max, switches):
         dom.schemas[sch.name] = sch

@@ -89,3 +89,49 @@ def test_a_mismatch_message_in_kitchen_words(medium):
                          "a0: model at [(1, 1)]", medium)
     assert text == ("tomato0: model says [on the cell at (row 1, col 2)], simulator says held "
                     "by cook 0; cook 0: model at [(row 1, col 1)]")
+
+
+@pytest.fixture(scope="module")
+def sampled():
+    """A state some steps into an episode (cooks standing on spots, nothing in progress)."""
+    from ocplus_plan.planning.fidelity import sample_state
+
+    return compile(sample_state(make_rules("medium", n_agents=2), 0, 0), encoding="classical")
+
+
+def test_a_problem_text_states_no_zero_number_and_no_walk_without_its_link(sampled):
+    text = describe_problem(sampled)
+    facts = [ln for ln in text.splitlines() if ln.startswith("- ")]
+    assert not [ln for ln in facts if " 0 steps" in ln or " 0 more steps" in ln]
+    links = {tuple(ln[len("- a cook can walk from "):].split(" to "))
+             for ln in facts if ln.startswith("- a cook can walk from ")}
+    walks = [ln for ln in facts if ln.startswith("- walking from ")]
+    assert walks and links
+    for ln in walks:
+        start, rest = ln[len("- walking from "):].split(" to ")
+        assert (start, rest.split(" takes ")[0]) in links, ln
+    assert "every number not listed is 0" in text
+
+
+def test_symmetry_breaking_facts_stand_apart_with_their_reason(sampled):
+    text = describe_problem(sampled)
+    start, symmetry = text.split("Symmetry breaking", 1)
+    assert "comes before" not in start.split("At the start:")[1]
+    assert "nothing here is a fact about the kitchen" in symmetry
+    assert "comes before" in symmetry.split("Goal:")[0]
+
+
+def test_one_step_is_said_in_the_singular():
+    assert fact_words("dist", ["s_1_1", "s_1_2"], 1) == "walking from s_1_1 to s_1_2 takes 1 step"
+
+
+@pytest.mark.parametrize("encoding, granularity, switches", VARIANTS)
+def test_predicate_parameters_are_named_after_their_types(encoding, granularity, switches):
+    import re
+
+    from ocplus_plan.planning.pddl import domain_text
+
+    text = domain_text(encoding, granularity, switches=switches)
+    predicates = text.split("(:predicates", 1)[1].split("(:", 1)[0]
+    assert not re.search(r"\?x\d", predicates)
+    assert "(holding ?agent - agent ?item - item)" in predicates
