@@ -5,7 +5,8 @@ For each preset (its default map and cooks), random play from seed 0 for ``--ste
 the mean and largest text observation (characters, cook 0), the mean policy prompt (all
 cooks driven by one model), the time to write every cook's text observation (median over
 the steps, microseconds of wall clock), and the planner-mode prompt of the initial state
-(kitchen words plus the PDDL domain and problem; needs the ``planners`` extra). Characters
+(kitchen words, the domain cut to the actions that can apply, in words and as PDDL,
+or one of the two, and the PDDL problem; needs the ``planners`` extra). Characters
 divided by 4 is a common rough token estimate. Prints one JSON line per preset.
 
     python experiments/bench_text.py [--steps 200]
@@ -44,15 +45,17 @@ def measure(preset: str, steps: int) -> dict:
            "text_chars_mean": round(statistics.mean(sizes)), "text_chars_max": max(sizes),
            "policy_prompt_chars_mean": round(statistics.mean(len(p) for p in prompts)),
            "us_text_all_cooks_median": round(statistics.median(times) * 1e6, 1)}
-    try:
-        planner_prompts: list[str] = []
-        planner = LLMAgent(lambda p: planner_prompts.append(p) or "", mode="planner",
-                           max_orders=1, use_val=False)
-        planner.reset(new_state(rules, 0))
-        planner.act(new_state(rules, 0))
-        row["planner_prompt_chars"] = len(planner_prompts[0])
-    except ImportError as exc:  # the planning layer needs the planners extra
-        row["planner_prompt_chars"] = f"skipped: {exc}"
+    for form in ("both", "english", "pddl"):
+        key = "planner_prompt_chars" + ("" if form == "both" else f"_{form}")
+        try:
+            planner_prompts: list[str] = []
+            planner = LLMAgent(lambda p: planner_prompts.append(p) or "", mode="planner",
+                               max_orders=1, use_val=False, domain=form)
+            planner.reset(new_state(rules, 0))
+            planner.act(new_state(rules, 0))
+            row[key] = len(planner_prompts[0])
+        except ImportError as exc:  # the planning layer needs the planners extra
+            row[key] = f"skipped: {exc}"
     return row
 
 

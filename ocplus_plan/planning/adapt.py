@@ -7,6 +7,10 @@ original anyway):
 * :func:`without_quality_metrics`: drop the action-cost / makespan metric (and the
   numeric fluents only it used), for pyperplan, LPG and TAMER, which do not
   optimise it. The plan is still a plan; only its quality is not optimised.
+* :func:`without_unusable_actions`: drop the actions that can never apply in this
+  problem (a precondition on a fact no action changes and no initial fact makes true:
+  washing where there is no sink), for readers and language models that take the
+  domain as text. Nothing a plan can do is lost.
 * :func:`with_fixed_durations`: a duration range ``[lo, hi]`` becomes ``lo``
   (or ``hi`` if the lower bound is open), for LPG, which has no duration
   inequalities. Every fixed duration lies in the range, so this is sound, not
@@ -135,3 +139,54 @@ def without_quality_metrics(problem: Any) -> Any:
     return out
 
 
+
+
+def _action_effects(action: Any) -> list[Any]:
+    effects = getattr(action, "effects", [])
+    return [e for group in effects.values() for e in group] if isinstance(effects, dict) \
+        else list(effects)
+
+
+def _action_conditions(action: Any) -> list[Any]:
+    if hasattr(action, "preconditions"):
+        return list(action.preconditions)
+    return [c for group in action.conditions.values() for c in group]
+
+
+def unusable_actions(problem: Any) -> list[str]:
+    """Names of the actions of ``problem`` that can never apply: one of their conditions is
+    a (positive) fact of a fluent that no action and no timed effect changes and that holds
+    for no objects at the start."""
+    changed = {e.fluent.fluent() for a in problem.actions for e in _action_effects(a)}
+    changed |= {e.fluent.fluent() for effs in problem.timed_effects.values() for e in effs}
+    holding = {fexp.fluent() for fexp, value in problem.explicit_initial_values.items()
+               if value.is_bool_constant() and value.bool_constant_value()}
+    out = []
+    for action in problem.actions:
+        for cond in _action_conditions(action):
+            if cond.is_fluent_exp() and cond.fluent() not in changed \
+                    and cond.fluent() not in holding:
+                out.append(action.name)
+                break
+    return out
+
+
+def without_unusable_actions(problem: Any) -> tuple[Any, list[str]]:
+    """``(problem without the actions of :func:`unusable_actions`, their names)``; the
+    action-cost metric keeps the costs of the actions that stay."""
+    from unified_planning.model.metrics import MinimizeActionCosts
+
+    dropped = set(unusable_actions(problem))
+    if not dropped:
+        return problem, []
+    out = problem.clone()
+    out.clear_actions()
+    out.add_actions([a for a in problem.actions if a.name not in dropped])
+    metrics = list(out.quality_metrics)
+    out.clear_quality_metrics()
+    for metric in metrics:
+        if isinstance(metric, MinimizeActionCosts):
+            kept = {a: c for a, c in metric.costs.items() if a.name not in dropped}
+            metric = MinimizeActionCosts(kept, environment=problem.environment)
+        out.add_quality_metric(metric)
+    return out, sorted(dropped)

@@ -25,6 +25,7 @@ share these words):
 from __future__ import annotations
 
 import re
+from collections.abc import Collection
 from typing import Any
 
 from ..sim.codes import Cell
@@ -259,8 +260,9 @@ def _action_text(action: Any, cost: Any) -> list[str]:
 
 
 def describe_domain(encoding: str, granularity: str = "stations", k_max: int = 3,
-                    switches: bool = False) -> str:
-    """The whole domain in English, generated from :func:`.model.build_domain`."""
+                    switches: bool = False, only: Collection[str] | None = None) -> str:
+    """The whole domain in English, generated from :func:`.model.build_domain`; ``only``:
+    just these actions (e.g. those a problem can use: :func:`.adapt.unusable_actions`)."""
     dom = build_domain(encoding, granularity, k_max, switches)
     if encoding == "classical":
         timing = ("Actions happen one after another. Each has a cost: the number of "
@@ -280,6 +282,8 @@ def describe_domain(encoding: str, granularity: str = "stations", k_max: int = 3
     lines += [f"- {t}: {TYPE_WORDS.get(t, t)}" for t in dom.types]
     lines += ["", "Actions:"]
     for name, action in dom.actions.items():
+        if only is not None and name not in only:
+            continue
         lines += _action_text(action, dom.costs.get(action))
         lines.append("")
     return "\n".join(lines).rstrip() + "\n"

@@ -28,6 +28,7 @@ from .words import (
     action_words,
     at,
     cell_words,
+    indefinite,
     item_words,
     map_rows,
     recipe_words,
@@ -71,7 +72,7 @@ def _stations(state: State) -> list[str]:
 
 def _holding(state: State, agent: int) -> str:
     held = state.agent_hand[agent]
-    return "nothing" if held < 0 else f"a {item_words(state, held)} ({state.geo.item_names[held]})"
+    return "nothing" if held < 0 else f"{indefinite(item_words(state, held))} ({state.geo.item_names[held]})"
 
 
 def _timers(state: State) -> list[str]:

@@ -174,4 +174,11 @@ def action_words(state: State, agent: int, action: int) -> str:
 
 
 __all__ = ["ACTION_BY_WORD", "ACTION_WORDS", "CELL_GLYPHS", "CELL_WORDS", "action_words", "at", "cell_words",
-           "item_words", "map_rows", "recipe_words", "state_word", "where_words"]
+           "indefinite", "item_words", "map_rows", "recipe_words", "state_word", "where_words"]
+
+
+def indefinite(words: str) -> str:
+    """``"empty clean plate"`` -> ``"an empty clean plate"``, ``"raw steak"`` -> ``"a raw
+    steak"``."""
+    return ("an " if words[:1].lower() in "aeiou" else "a ") + words
+

@@ -67,3 +67,35 @@ def test_a_plan_the_validator_rejects_is_refused():
     info = agent.info()
     assert info["statuses"] == {"invalid": 1}
     assert "not valid for the problem" in info["transcript"][0]["error"]
+
+
+def prompts_of(domain: str, preset: str = "easy") -> str:
+    seen: list[str] = []
+    agent = LLMAgent(lambda p: seen.append(p) or "", mode="planner", max_orders=1,
+                     use_val=False, domain=domain)
+    state = new_state(make_rules(preset), 0)
+    agent.reset(state)
+    agent.act(state)
+    return seen[0]
+
+
+def test_the_planner_prompt_gives_the_domain_in_words_and_cut_to_the_kitchen():
+    prompt = prompts_of("both")
+    assert "The actions a plan can use here:" in prompt and "Domain:\n(define" in prompt
+    assert "(:action wash" not in prompt and "(:action cook" not in prompt  # easy: no sink, pan
+    assert "(:action chop" in prompt and "\nchop(" in prompt  # in PDDL and in words
+
+
+@pytest.mark.parametrize("domain, words, pddl", [("english", True, False), ("pddl", False, True)])
+def test_the_planner_prompt_can_give_the_domain_one_way(domain, words, pddl):
+    prompt = prompts_of(domain)
+    assert ("The actions a plan can use here:" in prompt) is words
+    assert ("Domain:\n(define" in prompt) is pddl
+    assert "Problem:\n(define" in prompt
+
+
+def test_an_unknown_domain_form_is_refused():
+    from ocplus_plan.errors import ConfigError
+
+    with pytest.raises(ConfigError, match="both, english, pddl"):
+        LLMAgent(lambda p: "", mode="planner", domain="latex")

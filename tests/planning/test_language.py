@@ -135,3 +135,24 @@ def test_predicate_parameters_are_named_after_their_types(encoding, granularity,
     predicates = text.split("(:predicates", 1)[1].split("(:", 1)[0]
     assert not re.search(r"\?x\d", predicates)
     assert "(holding ?agent - agent ?item - item)" in predicates
+
+
+def test_the_unusable_actions_of_a_kitchen_can_be_cut_from_its_problem():
+    from ocplus_plan.planning.adapt import unusable_actions, without_unusable_actions
+    from ocplus_plan.planning.pddl import pddl_texts
+
+    easy = compile(new_state(make_rules("easy"), 0), encoding="classical")
+    dropped = unusable_actions(easy.problem)
+    assert {"wash", "put_sink", "cook"} <= set(dropped)  # no sink, no pan on easy
+    assert "chop" not in dropped and "deliver1" not in dropped
+    cut, names = without_unusable_actions(easy.problem)
+    assert sorted(dropped) == names and len(cut.actions) == len(easy.problem.actions) - len(names)
+    domain, _ = pddl_texts(cut)
+    assert "(:action wash" not in domain and "(:action chop" in domain
+    hard = compile(new_state(make_rules("hard", n_agents=2), 0), encoding="classical")
+    assert "wash" not in unusable_actions(hard.problem)
+
+
+def test_a_domain_text_can_be_cut_to_some_actions():
+    text = describe_domain("classical", only={"chop", "move"})
+    assert "\nchop(" in text and "\nmove(" in text and "\nwash(" not in text

@@ -97,3 +97,10 @@ def test_every_described_action_does_what_its_words_say():
             assert not {"pickup", "putdown", "chop", "wash", "delivery", "trash"} & set(events)
             seen.add("nothing")
     assert {"walk", "pick", "put", "nothing"} <= seen
+
+
+def test_the_indefinite_article_follows_the_first_sound():
+    from ocplus_plan.sim.words import indefinite
+
+    assert indefinite("empty clean plate") == "an empty clean plate"
+    assert indefinite("raw steak") == "a raw steak"
