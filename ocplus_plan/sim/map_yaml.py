@@ -132,8 +132,10 @@ def load_yaml(path: Traversable) -> Any:
         raise MapFormatError(f"{path}: {exc}") from None
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
-        problem = " ".join(str(exc.problem or exc.context or "malformed YAML").split())
-        raise MapFormatError(f"{path}: YAML syntax error at {_where(mark)}: {problem}") from None
+        problem = " ".join(str(exc.problem or exc.context or "malformed YAML").split())[:200]
+        what = ("a value of a kind maps do not hold (plain YAML values only)"
+                if isinstance(exc, yaml.constructor.ConstructorError) else "YAML syntax error")
+        raise MapFormatError(f"{path}: {what} at {_where(mark)}: {problem}") from None
     except yaml.YAMLError as exc:
         raise MapFormatError(f"{path}: not YAML text: {' '.join(str(exc).split())}") from None
     except (ValueError, OverflowError) as exc:  # a number or date beyond Python's limits
