@@ -173,6 +173,9 @@ ADDED_AFTER_V1: dict[str, Any] = {"fixed_orders": None}
 _HEADER_KEYS = {"format", "version", "preset", "map", "rules", "seed"}
 _INT_LIMIT = 2**31
 _SEED_LIMIT = 2**64
+#: open orders at once: the initial state draws them all, so a tampered huge count would
+#: stall the replay before its first step
+MAX_ORDERS = 1000
 
 
 class UnreadableRecording(ConfigError):
@@ -197,8 +200,9 @@ def _is_rewards(value: Any) -> bool:
 
 _RULE_CHECKS: dict[str, tuple[Any, str]] = {
     **{k: (_is_int, "an integer from 0 to 2**31-1") for k in (
-        "n_agents", "chop_steps", "cook_time", "burn_time", "wash_steps", "n_orders",
-        "horizon", "map_switch_step")},
+        "n_agents", "chop_steps", "cook_time", "burn_time", "wash_steps", "horizon",
+        "map_switch_step")},
+    "n_orders": (lambda v: _is_int(v, 0, MAX_ORDERS + 1), f"an integer from 0 to {MAX_ORDERS}"),
     **{k: (lambda v: v is None or _is_int(v), "null or an integer from 0 to 2**31-1")
        for k in ("order_time_limit", "stop_after_orders")},
     "recipes": (_is_str_list, "a list of recipe names"),

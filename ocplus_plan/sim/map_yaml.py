@@ -125,8 +125,9 @@ def decode(data: bytes, path: Any) -> str:
 def load_yaml(path: Traversable) -> Any:
     """The parsed YAML document of a map file, read within the limits above."""
     text = decode(read_bytes(path), path)
-    loader = _BoundedLoader(text)
+    loader = None
     try:
+        loader = _BoundedLoader(text)  # its reader refuses control characters at once
         return loader.get_single_data()
     except _Refused as exc:
         raise MapFormatError(f"{path}: {exc}") from None
@@ -137,12 +138,13 @@ def load_yaml(path: Traversable) -> Any:
                 if isinstance(exc, yaml.constructor.ConstructorError) else "YAML syntax error")
         raise MapFormatError(f"{path}: {what} at {_where(mark)}: {problem}") from None
     except yaml.YAMLError as exc:
-        raise MapFormatError(f"{path}: not YAML text: {' '.join(str(exc).split())}") from None
+        raise MapFormatError(f"{path}: not YAML text: {' '.join(str(exc).split())[:200]}") from None
     except (ValueError, OverflowError) as exc:  # a number or date beyond Python's limits
         raise MapFormatError(f"{path}: a value cannot be read: "
                              f"{' '.join(str(exc).split())[:200]}") from None
     finally:
-        loader.dispose()
+        if loader is not None:
+            loader.dispose()
 
 
 __all__ = ["MAX_DEPTH", "MAX_MAP_BYTES", "MAX_NODES", "decode", "load_yaml", "read_bytes"]

@@ -184,3 +184,10 @@ def test_metadata_never_overrides_the_verdict(tmp_path, lines, capsys):
     path = write(tmp_path, [json.dumps(head), *map(json.dumps, actions), lines[-1]])
     assert main(["replay", str(path), "--check"]) == 1
     assert json.loads(capsys.readouterr().out)["matches_recording"] is False
+
+
+def test_a_huge_order_count_is_refused_before_the_replay_starts(tmp_path, lines, capsys):
+    head = json.loads(lines[0])
+    head["rules"]["n_orders"] = 10**9
+    refused_by_the_cli(write(tmp_path, [json.dumps(head), *lines[1:]]), capsys,
+                       "rule parameter 'n_orders' must be an integer from 0 to 1000")
