@@ -180,7 +180,8 @@ def _parse_grid(value: Any, src: str, key: str) -> np.ndarray:
     width = None
     for r, row in enumerate(value):
         if not isinstance(row, list) or not row:
-            raise MapFormatError(f"{src}: '{key}' row {r} must be a non-empty list, got {_short(row)}")
+            raise MapFormatError(f"{src}: '{key}' row {r} must be a non-empty list, "
+                                 f"got {_short(row)}")
         if len(row) > MAX_GRID_SIDE:
             raise MapFormatError(f"{src}: '{key}' row {r} has {len(row)} cells; a map has at "
                                  f"most {MAX_GRID_SIDE} rows and {MAX_GRID_SIDE} columns")

@@ -79,7 +79,8 @@ def run(argv: list[str]) -> dict[str, object]:
     code = -os.WTERMSIG(status) if killed else os.WEXITSTATUS(status)
     return {"argv": argv, "code": code, "stderr": stderr, "seconds": round(seconds, 3),
             "cpu_seconds": round(usage.ru_utime + usage.ru_stime, 3), "killed": killed,
-            "vm_peak_mb": round(vm_peak_kb / 1024, 1), "max_rss_mb": round(usage.ru_maxrss / 1024, 1)}
+            "vm_peak_mb": round(vm_peak_kb / 1024, 1),
+            "max_rss_mb": round(usage.ru_maxrss / 1024, 1)}
 
 
 def main() -> None:
