@@ -153,7 +153,7 @@ class Recording:
         get the values of the rule fields added since (``ADDED_AFTER_V1``)."""
         path = Path(path)
         if not path.is_file():
-            raise ConfigError(f"replay file {str(path)!r} does not exist or is not a file")
+            raise UnreadableRecording(path, "does not exist or is not a regular file")
         return read_recording(path)
 
 
