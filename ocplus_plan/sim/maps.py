@@ -2,7 +2,9 @@
 
 ``load_map`` accepts a registered name (``"mapC"``), a path to a YAML file, or an
 already-parsed dict. Every problem is a :class:`MapFormatError` whose message names
-the source, and the row / column / value or key at fault.
+the source, and the row / column / value or key at fault. Files are read by
+:mod:`.map_yaml` within limits (size, nesting, aliases, repeated keys, UTF-8); a grid
+has at most ``MAX_GRID_SIDE`` (64) rows and columns (``docs/input-limits.md``).
 """
 
 from __future__ import annotations
