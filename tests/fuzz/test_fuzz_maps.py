@@ -6,13 +6,14 @@ import tempfile
 from pathlib import Path
 
 import yaml
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from ocplus_plan.errors import MapFormatError
 from ocplus_plan.sim import load_map
+from tests.fuzz import fuzz_settings
 
-FUZZ = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+FUZZ = fuzz_settings(60)
 YAML_CHARS = "[]{}:-,&*!|>#'\"?%@` \t\n\r0123456789abcdefgm_.\ufeff\u00e9\x00"
 KEYS = ["name", "description", "dimensions", "game_map", "map", "max_n_agent", "dynamic_map",
         "is_dynamic_map", "switch_map", "map_switch_step", "agent_spawn_points", "other"]

@@ -6,7 +6,7 @@ import tempfile
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 pytest.importorskip("unified_planning")
@@ -15,8 +15,9 @@ from ocplus_plan.errors import UnreadableText
 from ocplus_plan.planning import compile
 from ocplus_plan.planning.plan_io import parse_plan, read_plan
 from ocplus_plan.sim import make_rules, new_state
+from tests.fuzz import fuzz_settings
 
-FUZZ = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+FUZZ = fuzz_settings(60)
 PUNCT = ["(", ")", ":", ";", "[", "]", " ", "\n", "\r\n", "\ufeff", "0.5", "1e999", "-1", "nan",
          "3", "\x00", "\u00e9"]
 
