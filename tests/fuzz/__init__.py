@@ -8,12 +8,14 @@ longer.
 from __future__ import annotations
 
 import os
+from typing import Any
 
-from hypothesis import HealthCheck, settings
 
+def fuzz_settings(examples: int) -> Any:
+    """Hypothesis settings for a fuzz test: ``examples`` times ``OCPLUS_FUZZ_SCALE``.
+    (Imported here, not above: the limited runner of this package does without it.)"""
+    from hypothesis import HealthCheck, settings
 
-def fuzz_settings(examples: int) -> settings:
-    """Hypothesis settings for a fuzz test: ``examples`` times ``OCPLUS_FUZZ_SCALE``."""
     scale = float(os.environ.get("OCPLUS_FUZZ_SCALE", "1"))
     return settings(max_examples=max(1, int(examples * scale)), deadline=None,
                     suppress_health_check=[HealthCheck.too_slow])
