@@ -191,3 +191,11 @@ def test_a_huge_order_count_is_refused_before_the_replay_starts(tmp_path, lines,
     head["rules"]["n_orders"] = 10**9
     refused_by_the_cli(write(tmp_path, [json.dumps(head), *lines[1:]]), capsys,
                        "rule parameter 'n_orders' must be an integer from 0 to 1000")
+
+
+def test_the_reader_checks_every_rule_field_the_writer_writes():
+    from ocplus_plan.render.replay import _RULE_CHECKS, rules_to_dict
+    from ocplus_plan.sim import make_rules
+
+    # a field added to Rules needs a check here, a version bump and a default for older files
+    assert set(rules_to_dict(make_rules("hard"))) == set(_RULE_CHECKS)
