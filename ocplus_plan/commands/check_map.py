@@ -35,6 +35,17 @@ def summary(layout: Layout) -> dict[str, Any]:
             "unreachable": unreachable}
 
 
+#: cells listed per line of the text summary (``--json`` lists them all)
+SHOWN_CELLS = 12
+
+
+def _cells(cells: list[Any]) -> str:
+    """A list of cells, the first ``SHOWN_CELLS`` of a long one and how many in all."""
+    if len(cells) <= SHOWN_CELLS:
+        return str(cells)
+    return f"{str(cells[:SHOWN_CELLS])[:-1]}, ...] ({len(cells)} in all)"
+
+
 def run(args: argparse.Namespace) -> int:
     layout = load_map(args.map)
     info = summary(layout)
@@ -47,20 +58,21 @@ def run(args: argparse.Namespace) -> int:
     capped = (f" (max_n_agent {info['declared_max_agents']}, capped at the spawn points)"
               if info["declared_max_agents"] > info["max_agents"] else "")
     print(f"size: {info['rows']} rows x {info['cols']} cols; max agents {info['max_agents']}"
-          f"{capped}; spawn points {info['spawn_points']}")
+          f"{capped}; spawn points {_cells(info['spawn_points'])}")
     for name, cells in info["stations"].items():
         kind = "spawn tile" if Cell[name.upper()] in SPAWN_TILES else "station"
-        print(f"  {name:9s} {kind:10s} x{len(cells)}: {cells}")
+        print(f"  {name:9s} {kind:10s} x{len(cells)}: {_cells(cells)}")
     if layout.is_dynamic:
         print(f"dynamic: switches every {info['switch_every']} steps; cells that switch: "
-              f"{info['switching_cells']}")
+              f"{_cells(info['switching_cells'])}")
     else:
         print("dynamic: no (static layout)")
     for li in range(len(layout.grids())):
         bad = [e for e in info["unreachable"] if e["layout"] == li]
         label = "main layout" if li == 0 else "switch layout"
         if bad:
-            cells = ", ".join(f"{e['station']} at {e['cell']}" for e in bad)
+            cells = ", ".join(f"{e['station']} at {e['cell']}" for e in bad[:SHOWN_CELLS])
+            cells += f", ... ({len(bad)} in all)" if len(bad) > SHOWN_CELLS else ""
             print(f"reachability ({label}): UNREACHABLE from every spawn point: {cells}")
         else:
             print(f"reachability ({label}): every station reachable from a spawn point")

@@ -11,7 +11,10 @@ is printed in kitchen words.
 
 Exit codes: 0 valid (and, for an instance, faithful: the simulator did what the plan
 says); 4 invalid (unreadable, or rejected by a validator); 5 unfaithful (valid, but the
-simulator diverges from it); 2 bad input (no such instance or file, an edited problem).
+simulator diverges from it); 2 bad input: no such instance, an edited problem, or a
+plan, domain or problem path that is not a readable regular file (missing, a directory,
+a device such as /dev/zero, unreadable) or a plan file over 4 MB. A plan with a UTF-8
+byte-order mark or CRLF line ends reads as the same plan without them.
 """
 
 from __future__ import annotations
@@ -39,10 +42,23 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
+def _check_paths(args: argparse.Namespace) -> None:
+    """Bad input (exit 2), before any reading: a path that is not a readable regular file,
+    or a plan file over the size limit."""
+    from ..errors import ConfigError
+    from ..planning.plan_io import MAX_PLAN_BYTES, plan_file_problem
+
+    for path, limit in ((args.plan, MAX_PLAN_BYTES), (args.domain, None), (args.problem, None)):
+        problem = None if path is None else plan_file_problem(path, limit)
+        if problem is not None:
+            raise ConfigError(problem)
+
+
 def run(args: argparse.Namespace) -> int:
     from ..errors import ConfigError
     from ..eval.check import check_files, check_instance_plan
 
+    _check_paths(args)
     if args.instance is not None:
         if args.domain or args.problem:
             raise ConfigError("give an instance folder or --domain/--problem files, not both")

@@ -2,7 +2,9 @@
 
 The simulator recomputes every state from the recorded seed, rules and actions;
 the command reports whether the final ``state_hash`` and the per-step events
-equal the recorded ones (exit 1 if not: that would be a determinism bug).
+equal the recorded ones (exit 1 if not: that would be a determinism bug). A file that
+is not a whole, well-formed recording (missing, truncated, damaged, edited into a wrong
+shape) is refused before anything is replayed: "not a readable recording: ...", exit 2.
 Without ``--gif`` or ``--check`` it plays the episode back in a window (space pauses,
 the right arrow steps while paused, Escape quits).
 """
@@ -56,8 +58,9 @@ def run(args: argparse.Namespace) -> int:
         "file": args.file, "preset": rec.preset, "map": rec.map_name, "seed": rec.seed,
         "steps": check.steps, "state_hash": check.state_hash,
         "matches_recording": check.ok, "events_match": check.events_match,
-        "event_counts": rec.event_counts(), **{k: v for k, v in rec.meta.items()},
+        "event_counts": rec.event_counts(),
     }
+    summary.update({k: v for k, v in rec.meta.items() if k not in summary})  # never overrides
     if args.gif:
         summary["gif"] = str(export_gif(rec, args.gif, frame_ms=args.frame_ms, every=args.every,
                                         max_frames=args.max_frames))

@@ -6,7 +6,8 @@ POPF, TFD and VAL read and write them:
 * sequential (classical): one action per line, ``(pick a0 tomato0 tomato_0_2 s_1_2)``,
   optionally numbered ``3: (pick ...)`` and followed by a cost ``[1]`` (LPG's style);
 * time-stamped (temporal): ``0.000: (move a0 s_1_1 s_1_2) [3.000]``;
-* ``;`` starts a comment (Fast Downward ends its plans with ``; cost = 51 (general cost)``).
+* ``;`` starts a comment (Fast Downward ends its plans with ``; cost = 51 (general cost)``);
+* a UTF-8 byte-order mark and Windows (CRLF) or old Mac (CR) line ends are accepted.
 
 The lines are read by :mod:`.plan_text` (the one reader of plan texts: parsed, never
 evaluated, every name, arity and type checked, errors naming the line); this module adds
@@ -46,6 +47,8 @@ def parse_plan(text: str, problem: Any, source: str = "<plan>") -> Any:
     from .plan_text import plan_from_text
 
     temporal = is_temporal(problem)
+    if isinstance(text, str):  # a byte-order mark and CRLF / CR line ends read as plain text
+        text = text.removeprefix("\ufeff").replace("\r\n", "\n").replace("\r", "\n")
     if not temporal and isinstance(text, str):
         text = _STEP_COST.sub(")", _STEP_NUMBER.sub(r"\1", text))
     try:
@@ -54,16 +57,39 @@ def parse_plan(text: str, problem: Any, source: str = "<plan>") -> Any:
         raise UnreadableText(f"{source}, {exc}", exc.line) from None
 
 
+def plan_file_problem(path: str | Path, limit: int | None = MAX_PLAN_BYTES) -> str | None:
+    """Why ``path`` cannot be read as a plan (or PDDL) file, or None when it can: it is
+    missing, not a regular file (a directory, a device such as /dev/zero, a pipe),
+    unreadable, or over ``limit`` bytes. Nothing beyond the first byte is read."""
+    p = Path(path)
+    try:
+        if not p.exists():
+            return f"{p}: no such file"
+        if p.is_dir():
+            return f"{p}: is a directory, not a file"
+        if not p.is_file():
+            return f"{p}: not a regular file (a device or a pipe?)"
+        size = p.stat().st_size
+        with p.open("rb") as fh:
+            fh.read(1)
+    except OSError as exc:
+        return f"{p}: cannot be read ({exc.strerror or exc})"
+    if limit is not None and size > limit:
+        return f"{p}: {size} bytes; a plan file has at most {limit} (is this a plan?)"
+    return None
+
+
 def read_plan_file(path: str | Path) -> str:
     """The text of a plan file, refused (with the reason) when too big or not text."""
     p = Path(path)
-    if not p.is_file():
-        raise UnreadableText(f"{p}: no such plan file")
-    size = p.stat().st_size
-    if size > MAX_PLAN_BYTES:
-        raise UnreadableText(f"{p}: {size} bytes; a plan file has at most {MAX_PLAN_BYTES} "
-                             "(is this a plan?)")
-    data = p.read_bytes()
+    problem = plan_file_problem(p)
+    if problem is not None:
+        raise UnreadableText(problem.replace("no such file", "no such plan file"))
+    with p.open("rb") as fh:
+        data = fh.read(MAX_PLAN_BYTES + 1)  # the file may have grown since it was measured
+    if len(data) > MAX_PLAN_BYTES:
+        raise UnreadableText(f"{p}: more than {MAX_PLAN_BYTES} bytes; a plan file has at most "
+                             f"{MAX_PLAN_BYTES} (is this a plan?)")
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -93,5 +119,5 @@ def format_plan(plan: Any, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-__all__ = ["MAX_PLAN_BYTES", "format_plan", "is_temporal", "parse_plan", "read_plan",
-           "read_plan_file"]
+__all__ = ["MAX_PLAN_BYTES", "format_plan", "is_temporal", "parse_plan", "plan_file_problem",
+           "read_plan", "read_plan_file"]

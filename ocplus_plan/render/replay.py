@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import gzip
 import json
+import zlib
 from collections import Counter
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field, fields
@@ -28,12 +29,14 @@ from typing import IO, Any
 
 import numpy as np
 
-from ..errors import ConfigError, DependencyNotInstalled
-from ..sim import Event, Rules, State, make_rules, new_state, recipe_name, transition
+from ..errors import ConfigError, DependencyNotInstalled, OcplusError
+from ..sim import Action, Event, Rules, State, make_rules, new_state, recipe_name, transition
 from ..sim.rules import Rewards
 
 FORMAT = "ocplus-replay"
-VERSION = 1
+#: 2: every rule field is in the header (``fixed_orders`` included) and every line is
+#: checked on reading; 1: files written before, still read (see ``ADDED_AFTER_V1``)
+VERSION = 2
 #: event kinds too frequent or too small to be worth a line in the summary
 _QUIET_EVENTS = frozenset({"move_blocked"})
 
@@ -76,7 +79,9 @@ def rules_from_dict(preset: str, map_dict: dict[str, Any], params: dict[str, Any
     rules = make_rules(preset, map=map_dict, **kw)
     again = rules_to_dict(rules)
     if again != params:
-        diff = sorted(k for k in set(again) | set(params) if again.get(k) != params.get(k))
+        missing = object()
+        diff = sorted(k for k in set(again) | set(params)
+                      if again.get(k, missing) != params.get(k, missing))
         raise ConfigError(
             f"the recording's rule parameters {diff} cannot be rebuilt exactly by this version "
             "of ocplus-plan; replay it with the version that recorded it"
@@ -142,51 +147,200 @@ class Recording:
 
     @classmethod
     def load(cls, path: str | Path) -> Recording:
-        """Read a file written by :meth:`save`; a malformed file raises ``ConfigError``."""
+        """Read a file written by :meth:`save`, checking every line (version, keys, types,
+        counts). A missing, truncated, corrupt or tampered file raises
+        :class:`UnreadableRecording` (a ``ConfigError``: the CLI exits 2). Version-1 files
+        get the values of the rule fields added since (``ADDED_AFTER_V1``)."""
         path = Path(path)
         if not path.is_file():
-            raise ConfigError(f"replay file {str(path)!r} does not exist")
-        try:
-            with _open(path, "rt") as fh:
-                lines = [json.loads(x) for x in fh if x.strip()]
-        except (OSError, json.JSONDecodeError, UnicodeDecodeError, EOFError) as exc:
-            raise ConfigError(
-                f"replay file {str(path)!r} is not a JSON-lines recording ({exc}); "
-                "record one with `ocplus play --record FILE`"
-            ) from exc
-        if not lines or not isinstance(lines[0], dict) or lines[0].get("format") != FORMAT:
-            raise ConfigError(
-                f"replay file {str(path)!r}: first line is not an {FORMAT} header; "
-                "record one with `ocplus play --record FILE`"
-            )
-        head = lines[0]
-        if head.get("version") != VERSION:
-            raise ConfigError(
-                f"replay file {str(path)!r} has format version {head.get('version')!r}; "
-                f"this ocplus-plan reads version {VERSION}"
-            )
-        rec = cls(head["preset"], head["map"], head["rules"], head.get("seed"),
-                  meta=head.get("meta") or {})
-        for i, line in enumerate(lines[1:], start=2):
-            if line.get("end"):
-                rec.state_hash = line.get("state_hash")
-                rec.stats = line.get("stats") or {}
-                break
-            acts = line.get("a")
-            if not isinstance(acts, list) or not all(isinstance(a, int) for a in acts):
-                raise ConfigError(
-                    f"replay file {str(path)!r}, line {i}: 'a' must be a list of action "
-                    f"integers, got {acts!r}"
-                )
-            rec.actions.append(acts)
-            rec.events.append(list(line.get("e", [])))
-        return rec
+            raise UnreadableRecording(path, "does not exist or is not a regular file")
+        return read_recording(path)
 
 
 def _open(path: Path, mode: str) -> IO[str]:
     if path.suffix == ".gz":
         return gzip.open(path, mode, encoding="utf-8")  # type: ignore[return-value]
     return open(path, mode[0], encoding="utf-8")
+
+
+# ----------------------------------------------------------------- reading a file
+#: the longest line read (a header with two 64x64 grids is about 25 kB)
+MAX_LINE_CHARS = 1_000_000
+#: the most text read from one recording, decompressed (a step line is about 20 bytes)
+MAX_RECORDING_CHARS = 64_000_000
+#: rule fields added after version 1, with the value that reproduces a version-1 episode
+ADDED_AFTER_V1: dict[str, Any] = {"fixed_orders": None}
+_HEADER_KEYS = {"format", "version", "preset", "map", "rules", "seed"}
+_INT_LIMIT = 2**31
+_SEED_LIMIT = 2**64
+#: open orders at once: the initial state draws them all, so a tampered huge count would
+#: stall the replay before its first step
+MAX_ORDERS = 1000
+
+
+class UnreadableRecording(ConfigError):
+    """A recording file that is missing, truncated, corrupt or tampered with."""
+
+    def __init__(self, path: Path, what: str) -> None:
+        super().__init__(f"not a readable recording: {path}: {what}")
+
+
+def _is_int(value: Any, low: int = 0, high: int = _INT_LIMIT) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and low <= value < high
+
+
+def _is_str_list(value: Any) -> bool:
+    return isinstance(value, list) and all(isinstance(x, str) for x in value)
+
+
+def _is_rewards(value: Any) -> bool:
+    return isinstance(value, dict) and all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) for v in value.values())
+
+
+_RULE_CHECKS: dict[str, tuple[Any, str]] = {
+    **{k: (_is_int, "an integer from 0 to 2**31-1") for k in (
+        "n_agents", "chop_steps", "cook_time", "burn_time", "wash_steps", "horizon",
+        "map_switch_step")},
+    "n_orders": (lambda v: _is_int(v, 0, MAX_ORDERS + 1), f"an integer from 0 to {MAX_ORDERS}"),
+    **{k: (lambda v: v is None or _is_int(v), "null or an integer from 0 to 2**31-1")
+       for k in ("order_time_limit", "stop_after_orders")},
+    "recipes": (_is_str_list, "a list of recipe names"),
+    "fixed_orders": (lambda v: v is None or _is_str_list(v), "null or a list of recipe names"),
+    "dirty_plates": (lambda v: isinstance(v, bool), "true or false"),
+    "dynamic": (lambda v: isinstance(v, bool), "true or false"),
+    "reward_mode": (lambda v: isinstance(v, str), "text"),
+    "rewards": (_is_rewards, "a mapping of reward names to numbers"),
+}
+
+
+def _read_lines(path: Path) -> list[Any]:
+    """The file's JSON values, one per non-blank line, read within the limits above."""
+    values: list[Any] = []
+    total = 0
+    try:
+        with _open(path, "rt") as fh:
+            while True:
+                line = fh.readline(MAX_LINE_CHARS + 1)
+                if not line:
+                    return values
+                total += len(line)
+                if len(line) > MAX_LINE_CHARS or total > MAX_RECORDING_CHARS:
+                    raise UnreadableRecording(path, f"line {len(values) + 1} goes past "
+                                              "the size limits (corrupt or not a recording)")
+                if line.strip():
+                    values.append(json.loads(line))
+    except (OSError, EOFError, zlib.error) as exc:  # gzip.BadGzipFile is an OSError
+        raise UnreadableRecording(path, f"the file is damaged or truncated "
+                                  f"({_one_line(exc)})") from None
+    except UnicodeDecodeError:
+        raise UnreadableRecording(path, "not UTF-8 text (damaged?)") from None
+    except ValueError as exc:  # json.JSONDecodeError, or a number with thousands of digits
+        raise UnreadableRecording(path, f"line {len(values) + 1} is not JSON "
+                                  f"({_one_line(exc)})") from None
+    except RecursionError:
+        raise UnreadableRecording(path, f"line {len(values) + 1} is nested too deeply") from None
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split())[:200]
+
+
+def _check_header(head: Any, path: Path) -> dict[str, Any]:
+    if not isinstance(head, dict) or head.get("format") != FORMAT:
+        raise UnreadableRecording(path, f"line 1 is not an {FORMAT} header; record one with "
+                                  "`ocplus play --record FILE`")
+    version = head.get("version")
+    if not _is_int(version, 1, VERSION + 1):
+        raise UnreadableRecording(path, f"format version {str(version)[:20]!r}; this "
+                                  f"ocplus-plan reads versions 1 to {VERSION}")
+    missing = sorted(_HEADER_KEYS - set(head))
+    extra = sorted(map(str, set(head) - _HEADER_KEYS - {"meta"}))
+    if missing or extra:
+        raise UnreadableRecording(path, f"header keys missing {missing}, unknown {extra[:5]}")
+    for key, ok, need in (
+        ("preset", isinstance(head["preset"], str), "a preset name"),
+        ("map", isinstance(head["map"], dict), "a map-file mapping"),
+        ("rules", isinstance(head["rules"], dict), "a mapping of rule parameters"),
+        ("seed", head["seed"] is None or _is_int(head["seed"], 0, _SEED_LIMIT),
+         "null or an integer from 0 to 2**64-1"),
+        ("meta", isinstance(head.get("meta", {}), dict), "a mapping"),
+    ):
+        if not ok:
+            raise UnreadableRecording(path, f"header '{key}' must be {need}, got "
+                                      f"{type(head[key]).__name__}")
+    humans = head.get("meta", {}).get("humans", [])
+    if not (isinstance(humans, list) and all(_is_int(h) for h in humans)):
+        raise UnreadableRecording(path, "header meta 'humans' must be a list of agent numbers")
+    return head
+
+
+def _check_rules(params: dict[str, Any], version: int, path: Path) -> dict[str, Any]:
+    params = dict(params)
+    if version == 1:
+        for key, value in ADDED_AFTER_V1.items():
+            params.setdefault(key, value)
+    missing = sorted(set(_RULE_CHECKS) - set(params))
+    extra = sorted(map(str, set(params) - set(_RULE_CHECKS)))
+    if missing or extra:
+        raise UnreadableRecording(path, f"rule parameters missing {missing}, unknown {extra[:5]}")
+    for key, (ok, need) in _RULE_CHECKS.items():
+        if not ok(params[key]):
+            raise UnreadableRecording(path, f"rule parameter '{key}' must be {need}, got "
+                                      f"{type(params[key]).__name__}")
+    return params
+
+
+def _check_step(line: Any, n_agents: int, number: int, path: Path) -> tuple[list[int], list[str]]:
+    if not isinstance(line, dict) or "a" not in line or set(line) - {"a", "e"}:
+        raise UnreadableRecording(path, f"line {number} is not a step {{\"a\": [...]}} "
+                                  "nor the end line")
+    acts, evs = line["a"], line.get("e", [])
+    if not (isinstance(acts, list) and len(acts) == n_agents
+            and all(_is_int(a, 0, len(Action)) for a in acts)):
+        raise UnreadableRecording(path, f"line {number}: 'a' must list {n_agents} action "
+                                  f"numbers from 0 to {len(Action) - 1}")
+    if not _is_str_list(evs):
+        raise UnreadableRecording(path, f"line {number}: 'e' must be a list of event names")
+    return acts, evs
+
+
+def _check_end(line: Any, steps: int, path: Path) -> tuple[str, dict[str, int]]:
+    if set(line) != {"end", "steps", "state_hash", "stats"} or line["end"] is not True:
+        raise UnreadableRecording(path, "the end line must hold exactly end, steps, "
+                                  "state_hash and stats")
+    if line["steps"] != steps or not _is_int(line["steps"]):
+        raise UnreadableRecording(path, f"the end line counts {str(line['steps'])[:20]} steps "
+                                  f"but the file holds {steps}")
+    stats = line["stats"]
+    if not isinstance(line["state_hash"], str) or not (
+            isinstance(stats, dict) and all(_is_int(v) for v in stats.values())):
+        raise UnreadableRecording(path, "the end line's state_hash must be text and its stats "
+                                  "a mapping of counts")
+    return line["state_hash"], stats
+
+
+def read_recording(path: Path) -> Recording:
+    """Read and check every line of a recording file (see :meth:`Recording.load`)."""
+    lines = _read_lines(path)
+    head = _check_header(lines[0] if lines else None, path)
+    params = _check_rules(head["rules"], head["version"], path)
+    rec = Recording(head["preset"], head["map"], params, head["seed"], meta=head.get("meta", {}))
+    try:
+        rules = rec.make_rules()
+    except OcplusError as exc:
+        raise UnreadableRecording(path, f"its rules cannot be rebuilt: {exc}") from None
+    for number, line in enumerate(lines[1:], start=2):
+        if isinstance(line, dict) and "end" in line:
+            rec.state_hash, rec.stats = _check_end(line, rec.n_steps, path)
+            if number != len(lines):
+                raise UnreadableRecording(path, f"{len(lines) - number} lines after the end line")
+            return rec
+        acts, evs = _check_step(line, rules.n_agents, number, path)
+        rec.actions.append(acts)
+        rec.events.append(evs)
+    raise UnreadableRecording(path, f"no end line after {rec.n_steps} steps: the file is "
+                              "truncated")
 
 
 class Recorder:
@@ -310,8 +464,10 @@ def export_gif(
 
 
 __all__ = [
+    "ADDED_AFTER_V1",
     "Recorder",
     "Recording",
+    "UnreadableRecording",
     "ReplayCheck",
     "export_gif",
     "layout_to_dict",

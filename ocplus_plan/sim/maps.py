@@ -2,7 +2,9 @@
 
 ``load_map`` accepts a registered name (``"mapC"``), a path to a YAML file, or an
 already-parsed dict. Every problem is a :class:`MapFormatError` whose message names
-the source, and the row / column / value or key at fault.
+the source, and the row / column / value or key at fault. Files are read by
+:mod:`.map_yaml` within limits (size, nesting, aliases, repeated keys, UTF-8); a grid
+has at most ``MAX_GRID_SIDE`` (64) rows and columns (``docs/input-limits.md``).
 """
 
 from __future__ import annotations
@@ -130,14 +132,9 @@ def load_map(spec: str | os.PathLike[str] | dict[str, Any], *, source: str | Non
                 f"map {text_spec!r}: no such file and no registered map of that name; "
                 f"registered maps: {names}"
             )
-    import yaml  # local: the core imports pyyaml only when a file is read
+    from .map_yaml import load_yaml  # local: the core imports pyyaml only when a file is read
 
-    try:
-        raw = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        raise MapFormatError(f"{path}: YAML syntax error{where}: {exc}") from None
+    raw = load_yaml(path)
     if raw is None:
         raise MapFormatError(f"{path}: the file is empty; a map needs at least 'game_map'")
     if not isinstance(raw, dict):
@@ -147,14 +144,26 @@ def load_map(spec: str | os.PathLike[str] | dict[str, Any], *, source: str | Non
     return _parse(raw, str(path))
 
 
+#: the largest grid, in rows and in columns (SPEC section 2)
+MAX_GRID_SIDE = 64
+
+
+def _short(value: Any, limit: int = 60) -> str:
+    """``repr(value)``, cut to ``limit`` characters (a message stays one short line)."""
+    if isinstance(value, (list, dict)) and len(value) > limit:  # no repr of a huge value
+        return f"<a {type(value).__name__} of {len(value)} items>"
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
 def _canonical_keys(raw: dict[str, Any], src: str) -> dict[str, Any]:
     out: dict[str, Any] = {}
     seen_as: dict[str, str] = {}
     for key, value in raw.items():
-        canon = _SPELLING_TO_KEY.get(str(key))
+        canon = _SPELLING_TO_KEY.get(key) if isinstance(key, str) else None
         if canon is None:
             allowed = ", ".join(sorted(_SPELLING_TO_KEY))
-            raise MapFormatError(f"{src}: unknown key {key!r}; allowed keys: {allowed}")
+            raise MapFormatError(f"{src}: unknown key {_short(key)}; allowed keys: {allowed}")
         if canon in out:
             raise MapFormatError(
                 f"{src}: key {key!r} repeats {seen_as[canon]!r} (two spellings of one key); keep one"
@@ -167,10 +176,17 @@ def _canonical_keys(raw: dict[str, Any], src: str) -> dict[str, Any]:
 def _parse_grid(value: Any, src: str, key: str) -> np.ndarray:
     if not isinstance(value, list) or not value:
         raise MapFormatError(f"{src}: '{key}' must be a non-empty list of rows of integer codes")
+    if len(value) > MAX_GRID_SIDE:
+        raise MapFormatError(f"{src}: '{key}' has {len(value)} rows; a map has at most "
+                             f"{MAX_GRID_SIDE} rows and {MAX_GRID_SIDE} columns")
     width = None
     for r, row in enumerate(value):
         if not isinstance(row, list) or not row:
-            raise MapFormatError(f"{src}: '{key}' row {r} must be a non-empty list, got {row!r}")
+            raise MapFormatError(f"{src}: '{key}' row {r} must be a non-empty list, "
+                                 f"got {_short(row)}")
+        if len(row) > MAX_GRID_SIDE:
+            raise MapFormatError(f"{src}: '{key}' row {r} has {len(row)} cells; a map has at "
+                                 f"most {MAX_GRID_SIDE} rows and {MAX_GRID_SIDE} columns")
         if width is None:
             width = len(row)
         elif len(row) != width:
@@ -181,12 +197,88 @@ def _parse_grid(value: Any, src: str, key: str) -> np.ndarray:
         for c, v in enumerate(row):
             if isinstance(v, bool) or not isinstance(v, int) or v not in VALID_CODES:
                 codes = ", ".join(str(x) for x in sorted(VALID_CODES))
-                raise MapFormatError(
-                    f"{src}: '{key}' row {r}, column {c}: invalid cell code {v!r}; valid codes: {codes}"
-                )
+                raise MapFormatError(f"{src}: '{key}' row {r}, column {c}: invalid cell code "
+                                     f"{_short(v)}; valid codes: {codes}")
     grid = np.array(value, dtype=np.int8)
     grid.setflags(write=False)
     return grid
+
+
+def _check_dimensions(dims: Any, rows: int, cols: int, src: str) -> None:
+    if not (isinstance(dims, list) and len(dims) == 2
+            and all(isinstance(x, int) and not isinstance(x, bool) for x in dims)):
+        raise MapFormatError(f"{src}: 'dimensions' must be [cols, rows], got {_short(dims)}")
+    if tuple(dims) != (cols, rows):
+        raise MapFormatError(
+            f"{src}: 'dimensions' says {_short(dims)} ([cols, rows]) but game_map is "
+            f"{cols} columns x {rows} rows"
+        )
+
+
+def _parse_switch_grid(value: Any, grid: np.ndarray, src: str) -> np.ndarray:
+    switch_grid = _parse_grid(value, src, "switch_map")
+    rows, cols = grid.shape
+    if switch_grid.shape != grid.shape:
+        raise MapFormatError(
+            f"{src}: 'switch_map' is {switch_grid.shape[1]}x{switch_grid.shape[0]} "
+            f"but game_map is {cols}x{rows} (cols x rows); they must match"
+        )
+    for r, c in zip(*np.nonzero(grid != switch_grid)):
+        a, b = int(grid[r, c]), int(switch_grid[r, c])
+        if a not in SWITCHABLE or b not in SWITCHABLE:
+            raise MapFormatError(
+                f"{src}: switch_map row {r}, column {c} changes {Cell(a).name.lower()} ({a}) "
+                f"to {Cell(b).name.lower()} ({b}); a switch may only change block (-1), "
+                "floor (0) and counter (1) cells, never move a station or spawn tile"
+            )
+    return switch_grid
+
+
+def _parse_spawns(d: dict[str, Any], grids: list[np.ndarray], src: str) -> list[tuple[int, int]]:
+    """``agent_spawn_points`` checked against every layout, or the spawn cells (code 2)."""
+    rows, cols = grids[0].shape
+    if "agent_spawn_points" not in d:
+        spawns = [(int(r), int(c)) for r, c in zip(*np.nonzero(grids[0] == Cell.SPAWN))]
+        if not spawns:
+            raise MapFormatError(
+                f"{src}: no spawn points: add 'agent_spawn_points' or cells with code 2"
+            )
+        return spawns
+    pts = d["agent_spawn_points"]
+    if not isinstance(pts, list) or not pts:
+        raise MapFormatError(f"{src}: 'agent_spawn_points' must be a non-empty list of [row, col]")
+    spawns = []
+    for i, p in enumerate(pts):
+        if not (isinstance(p, list) and len(p) == 2
+                and all(isinstance(x, int) and not isinstance(x, bool) for x in p)):
+            raise MapFormatError(f"{src}: agent_spawn_points[{i}] must be [row, col], "
+                                 f"got {_short(p)}")
+        r, c = p
+        if not (0 <= r < rows and 0 <= c < cols):
+            raise MapFormatError(
+                f"{src}: agent_spawn_points[{i}] = [{r}, {c}] is outside the "
+                f"{rows}-row x {cols}-column grid"
+            )
+        for g, label in zip(grids, ("game_map", "switch_map")):
+            if int(g[r, c]) not in WALKABLE:
+                raise MapFormatError(
+                    f"{src}: agent_spawn_points[{i}] = [{r}, {c}] is on "
+                    f"{Cell(int(g[r, c])).name.lower()} ({int(g[r, c])}) in {label}; "
+                    "spawn points must be floor (0 or 2)"
+                )
+        spawns.append((r, c))
+    if len(set(spawns)) != len(spawns):
+        raise MapFormatError(f"{src}: agent_spawn_points has a repeated cell: {_short(pts)}")
+    return spawns
+
+
+def _text(d: dict[str, Any], key: str, default: str, src: str) -> str:
+    value = d.get(key)
+    if value is None:
+        return default
+    if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+        raise MapFormatError(f"{src}: '{key}' must be text, got a {type(value).__name__}")
+    return str(value)
 
 
 def _parse(raw: dict[str, Any], src: str) -> Layout:
@@ -195,79 +287,27 @@ def _parse(raw: dict[str, Any], src: str) -> Layout:
         raise MapFormatError(f"{src}: missing 'game_map' (alias 'map'), the grid of cell codes")
     grid = _parse_grid(d["game_map"], src, "game_map")
     rows, cols = grid.shape
-
     if "dimensions" in d:
-        dims = d["dimensions"]
-        if not (isinstance(dims, list) and len(dims) == 2 and all(isinstance(x, int) for x in dims)):
-            raise MapFormatError(f"{src}: 'dimensions' must be [cols, rows], got {dims!r}")
-        if tuple(dims) != (cols, rows):
-            raise MapFormatError(
-                f"{src}: 'dimensions' says {dims} ([cols, rows]) but game_map is "
-                f"{cols} columns x {rows} rows"
-            )
-
+        _check_dimensions(d["dimensions"], rows, cols, src)
     if not np.any(grid == Cell.DELIVERY):
         raise MapFormatError(f"{src}: no delivery cell (code 7); a kitchen needs one to serve orders")
 
     switch_grid = None
-    if "switch_map" in d and d["switch_map"] is not None:
-        switch_grid = _parse_grid(d["switch_map"], src, "switch_map")
-        if switch_grid.shape != grid.shape:
-            raise MapFormatError(
-                f"{src}: 'switch_map' is {switch_grid.shape[1]}x{switch_grid.shape[0]} "
-                f"but game_map is {cols}x{rows} (cols x rows); they must match"
-            )
-        for r, c in zip(*np.nonzero(grid != switch_grid)):
-            a, b = int(grid[r, c]), int(switch_grid[r, c])
-            if a not in SWITCHABLE or b not in SWITCHABLE:
-                raise MapFormatError(
-                    f"{src}: switch_map row {r}, column {c} changes {Cell(a).name.lower()} ({a}) "
-                    f"to {Cell(b).name.lower()} ({b}); a switch may only change block (-1), "
-                    "floor (0) and counter (1) cells, never move a station or spawn tile"
-                )
-
+    if d.get("switch_map") is not None:
+        switch_grid = _parse_switch_grid(d["switch_map"], grid, src)
     is_dynamic = d.get("is_dynamic_map", switch_grid is not None)
     if not isinstance(is_dynamic, bool):
-        raise MapFormatError(f"{src}: 'is_dynamic_map' must be true or false, got {is_dynamic!r}")
+        raise MapFormatError(f"{src}: 'is_dynamic_map' must be true or false, "
+                             f"got {_short(is_dynamic)}")
     if is_dynamic and switch_grid is None:
         raise MapFormatError(f"{src}: 'is_dynamic_map' is true but there is no 'switch_map'")
     switch_step = _switch_step(d, bool(is_dynamic), src)
-
-    grids = [grid] if switch_grid is None else [grid, switch_grid]
-    if "agent_spawn_points" in d:
-        pts = d["agent_spawn_points"]
-        if not isinstance(pts, list) or not pts:
-            raise MapFormatError(f"{src}: 'agent_spawn_points' must be a non-empty list of [row, col]")
-        spawns = []
-        for i, p in enumerate(pts):
-            if not (isinstance(p, list) and len(p) == 2 and all(isinstance(x, int) for x in p)):
-                raise MapFormatError(f"{src}: agent_spawn_points[{i}] must be [row, col], got {p!r}")
-            r, c = p
-            if not (0 <= r < rows and 0 <= c < cols):
-                raise MapFormatError(
-                    f"{src}: agent_spawn_points[{i}] = [{r}, {c}] is outside the "
-                    f"{rows}-row x {cols}-column grid"
-                )
-            for g, label in zip(grids, ("game_map", "switch_map")):
-                if int(g[r, c]) not in WALKABLE:
-                    raise MapFormatError(
-                        f"{src}: agent_spawn_points[{i}] = [{r}, {c}] is on "
-                        f"{Cell(int(g[r, c])).name.lower()} ({int(g[r, c])}) in {label}; "
-                        "spawn points must be floor (0 or 2)"
-                    )
-            spawns.append((r, c))
-        if len(set(spawns)) != len(spawns):
-            raise MapFormatError(f"{src}: agent_spawn_points has a repeated cell: {pts}")
-    else:
-        spawns = [(int(r), int(c)) for r, c in zip(*np.nonzero(grid == Cell.SPAWN))]
-        if not spawns:
-            raise MapFormatError(
-                f"{src}: no spawn points: add 'agent_spawn_points' or cells with code 2"
-            )
+    spawns = _parse_spawns(d, [grid] if switch_grid is None else [grid, switch_grid], src)
 
     declared = d.get("max_n_agent", len(spawns))
     if isinstance(declared, bool) or not isinstance(declared, int) or declared < 1:
-        raise MapFormatError(f"{src}: 'max_n_agent' must be a positive integer, got {declared!r}")
+        raise MapFormatError(f"{src}: 'max_n_agent' must be a positive integer, "
+                             f"got {_short(declared)}")
 
     stations: dict[int, tuple[tuple[int, int], ...]] = {}
     for code in STATIONS | {Cell.COUNTER}:
@@ -275,9 +315,9 @@ def _parse(raw: dict[str, Any], src: str) -> Layout:
         if cells:
             stations[int(code)] = cells
 
-    name = d.get("name") or (Path(src).stem if src != "<dict>" else "unnamed")
+    default_name = Path(src).stem if src != "<dict>" else "unnamed"
     return Layout(
-        name=str(name),
+        name=_text(d, "name", "", src) or default_name,
         source=src,
         grid=grid,
         switch_grid=switch_grid,
@@ -286,7 +326,7 @@ def _parse(raw: dict[str, Any], src: str) -> Layout:
         max_agents=min(declared, len(spawns)),
         is_dynamic=bool(is_dynamic),
         map_switch_step=switch_step,
-        description=str(d.get("description") or ""),
+        description=_text(d, "description", "", src),
         stations=stations,
         declared_max_agents=declared,
     )
@@ -302,7 +342,7 @@ def _switch_step(d: dict[str, Any], is_dynamic: bool, src: str) -> int:
     step = d.get("map_switch_step", DEFAULT_SWITCH_STEP)
     if isinstance(step, bool) or not isinstance(step, int) or step < (1 if is_dynamic else 0):
         need = "a positive integer on a dynamic map" if is_dynamic else "an integer >= 0"
-        raise MapFormatError(f"{src}: 'map_switch_step' must be {need}, got {step!r}")
+        raise MapFormatError(f"{src}: 'map_switch_step' must be {need}, got {_short(step)}")
     return step
 
 
@@ -314,16 +354,42 @@ def reachable_floor(grid: np.ndarray, start: tuple[int, int]) -> set[tuple[int, 
     return {divmod(f, cols) for f, d in enumerate(dist) if d >= 0}
 
 
+def floor_regions(grid: np.ndarray) -> dict[tuple[int, int], int]:
+    """Each floor cell -> the number of its region (4-connected walking), in one pass."""
+    rows, cols = grid.shape
+    floor = {(r, c) for r in range(rows) for c in range(cols) if int(grid[r, c]) in WALKABLE}
+    label: dict[tuple[int, int], int] = {}
+    regions = 0
+    for start in sorted(floor):
+        if start in label:
+            continue
+        region, todo = regions, [start]
+        regions += 1
+        label[start] = region
+        while todo:
+            r, c = todo.pop()
+            for n in ((r, c + 1), (r + 1, c), (r, c - 1), (r - 1, c)):
+                if n in floor and n not in label:
+                    label[n] = region
+                    todo.append(n)
+    return label
+
+
 def station_reachability(layout: Layout) -> list[dict[str, Any]]:
     """For each station and layout: which spawn points can reach a floor cell next to it."""
     out = []
     for li, grid in enumerate(layout.grids()):
-        regions = [reachable_floor(grid, sp) for sp in layout.spawn_points]
+        region = floor_regions(grid)
+        spawns_in: dict[int, list[int]] = {}
+        for i, sp in enumerate(layout.spawn_points):
+            if sp in region:
+                spawns_in.setdefault(region[sp], []).append(i)
         for code, cells in sorted(layout.stations.items()):
             if code in COUNTERS and code not in SPAWN_TILES:
                 continue
             for r, c in cells:
-                nbrs = {(r + dr, c + dc) for dr, dc in ((0, 1), (1, 0), (0, -1), (-1, 0))}
-                by = [i for i, reg in enumerate(regions) if reg & nbrs]
+                near = {region[n] for n in ((r, c + 1), (r + 1, c), (r, c - 1), (r - 1, c))
+                        if n in region}
+                by = sorted(i for reg in near for i in spawns_in.get(reg, ()))
                 out.append({"layout": li, "cell": (r, c), "code": code, "reachable_from": by})
     return out

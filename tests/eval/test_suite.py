@@ -145,3 +145,24 @@ def test_a_folder_that_is_no_instance_is_refused(suite, tmp_path):
 def test_a_set_is_never_written_over_another(suite):
     with pytest.raises(ConfigError, match="not empty"):
         export_suite(SPEC, suite)
+
+
+def test_a_bad_plan_path_for_an_instance_is_bad_input(suite, tmp_path, capsys):
+    assert main(["check-plan", str(suite / "p01"), "--plan", str(tmp_path)]) == 2
+    assert "is a directory" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("encoding", ["classical", "temporal"])
+def test_a_bom_and_crlf_plan_is_the_same_plan(suite, tmp_path, capsys, encoding):
+    text = (suite / f"p01/{encoding}.plan").read_text()
+    windows = tmp_path / "windows.plan"
+    windows.write_bytes(b"\xef\xbb\xbf" + text.replace("\n", "\r\n").encode())
+    assert main(["check-plan", str(suite / "p01"), "--encoding", encoding,
+                 "--plan", str(windows), "--json"]) == 0
+    assert '"verdict": "valid"' in capsys.readouterr().out
+
+
+def test_a_readable_file_that_is_no_plan_still_exits_4(suite, tmp_path):
+    not_a_plan = tmp_path / "bad.plan"
+    not_a_plan.write_text("(fly a0 to the moon)\n")
+    assert main(["check-plan", str(suite / "p01"), "--plan", str(not_a_plan)]) == 4

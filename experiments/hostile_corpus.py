@@ -1,0 +1,70 @@
+"""Hostile inputs through the command line: exit code, time and address space of each.
+
+The corpus of ``tests/fuzz/corpus.py`` (alias bombs, huge and deep maps, non-UTF-8,
+tampered recordings, plan paths that are no files; each expected to exit 2), a legal
+64x64 map and the shipped recording (each expected to exit 0) are written to a temporary
+folder; every case runs with ``tests/fuzz/limited.py`` (one forked child each, 600 MB of
+address space, 20 s). One JSON line per case goes to
+``experiments/results/hostile-input-corpus/outcomes.jsonl``, with the commit and the
+load average.
+
+    .venv/bin/python experiments/hostile_corpus.py
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "experiments/results/hostile-input-corpus/outcomes.jsonl"
+
+
+def main() -> None:
+    sys.path.insert(0, str(ROOT))
+    from tests.fuzz.corpus import build
+    from tests.render.test_replay import record_episode
+    from tests.sim.test_maps_limits import square
+
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
+                            capture_output=True, text=True).stdout.strip()
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        rec, _ = record_episode("easy", steps=20, seed=1)
+        cases = build(root, rec.save(root / "good.jsonl").read_text().splitlines())
+        expected = dict.fromkeys((name for name, _ in cases), 2)
+        (root / "legal_64x64.yaml").write_text(square(64))
+        shipped = str(ROOT / "docs/figures/hard_greedy.jsonl.gz")
+        for name, argv in (("legal_64x64.yaml", ["check-map", str(root / "legal_64x64.yaml")]),
+                           ("shipped_recording", ["replay", shipped, "--check"])):
+            cases.append((name, argv))
+            expected[name] = 0
+        load_before = os.getloadavg()[0]
+        done = subprocess.run([sys.executable, "-m", "tests.fuzz.limited"], cwd=ROOT,
+                              input=json.dumps([argv for _, argv in cases]),
+                              capture_output=True, text=True, check=True)
+        load_after = os.getloadavg()[0]
+    OUT.parent.mkdir(parents=True, exist_ok=True)
+    with OUT.open("w") as fh:
+        for (name, argv), line in zip(cases, done.stdout.splitlines()):
+            r = json.loads(line)
+            r.pop("argv")
+            r["stderr"] = r["stderr"].replace(tmp, "TMP").strip()[:300]
+            row = {"case": name, "command": argv[0], "expected": expected[name], **r,
+                   "commit": commit,
+                   "machine": "2 shared cores", "load_1min": [load_before, load_after]}
+            fh.write(json.dumps(row) + "\n")
+    print(f"{len(cases)} cases -> {OUT.relative_to(ROOT)}")
+    rows = [json.loads(x) for x in OUT.read_text().splitlines()]
+    print(f"as expected: {sum(r['code'] == r['expected'] for r in rows)}/{len(rows)}; "
+          f"slowest {max(r['seconds'] for r in rows):.2f} s wall, "
+          f"{max(r['cpu_seconds'] for r in rows):.2f} s CPU; "
+          f"largest address space {max(r['vm_peak_mb'] for r in rows):.0f} MB")
+
+
+if __name__ == "__main__":
+    main()
