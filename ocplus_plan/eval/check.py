@@ -87,6 +87,10 @@ def check_instance_plan(instance_dir: str | Path, encoding: str | None = None,
             raise ConfigError(f"{instance.folder} has no {encoding} reference plan (no "
                               "planner solved it); give one with --plan")
         plan_path = instance.folder / entry["plan"]
+        if not Path(plan_path).is_file():  # a damaged set, not an invalid plan
+            raise ConfigError(f"{instance.folder}: its manifest names the reference plan "
+                              f"{entry['plan']}, which is not there; export the set again "
+                              "or give a plan with --plan")
     out = PlanCheck("valid", str(plan_path), encoding)
     try:
         plan = read_plan(plan_path, compiled.problem)

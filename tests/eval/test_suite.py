@@ -166,3 +166,13 @@ def test_a_readable_file_that_is_no_plan_still_exits_4(suite, tmp_path):
     not_a_plan = tmp_path / "bad.plan"
     not_a_plan.write_text("(fly a0 to the moon)\n")
     assert main(["check-plan", str(suite / "p01"), "--plan", str(not_a_plan)]) == 4
+
+
+def test_a_missing_reference_plan_is_a_damaged_set_not_an_invalid_plan(suite, tmp_path, capsys):
+    import shutil
+
+    copy = tmp_path / "set"
+    shutil.copytree(suite, copy)
+    (copy / "p01" / "classical.plan").unlink()
+    assert main(["check-plan", str(copy / "p01"), "--encoding", "classical"]) == 2
+    assert "not there" in capsys.readouterr().err
