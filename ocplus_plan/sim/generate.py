@@ -30,10 +30,18 @@ from typing import Any
 import numpy as np
 
 from ..errors import ConfigError, MapFormatError
-from .codes import WALKABLE, Cell
-from .generate_families import BUILDERS, MAX_SIZE, MIN_COOKS, MIN_SIZE, Retry, Sketch
-from .maps import Layout, load_map, station_reachability
-from .queries import distances, grid_neighbors
+from .codes import Cell
+from .generate_families import (
+    BUILDERS,
+    MAX_SIZE,
+    MIN_COOKS,
+    MIN_SIZE,
+    PRESET_STATIONS,
+    REQUIRED,
+    Retry,
+    Sketch,
+)
+from .generate_checks import floor_components, lane_cells, structure_problems
 
 FAMILIES: tuple[str, ...] = tuple(BUILDERS)
 #: split name -> first seed; index i of a split is seed ``first + i``, i < SPLIT_SIZE
@@ -45,20 +53,6 @@ GEN_PREFIX = "gen:"
 MAX_DRAWS = 200
 MAX_COOKS = 4
 
-_T, _L, _O, _S = int(Cell.TOMATO), int(Cell.LETTUCE), int(Cell.ONION), int(Cell.STEAK)
-_BOARD, _PLATE, _DELIVERY = int(Cell.BOARD), int(Cell.PLATE), int(Cell.DELIVERY)
-_PAN, _TRASH, _SINK = int(Cell.PAN), int(Cell.TRASH), int(Cell.SINK)
-#: preset -> (station code, fewest, most) placed on its kitchens
-PRESET_STATIONS: dict[str, tuple[tuple[int, int, int], ...]] = {
-    "easy": ((_DELIVERY, 1, 1), (_BOARD, 1, 2), (_PLATE, 1, 2), (_T, 1, 1), (_L, 1, 1),
-             (_O, 1, 1)),
-}
-PRESET_STATIONS["medium"] = PRESET_STATIONS["easy"] + ((_PAN, 1, 1), (_S, 1, 1),
-                                                       (_TRASH, 1, 1))
-PRESET_STATIONS["hard"] = PRESET_STATIONS["medium"] + ((_SINK, 1, 1),)
-#: the stations :func:`structure_problems` requires of a preset's kitchens
-REQUIRED: dict[str, frozenset[int]] = {p: frozenset(c for c, _, _ in s)
-                                       for p, s in PRESET_STATIONS.items()}
 _FAMILY_ID = {f: i for i, f in enumerate(FAMILIES)}
 _SWITCH_STEPS = (10, 20)
 
@@ -116,7 +110,7 @@ def generate_map(family: str, seed: int, *, rows: int | None = None, cols: int |
             spec = _draw(family, rng, shape, n_cooks, preset, label)
         except Retry:
             continue
-        if structure_problems(load_map(spec), family, preset):
+        if structure_problems(spec, family, preset):
             continue
         if sound == candidate:
             spec["description"] += f" Seed {seed}, draw {draw}."
@@ -210,142 +204,6 @@ def _place_cooks(sketch: Sketch, rng: np.random.Generator) -> list[tuple[int, in
     return spawns
 
 
-# ------------------------------------------------------------------ structure checks
-
-def _walkable(grid: np.ndarray) -> list[bool]:
-    return [int(v) in WALKABLE for v in grid.ravel()]
-
-
-def floor_components(grid: np.ndarray, skip: frozenset[int] = frozenset()) -> list[set[int]]:
-    """The 4-connected components of the walkable cells of ``grid`` (flat indices), cells
-    in ``skip`` left out, in order of their first cell."""
-    rows, cols = grid.shape
-    walk = [w and i not in skip for i, w in enumerate(_walkable(grid))]
-    nbrs = grid_neighbors(rows, cols)
-    seen: set[int] = set()
-    out = []
-    for cell, ok in enumerate(walk):
-        if ok and cell not in seen:
-            dist = distances(nbrs, walk, [cell])
-            comp = {i for i, d in enumerate(dist) if d >= 0}
-            seen |= comp
-            out.append(comp)
-    return out
-
-
-def lane_cells(grid: np.ndarray) -> list[tuple[int, int]]:
-    """Walkable cells in a one-cell-wide passage: walkable neighbours on exactly two opposite
-    sides and walls on the other two (two cooks cannot pass each other there)."""
-    rows, cols = grid.shape
-    walk = np.isin(grid, [int(c) for c in WALKABLE])
-    out = []
-    for r in range(1, rows - 1):
-        for c in range(1, cols - 1):
-            if not walk[r, c]:
-                continue
-            horizontal = walk[r, c - 1] and walk[r, c + 1] and not (walk[r - 1, c] or walk[r + 1, c])
-            vertical = walk[r - 1, c] and walk[r + 1, c] and not (walk[r, c - 1] or walk[r, c + 1])
-            if horizontal or vertical:
-                out.append((r, c))
-    return out
-
-
-def _touches(layout: Layout, code: int, comp: set[int]) -> bool:
-    cols = layout.cols
-    return any(((r + dr) * cols + c + dc) in comp for r, c in layout.cells_of(code)
-               for dr, dc in ((0, 1), (1, 0), (0, -1), (-1, 0))
-               if 0 <= r + dr < layout.rows and 0 <= c + dc < cols)
-
-
-def structure_problems(layout: Layout, family: str, preset: str = "hard") -> list[str]:
-    """What keeps ``layout`` from being a sound kitchen of ``family`` (empty: none).
-
-    Every kitchen: the preset's stations are there and, in the main layout, reachable
-    from the first cook (from the first two for ``split``). Then per family: ``open`` one
-    connected floor; ``split`` two floors, the first two cooks on different ones, window
-    and boards on different sides, and counters touching both; ``corridor`` one connected
-    floor with one-lane cells; ``switching`` a station kind reachable in the main layout and
-    cut off from every cook in the switch layout; ``multiroom`` one floor of two rooms or
-    more joined by one-cell doors."""
-    problems = [f"no {Cell(c).name.lower()}" for c in sorted(REQUIRED[preset])
-                if not layout.cells_of(c)]
-    cols = layout.cols
-    comps = floor_components(layout.grid)
-    spawn_comp = [next(i for i, comp in enumerate(comps) if r * cols + c in comp)
-                  for r, c in layout.spawn_points]
-    first = {spawn_comp[0]} | ({spawn_comp[1]} if family == "split" and len(spawn_comp) > 1
-                               else set())
-    unreached = [e for e in station_reachability(layout) if e["layout"] == 0
-                 and not set(e["reachable_from"]) & {i for i, k in enumerate(spawn_comp)
-                                                      if k in first}]
-    problems += [f"{Cell(e['code']).name.lower()} at {e['cell']} unreachable from the first "
-                 "cooks" for e in unreached]
-    problems += _FAMILY_CHECKS[family](layout, comps, spawn_comp)
-    return problems
-
-
-def _check_open(layout: Layout, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
-    return [] if len(comps) == 1 else [f"{len(comps)} separate floors; an open kitchen has one"]
-
-
-def _check_split(layout: Layout, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
-    if len(comps) != 2:
-        return [f"{len(comps)} separate floors; a split kitchen has two"]
-    out = []
-    if len(spawn_comp) < 2 or spawn_comp[0] == spawn_comp[1]:
-        out.append("the first two cooks are not on different halves")
-    window = [i for i, comp in enumerate(comps) if _touches(layout, _DELIVERY, comp)]
-    boards = [i for i, comp in enumerate(comps) if _touches(layout, _BOARD, comp)]
-    if set(window) & set(boards):
-        out.append("a half has both the window and a board: no hand-over is needed")
-    passes = [(r, c) for r in range(layout.rows) for c in range(layout.cols)
-              if int(layout.grid[r, c]) == Cell.COUNTER
-              and all(_touches_cell(layout, (r, c), comp) for comp in comps)]
-    if not passes:
-        out.append("no pass-through counter touches both halves")
-    return out
-
-
-def _touches_cell(layout: Layout, cell: tuple[int, int], comp: set[int]) -> bool:
-    r, c = cell
-    return any(0 <= r + dr < layout.rows and 0 <= c + dc < layout.cols
-               and (r + dr) * layout.cols + c + dc in comp
-               for dr, dc in ((0, 1), (1, 0), (0, -1), (-1, 0)))
-
-
-def _check_corridor(layout: Layout, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
-    out = [] if len(comps) == 1 else [f"{len(comps)} separate floors; a corridor kitchen has one"]
-    if not lane_cells(layout.grid):
-        out.append("no one-lane cell")
-    return out
-
-
-def _check_switching(layout: Layout, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
-    if layout.switch_grid is None or not layout.is_dynamic:
-        return ["no switch layout"]
-    entries = [e for e in station_reachability(layout) if e["layout"] == 1]
-    reached = {e["code"] for e in entries if e["reachable_from"]}
-    cut = {e["code"] for e in entries} - reached
-    return [] if cut else ["the switch layout cuts no station kind off"]
-
-
-def _check_multiroom(layout: Layout, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
-    if len(comps) != 1:
-        return [f"{len(comps)} separate floors; the rooms must be joined by doors"]
-    doors = frozenset(r * layout.cols + c for r, c in lane_cells(layout.grid))
-    rooms = [comp for comp in floor_components(layout.grid, doors) if len(comp) >= 2]
-    return [] if len(rooms) >= 2 else ["fewer than two rooms"]
-
-
-_FAMILY_CHECKS = {
-    "open": _check_open,
-    "split": _check_split,
-    "corridor": _check_corridor,
-    "switching": _check_switching,
-    "multiroom": _check_multiroom,
-}
-
-
 # ------------------------------------------------------------------ splits and names
 
 def split_seed(split: str, index: int) -> int:
@@ -402,6 +260,7 @@ __all__ = [
     "FAMILIES",
     "GEN_PREFIX",
     "PRESET_STATIONS",
+    "REQUIRED",
     "SPLITS",
     "floor_components",
     "generate_map",

@@ -30,6 +30,21 @@ MAX_SIZE = 12
 #: the fewest cooks each family needs (a split kitchen needs one cook per half)
 MIN_COOKS: dict[str, int] = {"open": 1, "split": 2, "corridor": 1, "switching": 1, "multiroom": 1}
 
+_T, _L, _O, _S = int(Cell.TOMATO), int(Cell.LETTUCE), int(Cell.ONION), int(Cell.STEAK)
+_BOARD, _PLATE, _DELIVERY = int(Cell.BOARD), int(Cell.PLATE), int(Cell.DELIVERY)
+_PAN, _TRASH, _SINK = int(Cell.PAN), int(Cell.TRASH), int(Cell.SINK)
+#: preset -> (station code, fewest, most) placed on its kitchens
+PRESET_STATIONS: dict[str, tuple[tuple[int, int, int], ...]] = {
+    "easy": ((_DELIVERY, 1, 1), (_BOARD, 1, 2), (_PLATE, 1, 2), (_T, 1, 1), (_L, 1, 1),
+             (_O, 1, 1)),
+}
+PRESET_STATIONS["medium"] = PRESET_STATIONS["easy"] + ((_PAN, 1, 1), (_S, 1, 1),
+                                                       (_TRASH, 1, 1))
+PRESET_STATIONS["hard"] = PRESET_STATIONS["medium"] + ((_SINK, 1, 1),)
+#: the stations :func:`.generate_checks.structure_problems` requires of a preset's kitchens
+REQUIRED: dict[str, frozenset[int]] = {p: frozenset(c for c, _, _ in s)
+                                       for p, s in PRESET_STATIONS.items()}
+
 
 class Retry(Exception):
     """This draw cannot be completed; the generator draws the next candidate."""
