@@ -62,7 +62,8 @@ def _summary(family: str, rows: list[dict[str, Any]]) -> dict[str, Any]:
             "by_model": {g: sum(p["granularity"] == g for p in ok) for g in ("stations", "cells")},
             "cooks": sorted({r["cooks"] for r in rows}),
             "sizes": sorted({f"{r['rows']}x{r['cols']}" for r in rows}),
-            "median_plan_length": sorted(p["plan_length"] for p in ok)[len(ok) // 2] if ok else None,
+            "median_plan_length": (sorted(p["plan_length"] for p in ok)[len(ok) // 2]
+                                   if ok else None),
             "planner_cpu_s_total": round(sum(p["cpu_time"] for p in proofs), 2)}
 
 

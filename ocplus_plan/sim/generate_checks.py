@@ -90,8 +90,9 @@ def lane_cells(grid: np.ndarray) -> list[tuple[int, int]]:
         for c in range(1, cols - 1):
             if not walk[r, c]:
                 continue
-            horizontal = walk[r, c - 1] and walk[r, c + 1] and not (walk[r - 1, c] or walk[r + 1, c])
-            vertical = walk[r - 1, c] and walk[r + 1, c] and not (walk[r, c - 1] or walk[r, c + 1])
+            across, along = walk[r, c - 1] and walk[r, c + 1], walk[r - 1, c] and walk[r + 1, c]
+            horizontal = across and not (walk[r - 1, c] or walk[r + 1, c])
+            vertical = along and not (walk[r, c - 1] or walk[r, c + 1])
             if horizontal or vertical:
                 out.append((r, c))
     return out
