@@ -5,9 +5,9 @@ train|test`` the kitchens of indices S .. S+N-1 of that split instead (the ones
 ``gen:F:SPLIT:INDEX`` names, with the same bytes). Sizes and cooks are drawn from each
 seed unless ``--rows``, ``--cols`` or ``--cooks`` fix them. With ``--prove`` (on by
 default when Fast Downward is installed) every kitchen must get a validated plan for one
-order with all its cooks, which the simulator follows (``ocplus_plan.planning.prove``); a kitchen that fails is
-replaced by the next candidate of its seed, and ``manifest.json`` lists what was replaced
-and why. The YAML files are the same bytes for the same arguments.
+order with all its cooks, which the simulator follows (``ocplus_plan.planning.prove``);
+a kitchen that fails is replaced by the next candidate of its seed, and ``manifest.json``
+lists what was replaced and why. The YAML files are the same bytes for the same arguments.
 """
 
 from __future__ import annotations
