@@ -115,3 +115,29 @@ def test_a_rule_given_twice_is_refused():
 def test_rules_and_horizon_that_disagree_are_refused(capsys):
     assert main(["rollout", "--preset", "easy", "--horizon", "9", "--rules", "horizon=7"]) == 2
     assert "give it once" in capsys.readouterr().err
+
+
+def test_eval_passes_rules_to_every_episode_and_records_them(tmp_path, capsys):
+    out = tmp_path / "e"
+    assert main(["eval", "--map", "gen:open:test:0", "--preset", "hard", "--n-agents", "2",
+                 "--rules", "dynamic=false", "--agents", "greedy", "--seeds", "2",
+                 "--horizon", "10", "--quiet", "--out", str(out), "--json"]) == 0
+    rows = [json.loads(line) for line in (out / "results.jsonl").read_text().splitlines()]
+    assert len(rows) == 2 and all(r["status"] == "ok" for r in rows)
+    assert all(r["rules"] == {"dynamic": False} and "dynamic=False" in r["key"] for r in rows)
+
+
+def test_eval_takes_the_horizon_from_its_own_option(tmp_path, capsys):
+    assert main(["eval", "--preset", "easy", "--rules", "horizon=3", "--agents", "greedy",
+                 "--seeds", "1", "--out", str(tmp_path / "e")]) == 2
+    assert "use --horizon" in capsys.readouterr().err
+
+
+def test_every_command_that_builds_rules_from_the_kitchen_options_takes_rules():
+    from ocplus_plan.cli import build_parser
+
+    parser = build_parser()
+    for command in ("rollout", "solve", "pddl", "play", "eval", "demo"):
+        args = parser.parse_args([command, "--rules", "cook_time=8", "--preset", "easy",
+                                  *(["--out", "x"] if command == "eval" else [])])
+        assert args.rules == ["cook_time=8"], command

@@ -34,7 +34,7 @@ class HelpFormatter(argparse.RawDescriptionHelpFormatter, argparse.ArgumentDefau
 def add_kitchen_args(p: argparse.ArgumentParser, *, sweep: bool = False, step: bool = False,
                      horizon: bool = True, presets: str = "easy,medium,hard",
                      seeds: str | None = "10", default_horizon: int | None = None,
-                     grid: bool = False) -> None:
+                     grid: bool = False, rules: bool = True) -> None:
     """``--preset --map --n-agents --seed`` and ``--horizon``.
 
     ``sweep``: ``--preset`` takes a comma-separated list (``--presets`` is the same
@@ -42,7 +42,8 @@ def add_kitchen_args(p: argparse.ArgumentParser, *, sweep: bool = False, step: b
     ``--seeds`` when ``seeds`` is None). ``grid`` (with ``sweep``): ``--map`` and
     ``--n-agents`` take comma-separated lists too, also spelt ``--maps`` and ``--cooks``
     (the command parses them: :func:`parse_int_list`). ``step`` adds ``--step`` (random
-    joint actions before compiling a state)."""
+    joint actions before compiling a state). ``rules``: offer ``--rules KEY=VALUE ...``
+    (the command passes them on: :func:`rules_from_args` or :func:`sweep_rules`)."""
     g = p.add_argument_group("kitchen")
     if sweep:
         g.add_argument("--preset", "--presets", dest="presets", default=presets,
@@ -68,9 +69,10 @@ def add_kitchen_args(p: argparse.ArgumentParser, *, sweep: bool = False, step: b
     if step:
         g.add_argument("--step", type=int, default=0,
                        help="random joint actions to take before compiling")
-    g.add_argument("--rules", nargs="+", action="extend", default=None, metavar="KEY=VALUE",
-                   help="rule overrides, e.g. dynamic=false cook_time=8 "
-                        f"(keys: {', '.join(RULE_KEYS)})")
+    if rules:
+        g.add_argument("--rules", nargs="+", action="extend", default=None,
+                       metavar="KEY=VALUE", help="rule overrides, e.g. dynamic=false "
+                       f"cook_time=8 (keys: {', '.join(RULE_KEYS)})")
 
 
 def parse_int_list(text: str, option: str) -> list[int]:
@@ -97,6 +99,16 @@ def rules_from_args(args: argparse.Namespace, **overrides: Any) -> Rules:
         raise ConfigError(f"--rules sets {', '.join(clash)}, which another option of this "
                           "command also sets; give it once")
     return make_rules(args.preset, map=args.map, **{**overrides, **given})
+
+
+def sweep_rules(args: argparse.Namespace) -> dict[str, Any]:
+    """``--rules`` of a command that runs many episodes (``eval``, ``demo``): its
+    ``--horizon`` is the one way to set the horizon there."""
+    given = parse_rule_overrides(getattr(args, "rules", None))
+    if "horizon" in given:
+        raise ConfigError("--rules horizon=...: use --horizon, the option this command "
+                          "records the horizon under")
+    return given
 
 
 def _rule_types() -> dict[str, str]:
