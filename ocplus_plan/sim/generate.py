@@ -228,7 +228,7 @@ def parse_gen_name(text: str) -> tuple[str, str, int, str]:
     family, split, index_text = parts[1:4]
     preset = parts[4] if len(parts) == 5 else "hard"
     if family not in BUILDERS or split not in SPLITS or preset not in PRESET_STATIONS \
-            or not index_text.isdigit():
+            or not (index_text.isascii() and index_text.isdigit()):
         raise MapFormatError(f"map {text!r}: {usage}")
     return family, split, int(index_text), preset
 

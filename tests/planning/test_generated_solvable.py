@@ -50,3 +50,14 @@ def test_generate_prove_records_the_proof_in_the_manifest(tmp_path):
                  "--cooks", "2", "--prove", "--quiet", "--out", str(out)]) == 0
     kitchen = json.loads((out / "manifest.json").read_text())["kitchens"][0]
     assert kitchen["proof"]["ok"] and (out / kitchen["file"]).is_file()
+
+
+def test_a_kitchen_whose_proof_fails_is_replaced_then_given_up_in_the_manifest(tmp_path):
+    out = tmp_path / "k"
+    assert main(["generate", "--family", "open", "--n", "1", "--rows", "5", "--cols", "5",
+                 "--cooks", "1", "--prove", "--timeout", "0.001", "--candidates", "2",
+                 "--quiet", "--out", str(out)]) == 0
+    kitchen = json.loads((out / "manifest.json").read_text())["kitchens"][0]
+    assert kitchen["failed"] is True and not (out / kitchen["file"]).exists()
+    assert [r["candidate"] for r in kitchen["replaced"]] == [0, 1]
+    assert all("timeout" in r["reason"] for r in kitchen["replaced"])
