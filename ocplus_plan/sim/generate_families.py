@@ -177,7 +177,7 @@ def build_multiroom(rng: np.random.Generator, rows: int, cols: int, cooks: int,
     """Two to four rooms behind counter walls with one-cell doors; the window and the
     boards are in different rooms."""
     grid = _box(rows, cols)
-    wall = int(rng.integers(3, cols - 3 + 1))  # rooms at least two columns wide
+    wall = int(rng.integers(3, cols - 4 + 1))  # rooms at least two columns wide
     grid[1:-1, wall] = int(Cell.COUNTER)
     doors: set[Rc] = set()
     spans = {"w": range(1, wall), "e": range(wall + 1, cols - 1)}
@@ -185,7 +185,7 @@ def build_multiroom(rng: np.random.Generator, rows: int, cols: int, cooks: int,
     for side, span in spans.items():
         cut = None
         if rows >= 7 and rng.random() < 0.7:
-            cut = int(rng.integers(3, rows - 3 + 1))
+            cut = int(rng.integers(3, rows - 4 + 1))  # rooms at least two rows tall
             grid[cut, span.start:span.stop] = int(Cell.COUNTER)
             d = (cut, int(rng.integers(span.start, span.stop)))
             grid[d] = int(Cell.FLOOR)
