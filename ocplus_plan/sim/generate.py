@@ -2,7 +2,7 @@
 
 :func:`generate_map` returns the map dict that :func:`.maps.load_map` accepts (the YAML
 file's keys); :func:`map_to_yaml` writes it. The same arguments give the same bytes: every
-draw comes from a ``numpy.random.Generator`` seeded by (family, seed, candidate), and
+draw comes from a ``numpy.random.Generator`` seeded by (family, seed, draw number), and
 nothing iterates over an unordered collection.
 
 Families (:mod:`.generate_families` draws their walls):
