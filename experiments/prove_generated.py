@@ -81,6 +81,7 @@ def main() -> None:
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--split", default="test", choices=("train", "test"))
     ap.add_argument("--n", type=int, default=20, help="kitchens per family")
+    ap.add_argument("--first", type=int, default=0, help="first index of the split")
     ap.add_argument("--families", default=",".join(FAMILIES))
     ap.add_argument("--candidates", type=int, default=5)
     ap.add_argument("--timeout", type=float, default=60.0)
@@ -105,7 +106,7 @@ def main() -> None:
     if not args.no_prove:
         for family in args.families.split(","):
             rows = []
-            for index in range(args.n):
+            for index in range(args.first, args.first + args.n):
                 row = _prove(family, args.split, index, args.candidates, args.timeout)
                 rows.append(row)
                 emit(row)
