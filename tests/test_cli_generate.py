@@ -141,3 +141,13 @@ def test_every_command_that_builds_rules_from_the_kitchen_options_takes_rules():
         args = parser.parse_args([command, "--rules", "cook_time=8", "--preset", "easy",
                                   *(["--out", "x"] if command == "eval" else [])])
         assert args.rules == ["cook_time=8"], command
+
+
+def test_a_split_kitchen_replaced_after_its_proof_is_the_one_its_name_loads(tmp_path):
+    out = tmp_path / "m"
+    assert main(["generate", "--family", "multiroom", "--split", "test", "--seed", "5",
+                 "--n", "1", "--no-prove", "--quiet", "--out", str(out)]) == 0
+    written = (out / "multiroom-test-0005.yaml").read_text()
+    assert written == map_to_yaml(map_from_name("gen:multiroom:test:5"))
+    kitchen = json.loads((out / "manifest.json").read_text())["kitchens"][0]
+    assert kitchen["candidate"] == 1 and kitchen["replaced"][0]["candidate"] == 0

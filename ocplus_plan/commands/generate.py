@@ -22,6 +22,7 @@ from ..sim.generate import (
     FAMILIES,
     PRESET_STATIONS,
     SPLITS,
+    first_candidate,
     generate_map,
     map_to_yaml,
     split_seed,
@@ -86,13 +87,21 @@ def _check(args: argparse.Namespace) -> None:
 
 
 def _one_kitchen(args: argparse.Namespace, seed: int, stem: str, name: str, prove: bool,
-                 out: Path) -> dict[str, Any]:
-    """Draw (and prove) one kitchen; write its file; its manifest entry."""
+                 out: Path, index: int) -> dict[str, Any]:
+    """Draw (and prove) one kitchen; write its file; its manifest entry. A split's kitchen
+    starts from the candidate its ``gen:`` name loads (``first_candidate``)."""
     entry: dict[str, Any] = {"file": f"{stem}.yaml", "seed": seed, "replaced": []}
-    for candidate in range(args.candidates):
+    if args.split is not None:
+        entry.update(split=args.split, index=index)
+    first = (first_candidate(args.family, args.split, entry["index"], args.stations)
+             if args.split is not None and (args.rows, args.cols, args.cooks) == (None,) * 3
+             else 0)
+    entry["replaced"] += [{"candidate": c, "reason": "failed its proof when the split was "
+                           "measured (sim.generate.PROOF_REPLACEMENTS)"} for c in range(first)]
+    for candidate in range(first, first + args.candidates):
         spec = generate_map(args.family, seed, rows=args.rows, cols=args.cols,
                             cooks=args.cooks, preset=args.stations, candidate=candidate,
-                            name=name if not candidate else f"{name} (candidate {candidate})")
+                            name=name if candidate == first else f"{name} (candidate {candidate})")
         layout = load_map(spec, source=stem)
         entry.update(candidate=candidate, rows=layout.rows, cols=layout.cols,
                      cooks=layout.max_agents, dynamic=layout.is_dynamic)
@@ -128,9 +137,7 @@ def run(args: argparse.Namespace) -> int:
         else:
             seed, stem = index, f"{args.family}-seed{index:06d}"
             name = f"gen-{args.family}-{index}"
-        entry = _one_kitchen(args, seed, stem, name, prove, out)
-        if args.split is not None:
-            entry.update(split=args.split, index=index)
+        entry = _one_kitchen(args, seed, stem, name, prove, out, index)
         kitchens.append(entry)
         status = ("given up" if entry.get("failed") else
                   "proven" if prove else "written, not proven")

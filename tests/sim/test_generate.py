@@ -197,3 +197,12 @@ def test_bad_generator_arguments_are_refused(kwargs, match):
     family = args.pop("family")
     with pytest.raises(ConfigError, match=match):
         generate_map(family, **args)
+
+
+def test_a_gen_name_listed_as_replaced_loads_its_proven_candidate():
+    from ocplus_plan.sim.generate import PROOF_REPLACEMENTS
+
+    (family, split, index), candidate = next(iter(PROOF_REPLACEMENTS.items()))
+    loaded = map_from_name(f"gen:{family}:{split}:{index}")
+    expected = generate_map(family, split_seed(split, index), candidate=candidate)
+    assert loaded["game_map"] == expected["game_map"]
