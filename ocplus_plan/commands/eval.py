@@ -21,7 +21,15 @@ from pathlib import Path
 from typing import Any
 
 from ..eval.runner import BACKENDS, EvalConfig, parse_list, parse_seeds, run_eval
-from ._common import HelpFormatter, add_kitchen_args, add_output_args, emit, note, say
+from ._common import (
+    HelpFormatter,
+    add_kitchen_args,
+    add_output_args,
+    emit,
+    note,
+    say,
+    sweep_rules,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -75,6 +83,7 @@ def run_sweep(args: argparse.Namespace, *, agents: str, out: Path, plots: bool) 
         jobs=args.jobs, backend=args.backend, address=args.address, retries=args.retries,
         resume=args.resume, episode_timeout=args.episode_timeout, plots=plots,
         quiet=args.quiet, replay_seeds=_replay_seeds(args.save_replays),
+        rules=sweep_rules(args),
     )
     say(args, f"ocplus {args.command}: presets {', '.join(cfg.presets)}; agents "
               f"{', '.join(cfg.agents)}; {len(seeds)} seed(s); {cfg.horizon} steps; "

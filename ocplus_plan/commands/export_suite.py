@@ -29,7 +29,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("export-suite", help="write an instance set (PDDL, English, reference "
                        "plans, bounds) for outside planners and language models",
                        description=__doc__, formatter_class=HelpFormatter)
-    add_kitchen_args(p, sweep=True, grid=True, seeds=None, horizon=False, presets="easy")
+    add_kitchen_args(p, sweep=True, grid=True, seeds=None, horizon=False, presets="easy",
+                     rules=False)
     p.add_argument("--states", type=int, default=1, help="sampled states per preset, map "
                    "and number of cooks")
     p.add_argument("--max-steps", type=int, default=120,

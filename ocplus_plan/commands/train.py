@@ -23,7 +23,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                "(one shared policy drives every cook; the summary is printed as JSON with or "
                "without --json)",
     )
-    add_kitchen_args(p, horizon=False)
+    add_kitchen_args(p, horizon=False, rules=False)
     p.add_argument("--steps", type=int, default=300_000,
                    help="training agent-steps (one per agent per kitchen step)")
     g = p.add_argument_group("learning")

@@ -67,11 +67,14 @@ class EpisodeSpec:
     seed: int
     horizon: int
     replay_path: str | None = None  # where to save this episode's recording, if chosen
+    rules: tuple[tuple[str, Any], ...] = ()  # rule overrides (``--rules``), sorted by key
 
     def row_base(self) -> dict[str, Any]:
         d = {"preset": self.preset, "map": self.map, "n_agents": self.n_agents,
              "agent": self.agent, "seed": self.seed, "horizon": self.horizon}
-        d["key"] = episode_key(d)
+        d["key"] = episode_key(d) + "".join(f"|{k}={v}" for k, v in self.rules)
+        if self.rules:
+            d["rules"] = dict(self.rules)
         if self.map_spec is not None:
             d["map_source"] = str(self.map_spec)
         return d
@@ -98,6 +101,7 @@ class EvalConfig:
     quiet: bool = False
     replay_seeds: list[int] = field(default_factory=list)  # episodes to save as replays
     extra: dict[str, Any] = field(default_factory=dict)
+    rules: dict[str, Any] = field(default_factory=dict)  # rule overrides (``--rules``)
 
 
 @dataclass
@@ -206,7 +210,7 @@ def evaluate_episode(spec: EpisodeSpec) -> dict[str, Any]:
     row = spec.row_base()
     row["worker"] = {"node": platform.node(), "pid": os.getpid()}
     t_start = time.perf_counter()
-    kw: dict[str, Any] = {"horizon": spec.horizon, "n_agents": spec.n_agents}
+    kw: dict[str, Any] = {"horizon": spec.horizon, "n_agents": spec.n_agents, **dict(spec.rules)}
     rules = make_rules(spec.preset, map=spec.map_spec, **kw)
     state = new_state(rules, spec.seed)
     log = EpisodeLog(state.geo.rows, state.geo.cols, state.n_agents, list(state.agent_pos))
@@ -296,7 +300,7 @@ def plan_episodes(cfg: EvalConfig) -> tuple[list[EpisodeSpec], list[dict[str, An
     check_backend(cfg)
     kitchens = []
     for preset in cfg.presets:
-        kw: dict[str, Any] = {"horizon": cfg.horizon}
+        kw: dict[str, Any] = {"horizon": cfg.horizon, **cfg.rules}
         if cfg.n_agents is not None:
             kw["n_agents"] = cfg.n_agents
         rules = make_rules(preset, map=cfg.map, **kw)
@@ -307,14 +311,16 @@ def plan_episodes(cfg: EvalConfig) -> tuple[list[EpisodeSpec], list[dict[str, An
         for agent in cfg.agents:
             reason = skip_reason[agent] or _kitchen_unavailable(agent, preset, n_agents)
             if reason:
-                base = EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, -1, cfg.horizon)
+                base = EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, -1, cfg.horizon,
+                                   rules=tuple(sorted(cfg.rules.items())))
                 row = base.row_base()
                 row.update(seed=None, status="skipped", reason=reason)
                 row["key"] = episode_key(row)
                 skipped.append(row)
                 continue
             for seed in cfg.seeds:
-                spec = EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, seed, cfg.horizon)
+                spec = EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, seed, cfg.horizon,
+                                   rules=tuple(sorted(cfg.rules.items())))
                 if seed in cfg.replay_seeds:
                     name = re.sub(r"[^A-Za-z0-9_.-]+", "_", spec.row_base()["key"])
                     path = cfg.out / "replays" / f"{name}.jsonl.gz"
