@@ -143,7 +143,8 @@ def reference_plan(compiled: Any, state: State, planners: tuple[str, ...], timeo
     best faithful plan (lowest cost, classical; shortest makespan, temporal; ties to the
     planner listed first), else the best unfaithful one, flagged ``faithful: false``.
     With ``fallback``, when none of them solves the problem, every other registered
-    planner of the encoding that is installed here is tried in name order until one does:
+    planner of the encoding that is installed here is tried (the default portfolio first,
+    then the others in name order) until one does:
     an instance gets no reference only when no registered engine solves it. ``optimal``
     says whether the reference's value is proven optimal (an optimal planner found a plan
     of the same value)."""
@@ -154,8 +155,12 @@ def reference_plan(compiled: Any, state: State, planners: tuple[str, ...], timeo
     rows: list[dict[str, Any]] = []
     optimum: float | None = None
     names = list(planners)
-    extra = [n for n in available_planners(compiled.encoding) if n not in names] \
+    # the fallback: the default portfolio first, then every other installed planner by name
+    default = list(REFERENCE_PLANNERS.get(compiled.encoding, ()))
+    installed = available_planners(compiled.encoding)
+    extra = [n for n in default + installed if n not in names and n in installed] \
         if fallback else []
+    extra = list(dict.fromkeys(extra))
     for rank, name in enumerate(names + extra):
         if rank >= len(names) and found:
             break
