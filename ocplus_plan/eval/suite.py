@@ -166,7 +166,8 @@ def reference_plan(compiled: Any, state: State, planners: tuple[str, ...], timeo
             break
         result, replay, row = _try_planner(compiled, state, name, timeout, wall_limit)
         rows.append(row)
-        portfolio[name] = {k: row[k] for k in ("status", "value", "faithful", "optimal")}
+        portfolio[row["planner"]] = {k: row[k] for k in ("status", "value", "faithful",
+                                                         "optimal")}
         if replay is None:
             continue
         value = row["value"]
@@ -199,7 +200,7 @@ def _try_planner(compiled: Any, state: State, name: str, timeout: float,
     result = solve(compiled.problem, name, timeout=timeout, wall_limit=wall_limit)
     ok = result.solved and result.validated is True
     row: dict[str, Any] = {
-        "planner": name, "status": result.status if ok or not result.solved
+        "planner": result.planner, "status": result.status if ok or not result.solved
         else "not validated", "planning_time": result.planning_time,
         "cpu_time": result.cpu_time, "reason": result.reason[:200], "value": None,
         "faithful": None, "optimal": False}
