@@ -63,6 +63,8 @@ class Outcome:
     cpu_time: float | None = None
     #: which limit stopped a ``timeout``: "cpu" or "wall" (None otherwise)
     limit: str | None = None
+    #: every process group of the call (the child's first), all killed before the return
+    groups: tuple[int, ...] = ()
 
 
 def _watch_parent(parent_pid: int, private: str) -> None:
@@ -71,6 +73,11 @@ def _watch_parent(parent_pid: int, private: str) -> None:
     while True:
         if os.getppid() != parent_pid:
             me = os.getpid()
+            for group in descendant_groups(me) - {os.getpgid(0)}:  # planners' own sessions
+                try:
+                    os.killpg(group, signal.SIGKILL)
+                except OSError:
+                    pass
             for pid in group_members(os.getpgid(0)):  # first the others: no new files
                 if pid != me:
                     try:
@@ -159,15 +166,61 @@ def group_cpu_seconds(pgid: int, exclude: tuple[int, ...] = ()) -> float:
 def group_tree_cpu_seconds(pgid: int) -> float:
     """CPU seconds (user + system) of group ``pgid`` as a whole: every member's own time
     plus the time of the children it has reaped (which were members too, so nothing is
-    counted twice). This is the number :func:`run_isolated`'s CPU limit compares."""
+    counted twice)."""
+    return tree_cpu_seconds(pgid, {pgid})
+
+
+def tree_cpu_seconds(leader: int, groups: set[int]) -> float:
+    """CPU seconds (user + system) of the process groups in ``groups``, after adding to
+    it the groups of every live descendant of ``leader``: the number
+    :func:`run_isolated`'s CPU limit compares.
+
+    unified-planning starts the planners it runs as programs (Fast Downward, SymK, ENHSP,
+    LPG) in a session of their own, so their processes leave the child's group; they are
+    still its descendants, and their groups are followed (and killed) too. Each member's
+    own time is counted with the time of the children it has reaped (members too, so
+    nothing is counted twice); one pass over the process table."""
+    members: list[tuple[psutil.Process, int]] = []
+    kids: dict[int, list[int]] = {}
+    pgids: dict[int, int] = {}
+    for proc in psutil.process_iter(["ppid"]):
+        try:
+            pgid = os.getpgid(proc.pid)
+        except OSError:  # gone (ProcessLookupError) or not ours to ask
+            continue
+        pgids[proc.pid] = pgid
+        kids.setdefault(proc.info["ppid"], []).append(proc.pid)
+        members.append((proc, pgid))
+    todo = list(kids.get(leader, ()))
+    while todo:
+        pid = todo.pop()
+        groups.add(pgids[pid])
+        todo.extend(kids.get(pid, ()))
     total = 0.0
-    for proc in _group_processes(pgid):
+    for proc, pgid in members:
+        if pgid not in groups:
+            continue
         try:
             times = proc.cpu_times()
         except psutil.Error:  # reaped in between: its time went to its parent's children
             continue
         total += times.user + times.system + times.children_user + times.children_system
     return total
+
+
+def descendant_groups(pid: int) -> set[int]:
+    """The process groups of the live descendants of ``pid`` (its own excluded)."""
+    out = set()
+    try:
+        children = psutil.Process(pid).children(recursive=True)
+    except psutil.Error:
+        return out
+    for child in children:
+        try:
+            out.add(os.getpgid(child.pid))
+        except OSError:
+            continue
+    return out
 
 
 def kill_group(pgid: int, wait: float = 2.0) -> bool:
@@ -218,20 +271,26 @@ def _run_child(fn: Callable[..., Any], args: tuple[Any, ...], hard_limit: float 
         os.setpgid(pgid, pgid)  # also done by the child: whoever runs first wins the race
     except OSError:
         pass
+    groups = {pgid}  # the child's group and those of the planners it starts (see above)
     try:
-        kind, value, used, limit = _wait(recv, proc, pgid, start, hard_limit, cpu_limit)
+        kind, value, used, limit = _wait(recv, proc, groups, start, hard_limit, cpu_limit)
         wall = time.perf_counter() - start
     finally:
+        groups |= descendant_groups(pgid)
+        for group in sorted(groups - {pgid}):  # the planners first, then the child
+            kill_group(group)
         kill_group(pgid)
         proc.join(2.0)
         recv.close()
-    return Outcome(kind, value, wall, pgid, _read_tail(log_path), used, limit)
+    return Outcome(kind, value, wall, pgid, _read_tail(log_path), used, limit,
+                   (pgid, *sorted(groups - {pgid})))
 
 
-def _wait(recv: Any, proc: Any, pgid: int, start: float, hard_limit: float | None,
+def _wait(recv: Any, proc: Any, groups: set[int], start: float, hard_limit: float | None,
           cpu_limit: float | None) -> tuple[str, Any, float | None, str | None]:
-    """Wait for the child's report, sampling the group's CPU seconds when a CPU limit is
-    set: (kind, value, CPU seconds at the last sample, the limit that stopped it)."""
+    """Wait for the child's report, sampling the CPU seconds of its process tree's groups
+    (``groups`` grows as planners start in groups of their own) when a CPU limit is set:
+    (kind, value, CPU seconds at the last sample, the limit that stopped it)."""
     deadline = float("inf") if hard_limit is None else start + hard_limit
     used: float | None = None if cpu_limit is None else 0.0
     cores = max(1, os.cpu_count() or 1)
@@ -251,7 +310,7 @@ def _wait(recv: Any, proc: Any, pgid: int, start: float, hard_limit: float | Non
                 kind, value = CRASHED, _death_reason(proc.exitcode)
             return kind, value, used, None
         if cpu_limit is not None:
-            used = group_tree_cpu_seconds(pgid)
+            used = tree_cpu_seconds(proc.pid, groups)
             if used >= cpu_limit:
                 return (TIMEOUT, f"stopped at the CPU limit of {cpu_limit:g} s "
                         f"({used:.2f} CPU s used in {time.perf_counter() - start:.2f} s)",

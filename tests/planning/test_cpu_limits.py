@@ -163,3 +163,33 @@ def test_fast_downward_gives_the_same_plan_beside_busy_processes() -> None:
     assert alone.status == loaded.status == "solved", (alone.reason, loaded.reason)
     assert alone.steps == loaded.steps and alone.cost == loaded.cost
     assert loaded.cpu_time is not None and loaded.cpu_time < 20
+
+
+def _spin_in_own_session() -> None:
+    """Start a spinning grandchild in a session of its own (as unified-planning starts
+    Fast Downward) and wait for it."""
+    import subprocess
+
+    subprocess.run([sys.executable, "-c", "while True: pass"], start_new_session=True,
+                   check=False)
+
+
+def test_a_planner_in_a_session_of_its_own_is_counted_and_killed() -> None:
+    outcome = _proc.run_isolated(_spin_in_own_session, (), hard_limit=120, cpu_limit=1.0)
+    assert outcome.kind == _proc.TIMEOUT and outcome.limit == "cpu", outcome.value
+    assert len(outcome.groups) == 2 and outcome.groups[0] == outcome.pgid
+    assert not any(_proc.group_alive(g) for g in outcome.groups)
+
+
+def test_fast_downwards_search_is_stopped_at_the_cpu_limit() -> None:
+    """BJOLP on medium with two cooks needs far more than 2 CPU seconds; Fast Downward runs
+    in a session of its own, whose CPU seconds count."""
+    _require("fast-downward-bjolp")
+    from ocplus_plan.planning import compile
+    from ocplus_plan.sim import make_rules, new_state
+
+    problem = compile(new_state(make_rules("medium", n_agents=2), 0), max_orders=1).problem
+    result = solve(problem, "fast-downward-bjolp", timeout=2.0)
+    assert result.status == "timeout" and result.limit_hit == "cpu", result.reason
+    assert result.cpu_time is not None and 2.0 <= result.cpu_time < 4.0
+    assert result.planning_time < wall_safety(2.0)
