@@ -140,8 +140,8 @@ def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False,
                             "per planner call" + (" (None: the planner's configured limit)"
                                                   if limits is None else ""))
         p.add_argument("--wall-limit", type=float, default=None,
-                       help="wall-clock safety per planner call, in seconds (None: 5 x "
-                            "--timeout + 30)")
+                       help="wall-clock safety per planner call, in seconds (None: 10 x "
+                            "--timeout + 60)")
     if many:
         p.add_argument("--encoding", "--encodings", dest="encoding", default=",".join(ENCODINGS),
                        help=f"comma-separated encodings ({' | '.join(ENCODINGS)})")
