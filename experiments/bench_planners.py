@@ -7,9 +7,10 @@ For the initial state of each preset with 1 and 2 agents, for every seed of ``--
   runs, for both encodings at the stations granularity (target: < 5 ms);
 * ``solve``: every planner of ``--planners`` (default: every registered planner that is
   installed here) on the encoding it is registered for (stations granularity), the
-  goal being the first ``--orders`` open orders, with a time limit of ``--timeout``
-  seconds or the planner's own if smaller (an anytime planner's budget). Reports the status, the planning time (wall, including the process
-  start), the plan length, the cost (classical: steps of the sequential plan) or the
+  goal being the first ``--orders`` open orders, with a limit of ``--timeout`` CPU
+  seconds (the planner's process group, as the IPC counts them) or the planner's own if
+  smaller (an anytime planner's budget). Reports the status, the planning time (wall,
+  including the process start) and CPU time, the plan length, the cost (classical: steps of the sequential plan) or the
   makespan (temporal), validation, and beside the plan's quality (``value``: cost
   for a classical planner, makespan for a temporal one) the lower bound of
   :func:`ocplus_plan.eval.bounds.plan_bound` for the same state, orders and cooks
@@ -214,7 +215,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--planners", default="available",
                    help="comma list of registry names, 'available' (installed here) or 'all'")
     p.add_argument("--timeout", type=float, default=10.0,
-                   help="seconds per solve (at most; a planner's own smaller limit wins)")
+                   help="CPU seconds per solve (at most; a planner's own smaller limit wins)")
     p.add_argument("--orders", type=int, default=1, help="serve the first k orders")
     p.add_argument("--granularity", default="stations", choices=("stations", "cells"))
     p.add_argument("--compile-runs", type=int, default=50, help="0: skip the compile timing")

@@ -152,7 +152,9 @@ def compile_and_solve(
                                      anticipate_switches=anticipate_switches, agents=modelled)
         except CompileError as exc:
             return None, f"compile: {exc}"
-        return compiled, solve(compiled.problem, planner, timeout=timeout, validate=validate)
+        result = solve(compiled.problem, planner, timeout=timeout, validate=validate)
+        cpu_seconds[0] += result.cpu_time or 0.0
+        return compiled, result
 
     def chained(compiled: Any, plan: Any, state: State,
                 agents: tuple[int, ...]) -> list[tuple[list[Entry], tuple[int, ...]]]:
@@ -227,6 +229,8 @@ def compile_and_solve(
             outcome = PlanOutcome(result.status, [], time.perf_counter() - t0, result.reason)
         return outcome
 
+    cpu_seconds = [0.0]  # the CPU seconds of every planner call (PlannerAgent.info)
+    plan.cpu_seconds = cpu_seconds  # type: ignore[attr-defined]
     return plan
 
 
@@ -311,7 +315,9 @@ class PlannerAgent(Controller):
 
     def info(self) -> dict[str, object]:
         return {"planner": self.planner_name, "encoding": self.encoding,
-                "granularity": self.granularity, **self.executive.info()}
+                "granularity": self.granularity, **self.executive.info(),
+                **({"planning_cpu_s": round(cpu[0], 4)} if (cpu := getattr(
+                    self.executive.planner, "cpu_seconds", None)) else {})}
 
 
 #: the fourth field of ``planner:NAME:GRANULARITY:POLICY:OPTIONS`` (options joined by '+')
