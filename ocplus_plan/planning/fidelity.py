@@ -9,27 +9,23 @@ to respawn), its state (fresh / ready / burnt / clean / dirty), where each agent
 stands, and the number of steps the action took against its modelled cost. At the
 end the served orders must agree. The first disagreement ends the replay and is
 reported with the action that caused it. Temporal plans are replayed time-triggered
-by :mod:`.fidelity_temporal`, which shares the comparison (:class:`_ModelView`).
+by :mod:`.fidelity_temporal`, which shares the comparison (:class:`ModelView`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from ..sim import make_rules, new_state, transition
-from ..sim.codes import Action, ItemState, Where
+from ..sim.codes import Action
 from ..sim.queries import direction, distances, walk_actions, walk_to, walks
 from ..sim.state import State
 from .compile import Compiled
+from .fidelity_temporal import replay_temporal
+from .fidelity_view import ModelView, Replay, failed
 from .names import MappedAction
-
-_STATE_FLAG = {ItemState.FRESH: "fresh", ItemState.CHOPPED: "ready", ItemState.COOKED: "ready",
-               ItemState.BURNT: "burnt", ItemState.CLEAN: "clean", ItemState.DIRTY: "dirty"}
-_FLAGS = ("fresh", "ready", "burnt", "clean", "dirty")
-
 
 def sample_states(preset: str, n: int, seed: int = 0, max_steps: int = 120,
                   **rule_overrides: Any) -> list[State]:
@@ -51,22 +47,6 @@ def sample_state(rules: Any, seed: int, k: int, max_steps: int = 120) -> State:
     for _ in range(int(rng.integers(0, max_steps + 1))):
         transition(state, rng.integers(0, 5, size=rules.n_agents).tolist())
     return state
-
-
-@dataclass
-class Replay:
-    """The outcome of replaying one plan."""
-
-    ok: bool
-    steps: int = 0
-    actions: int = 0
-    mismatch: str = ""
-    category: str = ""
-    served: list[int] = field(default_factory=list)
-    #: the plan runs past the episode's horizon and was checked up to it only
-    outlasted: bool = False
-    #: the simulator state the replay ends in (temporal replays that agree to the end)
-    final: State | None = None
 
 
 class _World:
@@ -150,103 +130,6 @@ class _World:
         return walk_actions(geo.neighbors, walk, st.agent_pos[agent], goal, others)
 
 
-class _ModelView:
-    """Reads item and agent facts out of a UP state of a compiled problem."""
-
-    def __init__(self, compiled: Compiled) -> None:
-        problem = compiled.problem
-        names = compiled.names
-        fl = {f.name: f for f in problem.fluents}
-        obj = problem.object
-        self.items = {name: i for name, i in names.items.items()}
-        places = [n for n, c in names.cells.items() if not n.startswith("s_")]
-        spots = [n for n in names.cells if n.startswith("s_")]
-        plates = [n for n in names.items if n.startswith("plate")]
-        self.where: dict[str, list[tuple[Any, tuple[str, Any]]]] = {}
-        for item in self.items:
-            cands = [(fl["holding"](obj(a), obj(item)), ("hand", names.agents[a]))
-                     for a in names.agents]
-            for p in places:
-                cell = names.cells[p]
-                cands.append((fl["item_at"](obj(item), obj(p)), ("cell", cell)))
-                cands.append((fl["cooking_on"](obj(item), obj(p)), ("cell", cell)))
-                cands.append((fl["on_heat"](obj(item), obj(p)), ("cell", cell)))
-            for q in plates:
-                if q != item:
-                    cands.append((fl["on_plate"](obj(item), obj(q)), ("plate", names.items[q])))
-            # temporal: a steak taken off the pan, in the hand once pan_take_done ends
-            cands.extend((fl["lifting"](obj(a), obj(item), obj(p)), ("hand", names.agents[a]))
-                         for a in names.agents for p in places)
-            cands.append((fl["waiting"](obj(item)), ("waiting", None)))
-            self.where[item] = cands
-        self.flags = {item: [(fl[f](obj(item)), f) for f in _FLAGS] for item in self.items}
-        self.cooking = {item: [fl["cooking_on"](obj(item), obj(p)) for p in places]
-                        for item in self.items}
-        # temporal: a steak on a pan at compile time, cooked inside ``window`` and burnt
-        # once ``overdone`` (timed initial literals)
-        self.heating = {item: ([fl["on_heat"](obj(item), obj(p)) for p in places],
-                               fl["window"](obj(item)), fl["overdone"](obj(item)))
-                        for item in self.items}
-        self.agents = {a: [(fl["agent_at"](obj(a), obj(s)), names.cells[s]) for s in spots]
-                       for a in names.agents}
-        self.names = names
-        self.served = {o: fl["served"](obj(o)) for o in names.orders if names.orders[o] >= 0}
-
-    def diff(self, up_state: Any, state: State, doomed: frozenset[int],
-             skip_items: frozenset[str] = frozenset(),
-             skip_agents: frozenset[str] = frozenset()) -> str:
-        """The first disagreement between the model state and the simulator, or ''.
-
-        ``skip_items`` / ``skip_agents`` (object names) are left out: the temporal
-        replay passes the parameters of the actions in progress."""
-        def true(expr: Any) -> bool:
-            return bool(up_state.get_value(expr).bool_constant_value())
-
-        for item, i in self.items.items():
-            if item in skip_items:
-                continue
-            model_where = [tag for expr, tag in self.where[item] if true(expr)]
-            sim_where = _sim_where(state, i)
-            if model_where != [sim_where]:
-                return f"{item}: model says {model_where}, simulator says {sim_where}"
-            sim_flag = _STATE_FLAG[ItemState(state.item_state[i])]
-            if any(true(e) for e in self.cooking[item]):
-                if sim_flag == "burnt" and i not in doomed:
-                    return f"{item}: burnt in the simulator while the model cooks it"
-                continue
-            if i in doomed:
-                continue
-            heat, window, overdone = self.heating[item]
-            if any(true(e) for e in heat):
-                expected = "burnt" if true(overdone) else "ready" if true(window) else "fresh"
-                if sim_flag != expected:
-                    return (f"{item} on the pan: model (timed literals) says {expected}, "
-                            f"simulator state {sim_flag}")
-                continue
-            model_flags = [f for expr, f in self.flags[item] if true(expr)]
-            if model_flags != [sim_flag]:
-                return f"{item}: model state {model_flags}, simulator state {sim_flag}"
-        for a, cands in self.agents.items():
-            if a in skip_agents:
-                continue
-            at = [cell for expr, cell in cands if true(expr)]
-            sim = state.agent_rc(self.names.agents[a])
-            if at != [sim]:
-                return f"{a}: model at {at}, simulator at {sim}"
-        return ""
-
-
-def _sim_where(state: State, i: int) -> tuple[str, Any]:
-    where, loc = state.item_where[i], state.item_loc[i]
-    if where == Where.HAND:
-        return ("hand", loc)
-    if where == Where.PLATE:
-        return ("plate", loc)
-    if where == Where.WAITING:
-        return ("waiting", None)
-    return ("cell", state.geo.rc(loc))
-
-
 def advance(compiled: Compiled, plan: Any, state: State, freeze_layout: bool = False) -> State | None:
     """The state a plan leaves: a sequential plan's steps run in a copy of ``state`` as in a
     replay (the acting cook walks a shortest free path and bumps; the others stay, or are
@@ -260,8 +143,6 @@ def advance(compiled: Compiled, plan: Any, state: State, freeze_layout: bool = F
     model does); the state returned has the real rules back, and its layout is the current
     one: a prediction of where the items will be, not of the layout then."""
     if hasattr(plan, "timed_actions"):
-        from .fidelity_temporal import replay_temporal
-
         result = replay_temporal(compiled, plan, state, freeze_layout=freeze_layout)
         final = result.final if result.ok else None
     else:
@@ -299,7 +180,7 @@ def replay(compiled: Compiled, plan: Any, state: State, freeze_layout: bool = Fa
     if freeze_layout and copy.rules.dynamic:
         copy.rules = with_overrides(copy.rules, dynamic=False)
     world = _World(copy)
-    view = _ModelView(compiled)
+    view = ModelView(compiled)
     out = Replay(ok=True)
     # steaks the model calls burnt while the simulator may still be cooking them: doomed at
     # compile time, or abandoned by the plan (classical); they burn on the pan in due course
@@ -319,37 +200,32 @@ def replay(compiled: Compiled, plan: Any, state: State, freeze_layout: bool = Fa
             out.actions = index + 1
             up_state = sim.apply(up_state, ai)
             if up_state is None:
-                return _fail(out, f"{ai}: not applicable in the model", "model")
+                return failed(out, f"{ai}: not applicable in the model", "model")
             events = world.events[before:]
             kinds = {e.kind for e in events}
             switched = "layout_switch" in {e.kind for e in world.events}
             category = "layout_switch" if switched else "effect"
             if trouble:
-                return _fail(out, f"{ai}: {trouble}", "blocked" if not switched else category)
+                return failed(out, f"{ai}: {trouble}", "blocked" if not switched else category)
             if any(e.kind == "burnt" and e.item not in doomed for e in events):
-                return _fail(out, f"{ai}: a steak burnt in the simulator", category)
+                return failed(out, f"{ai}: a steak burnt in the simulator", category)
             bad = kinds & {"wrong_delivery", "move_blocked"}
             if bad:
-                return _fail(out, f"{ai}: simulator events {sorted(bad)}", category)
+                return failed(out, f"{ai}: simulator events {sorted(bad)}", category)
             problem = view.diff(up_state, world.state, frozenset(doomed))
             if problem:
-                return _fail(out, f"{ai}: {problem}", category)
+                return failed(out, f"{ai}: {problem}", category)
             if step.kind == "trash":
                 doomed.difference_update(step.items)  # back home fresh: checked again
             if taken != step.duration:
-                return _fail(out, f"{ai}: took {taken} steps, modelled {step.duration}",
+                return failed(out, f"{ai}: took {taken} steps, modelled {step.duration}",
                              "blocked" if step.kind in ("move", "rescue") else "cost")
         out.served = [e.value for e in world.events if e.kind == "delivery"]
         model_served = sorted(view.names.orders[o] for o, expr in view.served.items()
                               if up_state.get_value(expr).bool_constant_value())
         if sorted(out.served) != model_served:
-            return _fail(out, f"served {sorted(out.served)}, model served {model_served}",
+            return failed(out, f"served {sorted(out.served)}, model served {model_served}",
                          "orders")
-    return out
-
-
-def _fail(out: Replay, message: str, category: str) -> Replay:
-    out.ok, out.mismatch, out.category = False, message, category
     return out
 
 

@@ -39,7 +39,7 @@ state; durations at the stations granularity are simulator steps):
 
 The two worlds are compared at the end time ``tau_e`` of every action: the model
 state after every happening at or before ``tau_e`` against simulator state
-``floor(tau_e)``, through :class:`~.fidelity._ModelView` (where every item is and
+``floor(tau_e)``, through :class:`~.fidelity_view.ModelView` (where every item is and
 its state, where every agent stands), skipping only the items and agents that
 are parameters of an action in progress at ``tau_e`` (for a cook envelope: the
 steak from its start until one step after its end, each bumping agent for the
@@ -64,7 +64,7 @@ from ..sim.codes import Action
 from ..sim.queries import direction, walk_actions
 from ..sim.state import State
 from .compile import Compiled
-from .fidelity import Replay, _fail, _ModelView
+from .fidelity_view import ModelView, Replay, failed
 
 #: happenings at one time: ends, then timed initial literals, then starts
 _END, _TIL, _START = 0, 1, 2
@@ -119,7 +119,7 @@ class ModelState:
     """The values of a problem's fluents, changed by applying happenings.
 
     ``get_value`` answers like a UP state (a constant FNode), so
-    :class:`~.fidelity._ModelView` reads it as it reads the sequential simulator's.
+    :class:`~.fidelity_view.ModelView` reads it as it reads the sequential simulator's.
     """
 
     def __init__(self, problem: Any) -> None:
@@ -346,41 +346,24 @@ def _cells(state: State, rc: Any) -> int:
     return state.geo.flat(*rc)
 
 
-# ---------------------------------------------------------------- the replay
-def replay_temporal(compiled: Compiled, plan: Any, state: State,
-                    freeze_layout: bool = False, until_horizon: bool = False) -> Replay:
-    """Replay a ``TimeTriggeredPlan`` of ``compiled`` in a copy of ``state`` (see the module doc).
-
-    ``until_horizon``: check only what happens before the episode's horizon (a problem
-    with anticipated switches models them up to there); a longer plan is then
-    ``outlasted`` and its served orders are not compared.
-    """
-    from ..sim.rules import with_overrides
-
-    copy = state.copy()
-    if freeze_layout and copy.rules.dynamic:
-        copy.rules = with_overrides(copy.rules, dynamic=False)
-    problem = compiled.problem
+def _plan_activities(compiled: Compiled, timed: list, copy: State, model: ModelState
+                     ) -> tuple[_Schedule, list[tuple[Fraction, Fraction, frozenset[str],
+                                                       frozenset[str]]], list[Fraction]]:
+    """What each agent does at which simulator step for a plan's timed actions: the
+    ``_Schedule``, the (from, until, item names, agent names) spans skipped in comparisons
+    while in progress, and the times to compare at. Raises :class:`_Mismatch` when the
+    model itself breaks a duration bound or an action lasts no whole number of steps."""
     names = compiled.names
-    view = _ModelView(compiled)
-    model = ModelState(problem)
-    out = Replay(ok=True)
-
-    problem_before = view.diff(model, copy, frozenset())
-    if problem_before:
-        return Replay(False, 0, 0, f"before the plan: {problem_before}", "initial")
-
     schedule = _Schedule(copy.n_agents)
     #: (from, until, item and agent names) skipped in comparisons while in progress
     busy: list[tuple[Fraction, Fraction, frozenset[str], frozenset[str]]] = []
     checkpoints: list[Fraction] = []
-    timed = list(plan.timed_actions)
-    for index, (start, ai, duration) in enumerate(timed):
+    for start, ai, duration in timed:
         start = Fraction(start)
         duration = Fraction(duration or 0)
         bad = _duration_problem(model, ai, duration)
         if bad:
-            return _fail(out, bad, "model")
+            raise _Mismatch(bad, "model")
         step = compiled.map_back(ai, start, duration)
         label = f"{ai} at {float(start):g}"
         args = [str(p.object()) for p in ai.actual_parameters]
@@ -404,8 +387,7 @@ def replay_temporal(compiled: Compiled, plan: Any, state: State,
         if step.kind in _NO_STEPS or step.agent is None:
             continue
         if duration.denominator != 1:
-            return _fail(out, f"{label}: a {step.kind} lasting {float(duration):g} steps",
-                         "model")
+            raise _Mismatch(f"{label}: a {step.kind} lasting {float(duration):g} steps", "model")
         n = int(duration)
         if step.kind == "move":
             schedule.add(_Activity(step.agent, _floor(start), n, True, label,
@@ -413,9 +395,41 @@ def replay_temporal(compiled: Compiled, plan: Any, state: State,
         else:
             bumps = n if step.kind in ("chop", "wash") else 1
             if bumps != n:
-                return _fail(out, f"{label}: a {step.kind} modelled as {n} steps", "model")
+                raise _Mismatch(f"{label}: a {step.kind} modelled as {n} steps", "model")
             schedule.add(_Activity(step.agent, _floor(start), n, False, label,
                                    _cells(copy, step.spot), _cells(copy, step.place)))
+    return schedule, busy, checkpoints
+
+
+# ---------------------------------------------------------------- the replay
+def replay_temporal(compiled: Compiled, plan: Any, state: State,
+                    freeze_layout: bool = False, until_horizon: bool = False) -> Replay:
+    """Replay a ``TimeTriggeredPlan`` of ``compiled`` in a copy of ``state`` (see the module doc).
+
+    ``until_horizon``: check only what happens before the episode's horizon (a problem
+    with anticipated switches models them up to there); a longer plan is then
+    ``outlasted`` and its served orders are not compared.
+    """
+    from ..sim.rules import with_overrides
+
+    copy = state.copy()
+    if freeze_layout and copy.rules.dynamic:
+        copy.rules = with_overrides(copy.rules, dynamic=False)
+    problem = compiled.problem
+    names = compiled.names
+    view = ModelView(compiled)
+    model = ModelState(problem)
+    out = Replay(ok=True)
+
+    problem_before = view.diff(model, copy, frozenset())
+    if problem_before:
+        return Replay(False, 0, 0, f"before the plan: {problem_before}", "initial")
+
+    timed = list(plan.timed_actions)
+    try:
+        schedule, busy, checkpoints = _plan_activities(compiled, timed, copy, model)
+    except _Mismatch as m:
+        return failed(out, m.message, m.category)
     out.actions = len(timed)
 
     world = _TimedWorld(copy, schedule)
@@ -447,7 +461,7 @@ def replay_temporal(compiled: Compiled, plan: Any, state: State,
                                 world._category("effect"))
     except _Mismatch as m:
         out.steps = world.k
-        return _fail(out, m.message, m.category)
+        return failed(out, m.message, m.category)
     out.steps = world.k
     out.served = [e.value for e in world.events if e.kind == "delivery"]
     if out.outlasted:
@@ -455,7 +469,7 @@ def replay_temporal(compiled: Compiled, plan: Any, state: State,
     model_served = sorted(names.orders[o] for o, expr in view.served.items()
                           if model.get_value(expr).bool_constant_value())
     if sorted(out.served) != model_served:
-        return _fail(out, f"served {sorted(out.served)}, model served {model_served}", "orders")
+        return failed(out, f"served {sorted(out.served)}, model served {model_served}", "orders")
     out.final = copy
     return out
 

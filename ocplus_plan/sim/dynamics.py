@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from .codes import Cell
-from .state import Event
+from .records import Event
 
 if TYPE_CHECKING:
     from .state import State

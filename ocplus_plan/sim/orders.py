@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from .codes import READY_STATE, Item, ItemState, Where
-from .state import Event, Order
+from .records import Event, Order
 
 if TYPE_CHECKING:
     from .state import State

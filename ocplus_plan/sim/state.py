@@ -14,30 +14,16 @@ import hashlib
 import struct
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 
 from .codes import ITEM_NAMES, SPAWN_TILES, WALKABLE, Cell, Item, ItemState, Where
 from .queries import grid_neighbors
-from .rules import Recipe, Rules, recipe_name
-
-
-class Order(NamedTuple):
-    order_id: int
-    recipe: Recipe
-    created: int  # step at which it was drawn
-    deadline: int  # step at which it expires; -1 = never
-
-
-class Event(NamedTuple):
-    """Something that happened in a step: what, to whom (agent index or -1), where, which item."""
-
-    kind: str
-    agent: int = -1
-    cell: tuple[int, int] | None = None
-    item: int = -1
-    value: Any = None
+from .orders import draw_order
+from .records import Event, Order
+from .rules import Rules, recipe_name
+from .words import map_rows
 
 
 @dataclass(frozen=True, eq=False)
@@ -254,8 +240,6 @@ class State:
 
     def describe(self) -> str:
         """A small text picture of the kitchen, for debugging and the CLI."""
-        from .words import map_rows  # words reads orders, which read this module
-
         lines = map_rows(self)
         orders = ", ".join(recipe_name(o.recipe) for o in self.orders)
         lines.append(f"t={self.t} orders=[{orders}] hands={self.agent_hand}")
@@ -265,8 +249,6 @@ class State:
 def new_state(rules: Rules, seed: int | None = 0, *, geometry: Geometry | None = None) -> State:
     """The initial state of an episode: items on their spawn tiles, agents on spawn points,
     ``n_orders`` orders drawn from the recipe pool with ``numpy.random.default_rng(seed)``."""
-    from .orders import draw_order  # orders imports State for typing only
-
     geo = geometry or geometry_for(rules)
     s = State.__new__(State)
     s.rules, s.geo, s.t, s.seed = rules, geo, 0, seed
