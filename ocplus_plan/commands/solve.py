@@ -1,6 +1,6 @@
 """``ocplus solve``: compile a simulator state and solve it with one named planner.
 
-The state is the preset's initial state, or the one reached after ``--step T``
+The state is the preset's initial state, or the one reached after ``--random-steps T``
 random joint actions. The planner runs in its own process group with a hard time
 limit; its plan is validated with unified-planning's validator and VAL. A
 timeout, an unsolvable problem or a missing planner is reported as a status
@@ -15,9 +15,11 @@ from typing import Any
 
 from ..errors import ConfigError
 from ..sim import new_state, transition
+from . import _types
 from ._common import (
     HelpFormatter,
     add_compile_args,
+    add_deprecated_alias,
     add_kitchen_args,
     add_output_args,
     emit,
@@ -29,13 +31,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("solve", help="compile a state and solve it with a named planner",
                        description=__doc__, formatter_class=HelpFormatter)
     add_kitchen_args(p, step=True)
-    p.add_argument("--planner", default="fast-downward",
+    p.add_argument("--planner", type=_types.name, default="fast-downward",
                    help="registry name (see --list), e.g. fast-downward, kairos")
-    p.add_argument("--timeout", type=float, default=None,
+    p.add_argument("--timeout", type=_types.seconds, default=None,
                    help="seconds (default: the planner's configured limit)")
     add_compile_args(p, auto_encoding=True)
     p.add_argument("--no-val", action="store_true", help="validate with UP only, not VAL")
-    p.add_argument("--plan", action="store_true", help="include the plan steps in the output")
+    p.add_argument("--show-plan", dest="plan", action="store_true",
+                   help="include the plan steps in the output")
+    add_deprecated_alias(p, "--plan", "--show-plan", takes_value=False, dest="plan")
     p.add_argument("--list", action="store_true",
                    help="list the planners and whether each is available, then exit")
     add_output_args(p)
@@ -47,7 +51,7 @@ def state_after_random_steps(rules: Any, seed: int, steps: int) -> Any:
     import numpy as np
 
     if steps < 0:
-        raise ConfigError(f"--step must be >= 0, got {steps}")
+        raise ConfigError(f"--random-steps must be >= 0, got {steps}")
     state = new_state(rules, seed)
     rng = np.random.default_rng([seed, 7919])
     for _ in range(steps):
