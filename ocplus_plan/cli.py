@@ -81,7 +81,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run one ``ocplus`` command line and return its exit code (it never raises
     SystemExit: ``--help`` returns 0, a bad option 2)."""
     try:
-        return _run(argv)
+        code = _run(argv)
+        sys.stdout.flush()  # here, not at exit, so that a closed pipe is caught below
+        return code
     except BrokenPipeError:  # the reader went away (`ocplus ... | head`): nothing to say
         _silence_stdout()
         return EXIT_OK

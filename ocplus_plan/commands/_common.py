@@ -71,7 +71,7 @@ def add_kitchen_args(p: argparse.ArgumentParser, *, sweep: bool = False, step: b
     if sweep and seeds:
         which = g.add_mutually_exclusive_group()
         which.add_argument("--seed", type=_types.seed, default=None,
-                           help="one episode seed (None: the --seeds)")
+                           help=f"one episode seed, 0 to {_types.MAX_SEED} (None: the --seeds)")
         which.add_argument("--seeds", type=_types.seeds, default=DEFAULT_SEEDS,
                            help="episode seeds: a count (10 = seeds 0-9), a list (0,4,7) or a "
                                 f"range (5-9), at most {_types.MAX_SEEDS}")
