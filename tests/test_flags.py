@@ -163,3 +163,27 @@ def test_finish_args_names_the_default_out_after_the_command(tmp_path, monkeypat
     _common.finish_args(args)
     assert args.out.startswith("runs/eval-")
     assert not (tmp_path / "runs").exists()  # checked, not made: the command makes it
+
+
+@pytest.mark.skipif(__import__("os").geteuid() == 0, reason="root may write anywhere")
+def test_a_default_out_that_cannot_be_made_is_bad_input(tmp_path, monkeypatch):
+    from ocplus_plan.errors import ConfigError
+
+    tmp_path.chmod(0o500)
+    monkeypatch.chdir(tmp_path)
+    try:
+        args = build_parser().parse_args(["eval"])
+        with pytest.raises(ConfigError, match="no --out given"):
+            _common.finish_args(args)
+    finally:
+        tmp_path.chmod(0o700)
+
+
+def test_a_default_out_below_a_file_is_bad_input(tmp_path, monkeypatch):
+    from ocplus_plan.errors import ConfigError
+
+    (tmp_path / "runs").write_text("a file where the default folder goes")
+    monkeypatch.chdir(tmp_path)
+    args = build_parser().parse_args(["pddl"])
+    with pytest.raises(ConfigError, match="no --out given.*runs"):
+        _common.finish_args(args)

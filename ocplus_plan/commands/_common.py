@@ -155,7 +155,11 @@ def finish_args(args: argparse.Namespace) -> None:
         raise ConfigError("--resume continues the run in --out: give --out DIR")
     if hasattr(args, "out") and args.out is None:
         command = getattr(args, "command", None) or "run"
-        args.out = _types.out_dir(str(Path("runs") / time.strftime(f"{command}-%Y%m%d-%H%M%S")))
+        default = str(Path("runs") / time.strftime(f"{command}-%Y%m%d-%H%M%S"))
+        try:
+            args.out = _types.out_dir(default)
+        except argparse.ArgumentTypeError as exc:
+            raise ConfigError(f"no --out given, and the default {exc}") from None
     if getattr(args, "plots", False) and importlib.util.find_spec("matplotlib") is None:
         raise DependencyNotInstalled("--plots needs matplotlib: pip install -e '.[plots]' "
                                      "(or leave --plots out)")
