@@ -51,7 +51,7 @@ def state_after_random_steps(rules: Any, seed: int, steps: int) -> Any:
     import numpy as np
 
     if steps < 0:
-        raise ConfigError(f"--random-steps must be >= 0, got {steps}")
+        raise ConfigError(f"--step must be >= 0, got {steps}")
     state = new_state(rules, seed)
     rng = np.random.default_rng([seed, 7919])
     for _ in range(steps):
