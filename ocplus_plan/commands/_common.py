@@ -84,6 +84,7 @@ def add_kitchen_args(p: argparse.ArgumentParser, *, sweep: bool = False, step: b
                             f"plays {DEFAULT_HORIZON})")
     if step:
         g.add_argument("--random-steps", dest="step", type=_types.random_steps, default=0,
+                       metavar="T",
                        help="random joint actions to take before compiling, 0 to "
                             f"{_types.MAX_HORIZON}")
         add_deprecated_alias(p, "--step", "--random-steps", takes_value=True, dest="step",

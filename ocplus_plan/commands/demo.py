@@ -27,7 +27,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_sweep_args(p, agents=None)
     p.set_defaults(func=run)
     p.epilog = (f"--agents defaults to {','.join(DEMO_AGENTS)}. On a machine with cores to "
-                "spare, --jobs 2 halves the wait.")
+                "spare, --jobs 2 runs two episodes at once.")
 
 
 def run(args: argparse.Namespace) -> int:
