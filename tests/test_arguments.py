@@ -115,7 +115,7 @@ BAD = [
 def test_a_bad_argument_exits_2_with_one_line(argv, flag, allowed, no_work):
     code, out, err = run_cli(argv)
     assert code == 2 and out == "" and no_work == []
-    _one_line_naming(err, flag.lstrip("-").split("-")[0], allowed)
+    _one_line_naming(err, flag, allowed)
 
 
 def test_out_naming_a_file_is_refused_before_any_work(tmp_path, no_work):
@@ -193,6 +193,31 @@ def test_help_returns_0_and_an_empty_command_line_2(no_work):
     assert run_cli(["--help"])[0] == 0
     assert run_cli(["rollout", "--help"])[0] == 0
     assert run_cli([])[0] == 2
+
+
+def test_a_bad_argument_in_a_real_process_is_one_line_and_exit_2(tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "ocplus_plan.cli", "eval", "--seeds", "5-2"],
+                          capture_output=True, text=True, cwd=tmp_path, timeout=120)
+    assert proc.returncode == 2 and proc.stdout == ""
+    _one_line_naming(proc.stderr, "--seeds", "5-2", "low-high")
+    assert list(tmp_path.iterdir()) == []  # nothing written
+
+
+def test_a_bug_is_not_bad_input(monkeypatch, tmp_path):
+    """An unexpected exception is left to the interpreter (traceback, exit 1)."""
+    monkeypatch.chdir(tmp_path)
+    build = cli.build_parser
+
+    def broken():
+        parser = build()
+        for action in parser._actions:
+            if isinstance(getattr(action, "choices", None), dict):
+                action.choices["rollout"].set_defaults(func=lambda args: 1 / 0)
+        return parser
+
+    monkeypatch.setattr(cli, "build_parser", broken)
+    with pytest.raises(ZeroDivisionError):
+        main(["rollout"])
 
 
 def test_a_closed_pipe_ends_quietly(tmp_path):
