@@ -68,36 +68,6 @@ def test_every_help_example_runs(capsys, tmp_path, monkeypatch):
     capsys.readouterr()
 
 
-def _subparsers():
-    import argparse
-
-    from ocplus_plan.cli import build_parser
-
-    parser = build_parser()
-    action = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
-    return action.choices
-
-
-def _options(sub):
-    return {s: a for a in sub._actions for s in a.option_strings}
-
-
-def test_every_command_shares_the_output_flags_and_the_kitchen_flags_from_one_place():
-    subs = _subparsers()
-    kitchen = ("--preset", "--map", "--n-agents", "--seed")
-    for name, sub in subs.items():
-        opts = _options(sub)
-        assert "--json" in opts and "--quiet" in opts, name
-        if "--preset" in opts:
-            assert all(k in opts for k in kitchen), name
-            for k in kitchen[1:3]:  # one definition: the same help text everywhere
-                assert opts[k].help == _options(subs["rollout"])[k].help, (name, k)
-    assert {n for n, s in subs.items() if "--preset" in _options(s)} >= {
-        "rollout", "eval", "demo", "play", "train", "solve", "pddl"}
-    for name in ("eval", "demo", "pddl", "train"):
-        assert "--out" in _options(subs[name]), name
-
-
 def test_json_results_and_deprecated_spellings(tmp_path, capsys):
     assert main(["check-map", "mapC", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["switch_every"] == 15

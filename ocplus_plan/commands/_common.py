@@ -1,30 +1,46 @@
-"""Options the subcommands share: one definition, one help text, one meaning everywhere.
+"""Options the subcommands share: one definition, one type, one default, one help text,
+one meaning everywhere (``tests/test_flags.py`` walks every parser to hold this; the page
+is ``docs/cli.md``). Values are checked while parsing (``_types.py``), before any work.
 
 - kitchen (:func:`add_kitchen_args`): ``--preset --map --n-agents --seed --horizon``
   and ``--rules KEY=VALUE ...`` (rule overrides, :func:`parse_rule_overrides`);
-  commands that run many kitchens (``eval``, ``demo``) take a comma-separated
-  ``--preset`` list and ``--seeds`` besides ``--seed``.
+  commands that run many kitchens (``eval``, ``demo``, ``export-suite``) take a
+  comma-separated ``--preset`` list and (not ``export-suite``) ``--seeds`` besides ``--seed``.
 - output (:func:`add_output_args`): ``--json`` prints the result as one JSON object on
-  stdout; ``--quiet`` drops progress bars and status lines (the result is still
-  printed); ``--out`` names the folder a command writes its files to.
+  stdout (else ``key value`` lines); ``--quiet`` drops progress bars and status lines (the
+  result is still printed); ``--out`` names the folder a command writes its files to,
+  ``runs/<command>-<date>-<time>`` when not given.
+- running many episodes: ``--jobs``, ``--episode-timeout``, ``--plots/--no-plots`` (off)
+  (:func:`add_jobs_arg`, :func:`add_episode_timeout_arg`, :func:`add_plots_arg`).
 - old spellings (:func:`add_deprecated_alias`) keep working and say on stderr what
-  replaced them: ``rollout --steps`` (now ``--horizon``), ``train --no-progress`` (now
-  ``--quiet``).
+  replaced them: ``rollout --steps`` (now ``--horizon``), ``train --steps`` (now
+  ``--timesteps``), ``train --no-progress`` (now ``--quiet``), ``solve/pddl --step`` (now
+  ``--random-steps``), ``solve --plan`` (now ``--show-plan``).
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import sys
+import time
 from dataclasses import fields
-from typing import Any
+from pathlib import Path
+from typing import Any, NoReturn
 
-from ..errors import ConfigError
+from ..errors import ConfigError, DependencyNotInstalled
 from ..planning.model import ENCODINGS, GRANULARITIES
 from ..sim.rules import Rules, make_rules
+from . import _types
 
 PRESET_HELP = "easy | medium | hard"
+#: the defaults of the shared options, the same on every command that takes them
+DEFAULT_PRESETS = "easy,medium,hard"
+DEFAULT_SEEDS = "3"
+DEFAULT_HORIZON = 200
+#: bad input (see ``ocplus_plan/cli.py``)
+EXIT_INPUT = 2
 
 
 class HelpFormatter(argparse.RawDescriptionHelpFormatter, argparse.ArgumentDefaultsHelpFormatter):
@@ -32,43 +48,52 @@ class HelpFormatter(argparse.RawDescriptionHelpFormatter, argparse.ArgumentDefau
 
 
 def add_kitchen_args(p: argparse.ArgumentParser, *, sweep: bool = False, step: bool = False,
-                     horizon: bool = True, presets: str = "easy,medium,hard",
-                     seeds: str | None = "10", default_horizon: int | None = None,
-                     grid: bool = False, rules: bool = True) -> None:
+                     horizon: bool = True, seeds: bool = True, grid: bool = False,
+                     rules: bool = True) -> None:
     """``--preset --map --n-agents --seed`` and ``--horizon``.
 
     ``sweep``: ``--preset`` takes a comma-separated list (``--presets`` is the same
     option) and ``--seeds`` a count, list or range, exclusive with ``--seed`` (no
-    ``--seeds`` when ``seeds`` is None). ``grid`` (with ``sweep``): ``--map`` and
+    ``--seeds`` without ``seeds``). ``grid`` (with ``sweep``): ``--map`` and
     ``--n-agents`` take comma-separated lists too, also spelt ``--maps`` and ``--cooks``
-    (the command parses them: :func:`parse_int_list`). ``step`` adds ``--step`` (random
-    joint actions before compiling a state). ``rules``: offer ``--rules KEY=VALUE ...``
-    (the command passes them on: :func:`rules_from_args` or :func:`sweep_rules`)."""
+    (the command parses them: :func:`parse_int_list`). ``step`` adds ``--random-steps``
+    (random joint actions before compiling a state; ``--step`` is its old spelling).
+    ``rules``: offer ``--rules KEY=VALUE ...`` (the command passes them on:
+    :func:`rules_from_args` or :func:`sweep_rules`)."""
     g = p.add_argument_group("kitchen")
     if sweep:
-        g.add_argument("--preset", "--presets", dest="presets", default=presets,
-                       help=f"comma-separated presets ({PRESET_HELP})")
+        g.add_argument("--preset", "--presets", dest="presets", type=_types.name,
+                       default=DEFAULT_PRESETS, help=f"comma-separated presets ({PRESET_HELP})")
     else:
-        g.add_argument("--preset", default="easy", help=PRESET_HELP)
-    g.add_argument("--map", *(["--maps"] if grid else []), default=None,
-                   help="map name or YAML path (None: the preset's)")
-    g.add_argument("--n-agents", *(["--cooks"] if grid else []), type=str if grid else int,
-                   default=None, help="number of cooks (None: the preset's)")
-    if sweep and seeds is None:
-        g.add_argument("--seed", type=int, default=0, help="episode seed")
-    elif sweep:
+        g.add_argument("--preset", type=_types.name, default="easy", help=PRESET_HELP)
+    lists = "; comma-separated lists" if grid else ""
+    g.add_argument("--map", *(["--maps"] if grid else []), type=_types.name, default=None,
+                   help=f"map name or YAML path{lists} (None: the preset's)")
+    g.add_argument("--n-agents", *(["--cooks"] if grid else []),
+                   type=_types.whole_list("a number of cooks", 1, _types.MAX_AGENTS) if grid
+                   else _types.n_agents, default=None,
+                   help=f"number of cooks, 1 to {_types.MAX_AGENTS}{lists} (None: the preset's)")
+    if sweep and seeds:
         which = g.add_mutually_exclusive_group()
-        which.add_argument("--seed", type=int, default=None, help="one episode seed")
-        which.add_argument("--seeds", default=seeds,
-                           help="episode seeds: a count (10 = seeds 0-9), a list or a range")
+        which.add_argument("--seed", type=_types.seed, default=None,
+                           help=f"one episode seed, 0 to {_types.MAX_SEED} (None: the --seeds)")
+        which.add_argument("--seeds", type=_types.seeds, default=DEFAULT_SEEDS,
+                           help="episode seeds: a count (10 = seeds 0-9), a list (0,4,7) or a "
+                                f"range (5-9), at most {_types.MAX_SEEDS}")
     else:
-        g.add_argument("--seed", type=int, default=0, help="episode seed")
+        g.add_argument("--seed", type=_types.seed, default=0,
+                       help=f"episode seed, 0 to {_types.MAX_SEED}")
     if horizon:
-        g.add_argument("--horizon", type=int, default=default_horizon,
-                       help="steps per episode (None: the preset's, 200)")
+        g.add_argument("--horizon", type=_types.horizon, default=DEFAULT_HORIZON,
+                       help=f"steps per episode, 1 to {_types.MAX_HORIZON} (every preset "
+                            f"plays {DEFAULT_HORIZON})")
     if step:
-        g.add_argument("--step", type=int, default=0,
-                       help="random joint actions to take before compiling")
+        g.add_argument("--random-steps", dest="step", type=_types.random_steps, default=0,
+                       metavar="T",
+                       help="random joint actions to take before compiling, 0 to "
+                            f"{_types.MAX_HORIZON}")
+        add_deprecated_alias(p, "--step", "--random-steps", takes_value=True, dest="step",
+                             type=_types.random_steps)
     if rules:
         g.add_argument("--rules", nargs="+", action="extend", default=None,
                        metavar="KEY=VALUE", help="rule overrides, e.g. dynamic=false "
@@ -157,29 +182,73 @@ def _rule_value(key: str, kind: str, text: str) -> Any:
     return text
 
 
-def add_output_args(p: argparse.ArgumentParser, *, out: str | None = None,
-                    out_default: str | None = None, writes: str = "") -> None:
-    """``--json`` and ``--quiet``; with ``out`` ("required" or "optional") also ``--out``
-    (``writes`` says what goes there)."""
+def add_output_args(p: argparse.ArgumentParser, *, out: bool = False, writes: str = "") -> None:
+    """``--json`` and ``--quiet``; with ``out`` also ``--out`` (``writes`` says what goes
+    there). ``--out`` is optional everywhere: without it a command writes to
+    ``runs/<command>-<date>-<time>`` (:func:`finish_args`)."""
     g = p.add_argument_group("output")
-    g.add_argument("--json", action="store_true", help="print the result as one JSON object")
+    g.add_argument("--json", action="store_true", help="print the result as one JSON object "
+                   "(else one `key value` line per entry)")
     g.add_argument("--quiet", action="store_true",
                    help="no progress bars or status lines (the result is still printed)")
-    if out is not None:
-        g.add_argument("--out", required=out == "required", default=out_default,
-                       help="folder the command writes to" + (f": {writes}" if writes else ""))
+    if out:
+        g.add_argument("--out", type=_types.out_dir, default=None, metavar="DIR",
+                       help="folder the command writes to" + (f": {writes}" if writes else "")
+                       + " (None: runs/<command>-<date>-<time>)")
+
+
+def add_plots_arg(g: Any) -> None:
+    """``--plots`` / ``--no-plots``: write PNG figures or not (``--plots`` without matplotlib
+    is refused before any work: :func:`finish_args`)."""
+    g.add_argument("--plots", action=argparse.BooleanOptionalAction, default=False,
+                   help="write PNG figures into OUT/plots/ (the plots extra), or not")
+
+
+def add_jobs_arg(g: Any) -> None:
+    """``--jobs``: episodes at once."""
+    g.add_argument("--jobs", type=_types.jobs, default=None,
+                   help=f"episodes at once, 1 to {_types.MAX_JOBS}: worker processes (None: 1), "
+                        "or with --backend ray the Ray tasks in flight (None: all CPUs of the "
+                        "cluster)")
+
+
+def add_episode_timeout_arg(g: Any) -> None:
+    """``--episode-timeout``: seconds before an episode is stopped."""
+    g.add_argument("--episode-timeout", type=_types.seconds, default=None, metavar="SECONDS",
+                   help="seconds before an episode is killed and recorded as an error, at most "
+                        f"{_types.MAX_SECONDS:.0f} (None: no limit)")
+
+
+def finish_args(args: argparse.Namespace) -> None:
+    """What the options mean once all are read, checked before any work starts: ``--out``
+    without a value becomes ``runs/<command>-<date>-<time>``; ``--resume`` needs an explicit
+    ``--out``; ``--plots`` without matplotlib is refused (exit 3)."""
+    if getattr(args, "resume", False) and getattr(args, "out", "") is None:
+        raise ConfigError("--resume continues the run in --out: give --out DIR")
+    if hasattr(args, "out") and args.out is None:
+        command = getattr(args, "command", None) or "run"
+        default = str(Path("runs") / time.strftime(f"{command}-%Y%m%d-%H%M%S"))
+        try:
+            args.out = _types.out_dir(default)
+        except argparse.ArgumentTypeError as exc:
+            raise ConfigError(f"no --out given, and the default {exc}") from None
+    if getattr(args, "plots", False) and importlib.util.find_spec("matplotlib") is None:
+        raise DependencyNotInstalled("--plots needs matplotlib: pip install -e '.[plots]' "
+                                     "(or leave --plots out)")
 
 
 def add_deprecated_alias(p: argparse.ArgumentParser, old: str, new: str, *,
-                         takes_value: bool) -> None:
-    """Let ``old`` set what the option ``new`` sets, with a note on stderr."""
-    dest = new.lstrip("-").replace("-", "_")
+                         takes_value: bool, dest: str | None = None,
+                         type: Any = int) -> None:
+    """Let ``old`` set what the option ``new`` sets (``dest``: its attribute, by default
+    named after ``new``), with a note on stderr. ``type`` checks a value as ``new`` does."""
+    dest = dest or new.lstrip("-").replace("-", "_")
     if takes_value:
-        p.add_argument(old, dest=dest, type=int, action=_Deprecated, replacement=new,
-                       help=f"deprecated spelling of {new}")
+        p.add_argument(old, dest=dest, type=type, action=_Deprecated, replacement=new,
+                       default=argparse.SUPPRESS, help=f"deprecated spelling of {new}")
     else:
         p.add_argument(old, dest=dest, nargs=0, action=_Deprecated, replacement=new,
-                       help=f"deprecated spelling of {new}")
+                       default=argparse.SUPPRESS, help=f"deprecated spelling of {new}")
 
 
 class _Deprecated(argparse.Action):
@@ -194,6 +263,15 @@ class _Deprecated(argparse.Action):
         setattr(namespace, self.dest, True if self.nargs == 0 else values)
 
 
+class Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line on stderr (what is wrong, what is
+    allowed, where the help is) and exit 2."""
+
+    def error(self, message: str) -> NoReturn:
+        line = " ".join(message.split())
+        self.exit(EXIT_INPUT, f"{self.prog}: error: {line} (see {self.prog} --help)\n")
+
+
 def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False,
                      many: bool = False, switches: bool = True,
                      limits: float | None | bool = False) -> None:
@@ -204,11 +282,11 @@ def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False,
     planner's process group, as the IPC counts them) and ``--wall-limit`` (a wall-clock
     safety); check them with :func:`check_limits`."""
     if limits is not False:
-        p.add_argument("--timeout", type=float, default=limits,
+        p.add_argument("--timeout", type=_types.seconds, default=limits,
                        help="planner CPU seconds (user + system of the planner's processes), "
                             "per planner call" + (" (None: the planner's configured limit)"
                                                   if limits is None else ""))
-        p.add_argument("--wall-limit", type=float, default=None,
+        p.add_argument("--wall-limit", type=_types.seconds, default=None,
                        help="wall-clock safety per planner call, in seconds (None: 10 x "
                             "--timeout + 60)")
     if many:
@@ -220,7 +298,7 @@ def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False,
     else:
         p.add_argument("--encoding", choices=ENCODINGS, default=ENCODINGS[0])
     p.add_argument("--granularity", choices=GRANULARITIES, default=GRANULARITIES[0])
-    p.add_argument("--orders", type=int, default=None,
+    p.add_argument("--orders", type=_types.whole("--orders", 1, 1000), default=None,
                    help="serve only the first k open orders (default: all)")
     if switches:
         p.add_argument("--anticipate-switches", action="store_true",

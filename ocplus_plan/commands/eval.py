@@ -21,10 +21,14 @@ from pathlib import Path
 from typing import Any
 
 from ..eval.runner import BACKENDS, EvalConfig, parse_list, parse_seeds, run_eval
+from . import _types
 from ._common import (
     HelpFormatter,
+    add_episode_timeout_arg,
+    add_jobs_arg,
     add_kitchen_args,
     add_output_args,
+    add_plots_arg,
     emit,
     note,
     say,
@@ -35,17 +39,14 @@ from ._common import (
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("eval", help="evaluate agents on presets (results, summary, leaderboard)",
                        description=__doc__, formatter_class=HelpFormatter)
-    add_sweep_args(p, agents="greedy,random", seeds="10", jobs=None, episode_timeout=None,
-                   out="required")
+    add_sweep_args(p, agents="greedy,random")
     p.set_defaults(func=run)
 
 
-def add_sweep_args(p: argparse.ArgumentParser, *, agents: str | None, seeds: str,
-                   jobs: int | None,
-                   episode_timeout: float | None, out: str) -> None:
-    """The options of ``eval`` (and of ``demo``, which is an evaluation with other defaults)."""
-    add_kitchen_args(p, sweep=True, seeds=seeds, default_horizon=200)
-    p.add_argument("--agents", default=agents,
+def add_sweep_args(p: argparse.ArgumentParser, *, agents: str | None) -> None:
+    """The options of ``eval`` (and of ``demo``, an evaluation with its own agents)."""
+    add_kitchen_args(p, sweep=True)
+    p.add_argument("--agents", type=_types.name, default=agents,
                    help="comma-separated agents, e.g. greedy,planner:fast-downward,ppo,random")
     h = p.add_argument_group("how to run")
     h.add_argument("--resume", action="store_true",
@@ -53,21 +54,18 @@ def add_sweep_args(p: argparse.ArgumentParser, *, agents: str | None, seeds: str
     h.add_argument("--backend", choices=BACKENDS, default="local",
                    help="where episodes run: worker processes here, or Ray tasks "
                         "(the `cluster` extra)")
-    h.add_argument("--jobs", type=int, default=jobs,
-                   help="episodes at once: worker processes (None: 1), or with --backend ray "
-                        "the Ray tasks in flight (None: all CPUs of the cluster)")
+    add_jobs_arg(h)
     h.add_argument("--address", default=None,
                    help="--backend ray: the cluster to join (auto, or HOST:PORT of the head "
                         "node; None: start a Ray instance on this machine)")
-    h.add_argument("--retries", type=int, default=2,
+    h.add_argument("--retries", type=_types.whole("--retries", 0, 100), default=2,
                    help="--backend ray: reruns of an episode whose worker or node died")
-    h.add_argument("--episode-timeout", type=float, default=episode_timeout,
-                   help="seconds before an episode is killed and recorded as an error (None: no limit)")
-    h.add_argument("--plots", action="store_true", help="also write PNG figures (plots extra)")
-    h.add_argument("--save-replays", default="", metavar="SEEDS",
+    add_episode_timeout_arg(h)
+    add_plots_arg(h)
+    h.add_argument("--save-replays", type=_types.seed_selection, default="", metavar="SEEDS",
                    help="save these seeds' episodes as recordings under OUT/replays/ "
                         "(play back with `ocplus replay FILE`)")
-    add_output_args(p, out=out, writes="results.jsonl, summary.csv, plots/, replays/")
+    add_output_args(p, out=True, writes="results.jsonl, summary.csv, plots/, replays/")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -115,9 +113,9 @@ def run_sweep(args: argparse.Namespace, *, agents: str, out: Path, plots: bool) 
               f"{out / 'plots' / 'leaderboard.png'})")
     elif plots:
         print("plots:   none (matplotlib is missing: pip install -e '.[plots]', then "
-              f"`ocplus report {out}`)")
+              f"`ocplus report {out} --plots`)")
     else:
-        print(f"plots:   none (add --plots, or run `ocplus report {out}`)")
+        print(f"plots:   none (add --plots, or run `ocplus report {out} --plots`)")
     return 0
 
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 
+from . import _types
 from ._common import (
     HelpFormatter,
     add_compile_args,
@@ -32,21 +33,20 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("export-suite", help="write an instance set (PDDL, English, reference "
                        "plans, bounds) for outside planners and language models",
                        description=__doc__, formatter_class=HelpFormatter)
-    add_kitchen_args(p, sweep=True, grid=True, seeds=None, horizon=False, presets="easy",
-                     rules=False)
-    p.add_argument("--states", type=int, default=1, help="sampled states per preset, map "
-                   "and number of cooks")
-    p.add_argument("--max-steps", type=int, default=120,
+    add_kitchen_args(p, sweep=True, grid=True, seeds=False, horizon=False, rules=False)
+    p.add_argument("--states", type=_types.whole("--states", 1, 1000), default=1,
+                   help="sampled states per preset, map and number of cooks")
+    p.add_argument("--max-steps", type=_types.random_steps, default=120,
                    help="a sampled state is reached by 0..MAX_STEPS random joint actions")
     add_compile_args(p, many=True, switches=False, limits=60.0)
-    p.add_argument("--planners", default=None,
+    p.add_argument("--planners", type=_types.name, default=None,
                    help="comma-separated reference planners, each used for the encoding it "
                         "is registered for (default: fast-downward,fast-downward-bjolp,"
                         "fast-downward-wastar for classical, kairos for temporal)")
     p.add_argument("--no-fallback", action="store_true",
                    help="when the reference planners solve nothing, leave the instance "
                         "without a reference instead of trying every registered planner")
-    add_output_args(p, out="required", writes="the instance set (a new or empty folder)")
+    add_output_args(p, out=True, writes="the instance set (a new or empty folder)")
     p.set_defaults(func=run)
 
 

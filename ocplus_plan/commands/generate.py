@@ -55,7 +55,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--candidates", type=int, default=5,
                    help="candidates tried per kitchen before it is given up")
     p.add_argument("--timeout", type=float, default=60.0, help="planner seconds per proof try")
-    add_output_args(p, out="required", writes="one YAML map per kitchen, manifest.json")
+    add_output_args(p, out=True, writes="one YAML map per kitchen, manifest.json")
     p.set_defaults(func=run)
 
 

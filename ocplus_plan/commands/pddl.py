@@ -1,8 +1,8 @@
 """``ocplus pddl``: write the PDDL domain and problem of a simulator state.
 
-The state is the preset's initial state, or the one reached after ``--step T``
+The state is the preset's initial state, or the one reached after ``--random-steps T``
 random joint actions (the same state ``ocplus solve`` compiles for the same
-``--seed`` and ``--step``). Writes ``DIR/domain.pddl`` and ``DIR/problem.pddl``
+``--seed`` and ``--random-steps``). Writes ``DIR/domain.pddl`` and ``DIR/problem.pddl``
 and prints what it wrote.
 """
 
@@ -18,8 +18,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                        description=__doc__, formatter_class=HelpFormatter)
     add_kitchen_args(p, step=True)
     add_compile_args(p)
-    add_output_args(p, out="optional", out_default="pddl_out",
-                    writes="domain.pddl and problem.pddl (created if missing)")
+    add_output_args(p, out=True, writes="domain.pddl and problem.pddl (created if missing)")
     p.set_defaults(func=run)
 
 

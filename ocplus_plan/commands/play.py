@@ -23,9 +23,11 @@ from typing import Any
 from ..agents.base import Controller
 from ..errors import ConfigError
 from ..sim import PRESETS, Action, Rules, State, StepResult, make_rules, new_state
+from . import _types
 from ._common import HelpFormatter, add_kitchen_args, add_output_args, emit, rules_from_args, say
 
 MODES = ("coop", "adversarial")
+_FPS = _types.number("--fps (steps per second)", 0.0, 10_000.0)
 #: event kinds counted per side in the metrics
 _COUNTED = ("delivery", "wrong_delivery", "chop_done", "wash_done", "plate_add", "trash",
             "pickup", "putdown", "move_blocked")
@@ -227,25 +229,24 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("play", help="play in a kitchen window with the keyboard, beside AI agents",
                        description=__doc__, formatter_class=HelpFormatter,
                        epilog="Without --n-agents the kitchen has the preset's cooks and, when "
-                              "the map has room, at least one AI cook beside the humans. The "
-                              "result is printed as JSON with or without --json.")
+                              "the map has room, at least one AI cook beside the humans.")
     add_kitchen_args(p)
     p.add_argument("--human", default="0",
                    help="agent indices the keyboard drives: 0, 0,1 or none")
-    p.add_argument("--agents", default="greedy",
+    p.add_argument("--agents", type=_types.name, default="greedy",
                    help="controller of the other agents: greedy, planner:NAME, ppo:PATH, random")
     p.add_argument("--mode", default="coop", choices=MODES,
                    help="coop: one team score; adversarial: humans and AI scored apart")
     speed = p.add_mutually_exclusive_group()
-    speed.add_argument("--fps", type=float, default=4.0, help="steps per second")
+    speed.add_argument("--fps", type=_FPS, default=4.0, help="steps per second")
     speed.add_argument("--turn-based", action="store_true",
                        help="step only when every human has pressed a key")
-    p.add_argument("--record", default=None, metavar="FILE",
+    p.add_argument("--record", type=_types.out_file, default=None, metavar="FILE",
                    help="save the episode (.jsonl or .jsonl.gz) for `ocplus replay`")
     p.add_argument("--no-wait", action="store_true",
                    help="close the window as soon as the episode ends")
     add_output_args(p)
-    p.set_defaults(func=run, json=True)
+    p.set_defaults(func=run)
 
 
 def build_session(args: argparse.Namespace) -> PlaySession:

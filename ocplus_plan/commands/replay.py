@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
+from . import _types
 from ._common import HelpFormatter, add_output_args, emit
 
 if TYPE_CHECKING:
@@ -24,20 +25,24 @@ _PLAYBACK_HELP = "replay: space pauses, right arrow steps, Escape quits"
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("replay", help="check a recorded episode; show it or write a GIF",
-                       description=__doc__, formatter_class=HelpFormatter,
-                       epilog="The summary is printed as JSON with or without --json.")
+                       description=__doc__, formatter_class=HelpFormatter)
     p.add_argument("file", help="a recording from `ocplus play --record` (.jsonl or .jsonl.gz)")
-    p.add_argument("--gif", default=None, metavar="OUT", help="write an animated GIF here")
+    p.add_argument("--gif", type=_types.out_file, default=None, metavar="OUT",
+                   help="write an animated GIF here")
     p.add_argument("--check", action="store_true",
                    help="only verify the recording (no window, no GIF)")
-    p.add_argument("--fps", type=float, default=8.0, help="playback speed in the window")
-    p.add_argument("--frame-ms", type=int, default=120, help="GIF: milliseconds per frame")
-    p.add_argument("--every", type=int, default=1, help="GIF: keep one step in EVERY")
-    p.add_argument("--max-frames", type=int, default=None, help="GIF: at most this many frames")
+    p.add_argument("--fps", type=_types.number("--fps (steps per second)", 0.0, 10_000.0),
+                   default=8.0, help="playback speed in the window")
+    p.add_argument("--frame-ms", type=_types.whole("--frame-ms", 1, 60_000), default=120,
+                   help="GIF: milliseconds per frame")
+    p.add_argument("--every", type=_types.whole("--every", 1), default=1,
+                   help="GIF: keep one step in EVERY")
+    p.add_argument("--max-frames", type=_types.whole("--max-frames", 1), default=None,
+                   help="GIF: at most this many frames")
     p.add_argument("--no-wait", action="store_true",
                    help="close the window as soon as the playback ends")
     add_output_args(p)
-    p.set_defaults(func=run, json=True)
+    p.set_defaults(func=run)
 
 
 #: what works without a display (named when there is none)

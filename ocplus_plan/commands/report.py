@@ -6,14 +6,14 @@ import argparse
 from pathlib import Path
 
 from ..eval.results import SUMMARY_FILE, leaderboard, read_results, summarise, write_summary
-from ._common import HelpFormatter, add_output_args, emit
+from ._common import HelpFormatter, add_output_args, add_plots_arg, emit
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("report", help="summarise and plot the results of `ocplus eval`",
                        description=__doc__, formatter_class=HelpFormatter)
     p.add_argument("dir", type=Path, help="folder written by `ocplus eval --out DIR`")
-    p.add_argument("--no-plots", action="store_true", help="only the table and summary.csv")
+    add_plots_arg(p)
     add_output_args(p)
     p.set_defaults(func=run)
 
@@ -22,7 +22,7 @@ def run(args: argparse.Namespace) -> int:
     summary = summarise(read_results(args.dir))
     write_summary(summary, args.dir / SUMMARY_FILE)
     files = []
-    if not args.no_plots:
+    if args.plots:
         from ..eval.plots import make_plots
 
         files = make_plots(args.dir)
@@ -32,6 +32,6 @@ def run(args: argparse.Namespace) -> int:
         return 0
     print(leaderboard(summary))
     print(f"summary: {args.dir / SUMMARY_FILE}")
-    if not args.no_plots:
+    if args.plots:
         print(f"plots:   {args.dir / 'plots'}/ ({len(files)} PNG files)")
     return 0

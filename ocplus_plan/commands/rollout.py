@@ -6,6 +6,7 @@ import argparse
 import time
 
 from ..sim import conservation_problems, new_state
+from . import _types
 from ._common import (
     HelpFormatter,
     add_deprecated_alias,
@@ -20,10 +21,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("rollout", help="run one episode and print its statistics",
                        description=__doc__, formatter_class=HelpFormatter)
     add_kitchen_args(p)
-    p.add_argument("--agents", default="random",
+    p.add_argument("--agents", type=_types.name, default="random",
                    help="controller for all agents (random, stay, greedy, planner:NAME, ...)")
     add_output_args(p)
-    add_deprecated_alias(p, "--steps", "--horizon", takes_value=True)
+    add_deprecated_alias(p, "--steps", "--horizon", takes_value=True, type=_types.horizon)
     p.set_defaults(func=run)
 
 

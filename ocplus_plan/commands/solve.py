@@ -1,6 +1,6 @@
 """``ocplus solve``: compile a simulator state and solve it with one named planner.
 
-The state is the preset's initial state, or the one reached after ``--step T``
+The state is the preset's initial state, or the one reached after ``--random-steps T``
 random joint actions. The planner runs in its own process group, stopped when the group
 has used ``--timeout`` CPU seconds (as the IPC counts them), or at the wall-clock safety
 ``--wall-limit``; its plan is validated with unified-planning's validator and VAL. A
@@ -20,9 +20,11 @@ from typing import Any
 
 from ..errors import ConfigError
 from ..sim import new_state, transition
+from . import _types
 from ._common import (
     HelpFormatter,
     add_compile_args,
+    add_deprecated_alias,
     add_kitchen_args,
     add_output_args,
     check_limits,
@@ -35,11 +37,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("solve", help="compile a state and solve it with a named planner",
                        description=__doc__, formatter_class=HelpFormatter)
     add_kitchen_args(p, step=True)
-    p.add_argument("--planner", default="fast-downward",
+    p.add_argument("--planner", type=_types.name, default="fast-downward",
                    help="registry name (see --list), e.g. fast-downward, kairos")
     add_compile_args(p, auto_encoding=True, limits=None)
     p.add_argument("--no-val", action="store_true", help="validate with UP only, not VAL")
-    p.add_argument("--plan", action="store_true", help="include the plan steps in the output")
+    p.add_argument("--show-plan", dest="plan", action="store_true",
+                   help="include the plan steps in the output")
+    add_deprecated_alias(p, "--plan", "--show-plan", takes_value=False, dest="plan")
     p.add_argument("--list", action="store_true",
                    help="list the planners and whether each is available, then exit")
     add_output_args(p)

@@ -12,33 +12,41 @@ import functools
 import shlex
 import sys
 
+from . import _types
 from ._common import HelpFormatter, add_deprecated_alias, add_kitchen_args, add_output_args, emit
+
+_POSITIVE = _types.whole("the value", 1)
+_FRACTION = _types.number("a fraction", 0.0, 1.0, lo_open=False)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "train", help="train the PPO baseline (rl extra)", description=__doc__,
         formatter_class=HelpFormatter,
-        epilog="example: ocplus train --preset easy --steps 600000 --seed 0 --out runs/easy\n"
-               "(one shared policy drives every cook; the summary is printed as JSON with or "
-               "without --json)",
+        epilog="example: ocplus train --preset easy --timesteps 600000 --seed 0 --out runs/easy\n"
+               "(one shared policy drives every cook)",
     )
     add_kitchen_args(p, horizon=False, rules=False)
-    p.add_argument("--steps", type=int, default=300_000,
+    p.add_argument("--timesteps", dest="steps", type=_POSITIVE, default=300_000,
                    help="training agent-steps (one per agent per kitchen step)")
+    add_deprecated_alias(p, "--steps", "--timesteps", takes_value=True, dest="steps",
+                         type=_POSITIVE)
     g = p.add_argument_group("learning")
     g.add_argument("--obs", default="features", choices=("features", "grid"),
                    help="egocentric path features, or the SPEC vector (one-hot grid) encoding")
-    g.add_argument("--obs-radius", type=int, default=0, help="grid window radius (0 = whole map)")
-    g.add_argument("--n-kitchens", type=int, default=8, help="kitchens simulated in parallel")
-    g.add_argument("--n-steps", type=int, default=128, help="rollout length per agent slot")
-    g.add_argument("--batch-size", type=int, default=512)
-    g.add_argument("--n-epochs", type=int, default=8)
-    g.add_argument("--lr", type=float, default=5e-4, help="initial learning rate (decays to 10%%)")
-    g.add_argument("--ent-coef", type=float, default=0.02)
-    g.add_argument("--gamma", type=float, default=0.99)
+    g.add_argument("--obs-radius", type=_types.whole("--obs-radius", 0, 64), default=0,
+                   help="grid window radius (0 = whole map)")
+    g.add_argument("--n-kitchens", type=_types.whole("--n-kitchens", 1, 65536), default=8,
+                   help="kitchens simulated in parallel")
+    g.add_argument("--n-steps", type=_POSITIVE, default=128, help="rollout length per agent slot")
+    g.add_argument("--batch-size", type=_POSITIVE, default=512)
+    g.add_argument("--n-epochs", type=_POSITIVE, default=8)
+    g.add_argument("--lr", type=_types.number("--lr", 0.0, 1.0), default=5e-4,
+                   help="initial learning rate (decays to 10%%)")
+    g.add_argument("--ent-coef", type=_FRACTION, default=0.02)
+    g.add_argument("--gamma", type=_types.number("--gamma", 0.0, 1.0), default=0.99)
     g.add_argument("--hidden", default="128,128", help="hidden layer sizes, comma-separated")
-    g.add_argument("--anneal-fraction", type=float, default=0.8,
+    g.add_argument("--anneal-fraction", type=_FRACTION, default=0.8,
                    help="fraction of training after which the shaping reward is 0")
     g.add_argument("--individual-reward", action="store_true",
                    help="each agent learns from its own rewards (default: the team's sum)")
@@ -46,20 +54,20 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="comma-separated presets mixed in for the first --curriculum-fraction; "
                         "PRESET:R1/R2 restricts a preset's kitchen to those recipes, e.g. "
                         "medium:steak/tomato (one-ingredient orders teach the pan)")
-    g.add_argument("--curriculum-fraction", type=float, default=0.3)
+    g.add_argument("--curriculum-fraction", type=_FRACTION, default=0.3)
     g.add_argument("--init", default=None, help="start from this checkpoint's weights")
-    g.add_argument("--checkpoint-every", type=int, default=None,
+    g.add_argument("--checkpoint-every", type=_POSITIVE, default=None,
                    help="steps between checkpoints (default: steps / 5)")
     b = p.add_argument_group("imitation warm start")
     b.add_argument("--bc", default=None, metavar="AGENT",
                    help="behaviour-clone this controller first (e.g. greedy), then run PPO "
                         "from the cloned policy; OUT/bc_policy.zip keeps the clone")
-    b.add_argument("--bc-steps", type=int, default=100_000,
+    b.add_argument("--bc-steps", type=_POSITIVE, default=100_000,
                    help="kitchen steps of teacher-labelled play per round")
-    b.add_argument("--bc-rounds", type=int, default=1,
+    b.add_argument("--bc-rounds", type=_POSITIVE, default=1,
                    help="rounds; after the first, the learner drives and the teacher labels "
                         "(DAgger)")
-    b.add_argument("--bc-epochs", type=int, default=8, help="fitting passes after each round")
+    b.add_argument("--bc-epochs", type=_POSITIVE, default=8, help="fitting passes after each round")
     s = p.add_argument_group("speed")
     s.add_argument("--engine", default="auto", choices=("auto", "batch", "loop"),
                    help="batch: the batched engine (fast extra); loop: one transition per "
@@ -73,15 +81,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--precision", default="fp32", choices=("fp32", "bf16"),
                    help="--algo lean: the network's matrix products in float32 or bfloat16 "
                         "(autocast; weights, optimiser and losses stay float32)")
-    s.add_argument("--torch-threads", type=int, default=1,
+    s.add_argument("--torch-threads", type=_types.whole("--torch-threads", 1, 1024), default=1,
                    help="CPU threads of torch and of the batched engine (the machine is shared: 1 "
                         "unless it is yours)")
-    s.add_argument("--max-wall", type=float, default=None, metavar="SECONDS",
+    s.add_argument("--max-wall", type=_types.seconds, default=None, metavar="SECONDS",
                    help="stop after this much training time and save the policy as usual")
-    add_output_args(p, out="required",
-                    writes="policy.zip, checkpoints/, episodes.csv, train.json")
+    add_output_args(p, out=True, writes="policy.zip, checkpoints/, episodes.csv, train.json")
     add_deprecated_alias(p, "--no-progress", "--quiet", takes_value=False)
-    p.set_defaults(func=run, json=True)
+    p.set_defaults(func=run)
 
 
 def _hidden(text: str) -> tuple[int, ...]:
@@ -120,7 +127,7 @@ def run(args: argparse.Namespace) -> int:
     if sys.argv[1:2] == ["train"]:
         command = "ocplus " + shlex.join(sys.argv[1:])
     else:  # called in-process (tests, scripts): the essential options
-        parts = ["train", "--preset", args.preset, "--steps", str(args.steps), "--seed",
+        parts = ["train", "--preset", args.preset, "--timesteps", str(args.steps), "--seed",
                  str(args.seed), "--out", args.out]
         if args.n_agents is not None:
             parts += ["--n-agents", str(args.n_agents)]

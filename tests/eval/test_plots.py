@@ -40,7 +40,7 @@ def test_report_redraws_plots_from_results(tmp_path, capsys):
                      quiet=True)
     run_eval(cfg, echo=lambda *a: None)
     assert not (out / "plots").exists()
-    assert main(["report", str(out)]) == 0
+    assert main(["report", str(out), "--plots"]) == 0
     assert "plots:" in capsys.readouterr().out
     assert (out / "plots" / "leaderboard.png").stat().st_size > 5000
     assert (out / "plots" / "heatmap_medium_greedy.png").stat().st_size > 5000

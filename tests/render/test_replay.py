@@ -105,11 +105,11 @@ def test_replay_command_checks_and_exports(tmp_path, capsys):
     pytest.importorskip("PIL.Image", reason="GIF export needs Pillow (gui extra)")
     rec, state = record_episode(steps=20)
     path = rec.save(tmp_path / "r.jsonl.gz")
-    assert main(["replay", str(path), "--check"]) == 0
+    assert main(["replay", str(path), "--check", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["matches_recording"] is True and out["state_hash"] == state.state_hash()
     gif = tmp_path / "r.gif"
-    assert main(["replay", str(path), "--gif", str(gif), "--max-frames", "5"]) == 0
+    assert main(["replay", str(path), "--gif", str(gif), "--max-frames", "5", "--json"]) == 0
     assert gif.exists() and json.loads(capsys.readouterr().out)["gif"] == str(gif)
     # a recording that no longer reaches its hash exits 1
     with gzip.open(path, "rt") as fh:

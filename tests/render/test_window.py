@@ -130,12 +130,13 @@ def test_play_command_records_an_episode_that_replays(tmp_path, capsys):
 
     record = tmp_path / "watch.jsonl.gz"
     argv = ["play", "--preset", "easy", "--n-agents", "2", "--human", "none", "--agents",
-            "greedy", "--fps", "2000", "--horizon", "60", "--no-wait", "--record", str(record)]
+            "greedy", "--fps", "2000", "--horizon", "60", "--no-wait", "--record", str(record),
+            "--json"]
     assert main(argv) == 0
     result = capsys.readouterr().out.splitlines()[-1]
     metrics = json.loads(result)
     assert metrics["steps"] == 60 and metrics["dishes_served"] >= 1
-    assert main(["replay", str(record), "--check"]) == 0
+    assert main(["replay", str(record), "--check", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["state_hash"] == metrics["state_hash"]
     assert main(["replay", str(record), "--fps", "2000", "--no-wait"]) == 0  # in the window
 

@@ -91,7 +91,7 @@ def test_cli_train_runs_and_prints_a_summary(tmp_path: Path, capsys: pytest.Capt
     out = tmp_path / "run"
     code = main(["train", "--preset", "easy", "--steps", "600", "--seed", "0", "--out", str(out),
                  "--n-kitchens", "2", "--n-steps", "32", "--batch-size", "64", "--hidden", "16",
-                 "--no-progress"])
+                 "--no-progress", "--json"])
     assert code == 0
     printed = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert printed["policy"].endswith("policy.zip") and printed["timesteps"] >= 600
