@@ -59,7 +59,7 @@ def test_generate_refuses_one_cook_for_a_split_kitchen(tmp_path, capsys):
 def test_generate_refuses_zero_kitchens(tmp_path, capsys):
     assert main(["generate", "--family", "open", "--n", "0", "--no-prove",
                  "--out", str(tmp_path / "z")]) == 2
-    assert "--n must be at least 1" in capsys.readouterr().err
+    assert "--n is a whole number from 1" in capsys.readouterr().err
 
 
 def test_map_gen_name_is_accepted_by_rollout(capsys):
@@ -85,8 +85,9 @@ def test_rules_values_take_their_field_type():
 
 
 def test_rules_reach_the_simulator(capsys):
-    assert main(["rollout", "--preset", "easy", "--rules", "horizon=7", "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["steps"] == 7
+    assert main(["rollout", "--preset", "easy", "--agents", "greedy", "--rules",
+                 "stop_after_orders=1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["steps"] < 200  # stopped at the first dish
 
 
 @pytest.mark.parametrize("item, match", [
@@ -112,9 +113,9 @@ def test_a_rule_given_twice_is_refused():
         parse_rule_overrides(["cook_time=8", "cook_time=9"])
 
 
-def test_rules_and_horizon_that_disagree_are_refused(capsys):
+def test_the_horizon_is_set_by_its_own_option_not_by_rules(capsys):
     assert main(["rollout", "--preset", "easy", "--horizon", "9", "--rules", "horizon=7"]) == 2
-    assert "give it once" in capsys.readouterr().err
+    assert "use --horizon" in capsys.readouterr().err
 
 
 def test_eval_passes_rules_to_every_episode_and_records_them(tmp_path, capsys):

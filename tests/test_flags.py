@@ -98,7 +98,7 @@ def test_json_and_quiet_are_on_every_command_and_off_by_default():
 
 
 def test_commands_that_write_files_take_an_optional_out():
-    writers = {"eval", "demo", "train", "export-suite", "pddl"}
+    writers = {"eval", "demo", "train", "export-suite", "pddl", "generate"}
     assert {n for n, s in SUBS.items() if "--out" in _options(s)} == writers
 
 

@@ -82,7 +82,7 @@ def add_kitchen_args(p: argparse.ArgumentParser, *, sweep: bool = False, step: b
                                 f"range (5-9), at most {_types.MAX_SEEDS}")
     else:
         g.add_argument("--seed", type=_types.seed, default=0,
-                       help=f"episode seed, 0 to {_types.MAX_SEED}")
+                       help=f"seed, 0 to {_types.MAX_SEED}: the episode's")
     if horizon:
         g.add_argument("--horizon", type=_types.horizon, default=DEFAULT_HORIZON,
                        help=f"steps per episode, 1 to {_types.MAX_HORIZON} (every preset "
@@ -118,7 +118,7 @@ def rules_from_args(args: argparse.Namespace, **overrides: Any) -> Rules:
     for name in ("n_agents", "horizon"):
         if getattr(args, name, None) is not None:
             overrides.setdefault(name, getattr(args, name))
-    given = parse_rule_overrides(getattr(args, "rules", None))
+    given = sweep_rules(args)
     clash = sorted(k for k in set(given) & set(overrides) if given[k] != overrides[k])
     if clash:
         raise ConfigError(f"--rules sets {', '.join(clash)}, which another option of this "
@@ -127,8 +127,8 @@ def rules_from_args(args: argparse.Namespace, **overrides: Any) -> Rules:
 
 
 def sweep_rules(args: argparse.Namespace) -> dict[str, Any]:
-    """``--rules`` of a command that runs many episodes (``eval``, ``demo``): its
-    ``--horizon`` is the one way to set the horizon there."""
+    """``--rules`` of a command: ``--horizon`` is the one way to set the horizon (it has a
+    default, so a horizon among the rules would always clash with it)."""
     given = parse_rule_overrides(getattr(args, "rules", None))
     if "horizon" in given:
         raise ConfigError("--rules horizon=...: use --horizon, the option this command "

@@ -28,6 +28,7 @@ from ..sim.generate import (
     split_seed,
 )
 from ..sim.maps import load_map
+from . import _types
 from ._common import HelpFormatter, add_output_args, emit, say
 
 
@@ -35,26 +36,28 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("generate", help="write generated kitchens (YAML maps and a manifest)",
                        description=__doc__, formatter_class=HelpFormatter)
     p.add_argument("--family", required=True, choices=FAMILIES, help="kitchen family")
-    p.add_argument("--n", type=int, default=1, help="how many kitchens")
-    p.add_argument("--seed", type=int, default=0,
-                   help="first seed (with --split: first index of the split)")
+    p.add_argument("--n", type=_types.whole("--n", 1, 10_000), default=1, help="how many kitchens")
+    p.add_argument("--seed", type=_types.seed, default=0,
+                   help=f"seed, 0 to {_types.MAX_SEED}: the first kitchen's (with --split: "
+                        "its index in the split)")
     p.add_argument("--split", choices=tuple(SPLITS), default=None,
                    help="take the kitchens of this split (train: seed = index; "
                         "test: seed = 1000000 + index)")
     p.add_argument("--stations", choices=tuple(PRESET_STATIONS), default="hard",
                    help="the preset whose stations the kitchens carry")
-    p.add_argument("--rows", type=int, default=None, help="rows (None: drawn per seed)")
-    p.add_argument("--cols", type=int, default=None, help="columns (None: drawn per seed)")
-    p.add_argument("--cooks", type=int, default=None,
+    p.add_argument("--rows", type=_types.whole("--rows", 5, 12), default=None, help="rows (None: drawn per seed)")
+    p.add_argument("--cols", type=_types.whole("--cols", 5, 12), default=None, help="columns (None: drawn per seed)")
+    p.add_argument("--cooks", type=_types.whole("--cooks", 1, 4), default=None,
                    help="cooks = spawn points (None: 3 or 4, drawn per seed)")
     proof = p.add_mutually_exclusive_group()
     proof.add_argument("--prove", dest="prove", action="store_true", default=None,
                        help="prove each kitchen solvable (default: when Fast Downward is here)")
     proof.add_argument("--no-prove", dest="prove", action="store_false",
                        help="write the kitchens without proving them")
-    p.add_argument("--candidates", type=int, default=5,
+    p.add_argument("--candidates", type=_types.whole("--candidates", 1, 100), default=5,
                    help="candidates tried per kitchen before it is given up")
-    p.add_argument("--timeout", type=float, default=60.0, help="planner seconds per proof try")
+    p.add_argument("--timeout", type=_types.seconds, default=60.0,
+                   help="planner CPU seconds per proof try")
     add_output_args(p, out=True, writes="one YAML map per kitchen, manifest.json")
     p.set_defaults(func=run)
 
