@@ -93,6 +93,7 @@ def run_episodes(args: argparse.Namespace) -> list[dict[str, Any]]:
                      "planner": args.episode_planner, "dishes": stats["dishes_served"],
                      "planner_calls": info["planner_calls"], "statuses": info["statuses"],
                      "planning_time_s": info["planning_time"],
+                     "planning_cpu_s": info.get("planning_cpu_s"),
                      "wall_s": round(time.perf_counter() - t0, 3)})
     return rows
 

@@ -193,3 +193,17 @@ def test_fast_downwards_search_is_stopped_at_the_cpu_limit() -> None:
     assert result.status == "timeout" and result.limit_hit == "cpu", result.reason
     assert result.cpu_time is not None and 2.0 <= result.cpu_time < 4.0
     assert result.planning_time < wall_safety(2.0)
+
+
+def test_the_planner_agent_sums_the_cpu_seconds_of_its_calls_for_the_eval_rows() -> None:
+    _require("fast-downward")
+    from ocplus_plan.agents import run_episode
+    from ocplus_plan.agents.planner import PlannerAgent
+    from ocplus_plan.eval.metrics import controller_metrics
+    from ocplus_plan.sim import make_rules, new_state
+
+    agent = PlannerAgent("fast-downward", timeout=20)
+    run_episode(new_state(make_rules("easy"), 0), [(agent, [0])], None, 3)
+    info = agent.info()
+    assert info["planner_calls"] >= 1 and 0 < info["planning_cpu_s"] < 20 * info["planner_calls"]
+    assert controller_metrics(info)["planning_cpu_s"] == info["planning_cpu_s"]
