@@ -6,6 +6,9 @@ the Gymnasium vector env over it (``make_vec(..., vectorization_mode="vector_ent
 ``copy=True`` and ``copy=False``). JaxMARL Overcooked V1 and V2 (the ``compare`` extra, CPU
 jax): ``jit(vmap(step))`` inside ``lax.scan`` over random actions, compile time excluded;
 each step's observations are summed into the scan output so XLA cannot drop them.
+``ours_jax``: the kitchen in JAX (:mod:`ocplus_plan.sim.fast.jax_kitchen`, the ``jax``
+extra) behind JaxMARL's interface, timed exactly as JaxMARL's envs on whatever device JAX
+sees (``--kitchens 1024 16384 65536 262144`` on a GPU).
 ``ours_batch_features``: what the trainer's batched engine does per step (the step
 without vector observations, the shaped rewards and every cook's ``features`` observation,
 :class:`ocplus_plan.rl.fast.features_batch.BatchFeatures`).
@@ -16,6 +19,8 @@ and bookkeeping) for each observation the engine can keep.
     python experiments/bench_batch.py                      # all systems, 1 ... 4096 kitchens
     python experiments/bench_batch.py --plot experiments/figures/batch_scaling.png
     python experiments/bench_batch.py --memory
+    python experiments/bench_batch.py --systems ours_jax jaxmarl_overcooked ours_batchsim \\
+        --kitchens 1024 16384 65536 262144 --runs 3
 """
 
 from __future__ import annotations
@@ -118,13 +123,13 @@ def memory_rows(n_envs: int = 64) -> list[dict[str, Any]]:
     return [{"bench": "batch_memory", "preset": "hard", "n_agents": 2, **r} for r in rows]
 
 
-def bench_jaxmarl(name: str, n_envs: int, env_steps: int, runs: int) -> dict[str, Any]:
+def _jax_rollout(env: Any, n_envs: int, steps: int) -> Any:
+    """``jit(vmap(step))`` inside ``lax.scan`` over uniform random actions for any
+    JaxMARL-style env (ours or JaxMARL's); every step's observations and first reward
+    are summed into the scan output so that XLA computes them."""
     import jax
     import jax.numpy as jnp
-    import jaxmarl
 
-    env = jaxmarl.make(name)
-    steps = max(20, env_steps // n_envs)
     n_actions = env.action_space(env.agents[0]).n
 
     def rollout(key: Any) -> Any:
@@ -143,22 +148,61 @@ def bench_jaxmarl(name: str, n_envs: int, env_steps: int, runs: int) -> dict[str
 
         return jax.lax.scan(body, (state, keys[0]), None, length=steps)[1]
 
-    run = jax.jit(rollout)
+    return jax.jit(rollout)
+
+
+def _time_rollout(run: Any, runs: int) -> tuple[list[float], float]:
+    import jax
+
+    t0 = time.perf_counter()
     run(jax.random.PRNGKey(0)).block_until_ready()  # compile
-    rates = []
+    compile_s = time.perf_counter() - t0
+    times = []
     for r in range(runs):
         t0 = time.perf_counter()
         run(jax.random.PRNGKey(r + 1)).block_until_ready()
-        rates.append(steps * n_envs / (time.perf_counter() - t0))
+        times.append(time.perf_counter() - t0)
+    return times, compile_s
+
+
+def bench_jaxmarl(name: str, n_envs: int, env_steps: int, runs: int) -> dict[str, Any]:
+    import jax
+    import jaxmarl
+
+    env = jaxmarl.make(name)
+    steps = max(20, env_steps // n_envs)
+    times, _ = _time_rollout(_jax_rollout(env, n_envs, steps), runs)
     _, state = env.reset(jax.random.PRNGKey(0))
     state_bytes = sum(x.nbytes for x in jax.tree_util.tree_leaves(state))
     obs, _ = env.reset(jax.random.PRNGKey(0))
     obs_bytes = sum(o.nbytes for o in obs.values())
     return {"bench": "batch", "system": f"jaxmarl_{name}", "n_agents": 2, "n_envs": n_envs,
             "env_steps": steps * n_envs, "runs": runs,
-            "env_steps_per_s_median": round(statistics.median(rates)),
+            "env_steps_per_s_median": round(steps * n_envs / statistics.median(times)),
             "bytes_per_kitchen": state_bytes + obs_bytes, "jax": jax.__version__,
+            "device": str(jax.devices()[0].device_kind),
             "jaxmarl": getattr(jaxmarl, "__version__", "?"), "load": _load()}
+
+
+def bench_ours_jax(n_envs: int, env_steps: int, runs: int) -> dict[str, Any]:
+    """Ours in JAX (:func:`ocplus_plan.make_jax_env`, hard, MapC, 2 cooks, whole-map vector
+    observations of every cook, auto-reset), timed exactly as JaxMARL's envs."""
+    import jax
+
+    import ocplus_plan
+
+    env = ocplus_plan.make_jax_env("hard", n_agents=2)
+    steps = max(20, env_steps // n_envs)
+    times, compile_s = _time_rollout(_jax_rollout(env, n_envs, steps), runs)
+    obs, state = env.reset(jax.random.PRNGKey(0))
+    state_bytes = sum(x.nbytes for x in jax.tree_util.tree_leaves(state))
+    obs_bytes = sum(o.nbytes for o in obs.values())
+    return {"bench": "batch", "system": "ours_jax", "preset": "hard", "map": env.rules.layout.name,
+            "n_agents": 2, "n_envs": n_envs, "env_steps": steps * n_envs, "runs": runs,
+            "env_steps_per_s_median": round(steps * n_envs / statistics.median(times)),
+            "compile_s": round(compile_s, 2), "bytes_per_kitchen": state_bytes + obs_bytes,
+            "jax": jax.__version__, "device": str(jax.devices()[0].device_kind),
+            "load": _load(), "python": platform.python_version()}
 
 
 def plot(rows: list[dict[str, Any]], path: str) -> None:
@@ -208,7 +252,9 @@ def main() -> None:
                                              "pip install 'ocplus-plan[compare]'"}), flush=True)
                 continue
         for n_envs in args.kitchens:
-            if system.startswith("jaxmarl_"):
+            if system == "ours_jax":
+                row = bench_ours_jax(n_envs, args.env_steps, args.runs)
+            elif system.startswith("jaxmarl_"):
                 row = bench_jaxmarl(system.removeprefix("jaxmarl_"), n_envs, args.env_steps,
                                     args.runs)
             else:
