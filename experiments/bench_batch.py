@@ -205,6 +205,54 @@ def bench_ours_jax(n_envs: int, env_steps: int, runs: int) -> dict[str, Any]:
             "load": _load(), "python": platform.python_version()}
 
 
+def bench_ours_jax_parts(n_envs: int, env_steps: int, runs: int) -> list[dict[str, Any]]:
+    """Where the JAX kitchen's time goes: the step alone (params as constants of the
+    compiled step, or carried in every kitchen's state), and the observation alone."""
+    import jax
+    import jax.numpy as jnp
+
+    from ocplus_plan.sim.fast import jax_kitchen as jk
+    from ocplus_plan.sim.fast.jax_observe import observe
+
+    rules = make_rules("hard", n_agents=2)
+    params = jk.kitchen_params(rules)
+    steps = max(20, env_steps // n_envs)
+
+    def rollout(carried: bool, what: str) -> Any:
+        def run(key: Any) -> Any:
+            states = jax.vmap(jk.reset, (0, None))(jax.random.split(key, n_envs), params)
+            if not carried:
+                states = states._replace(params=None)
+
+            def body(carry: Any, _: Any) -> Any:
+                states, key = carry
+                key, k_act = jax.random.split(key)
+                acts = jax.random.randint(k_act, (n_envs, 2), 0, 5)
+                full = states if carried else jax.vmap(
+                    lambda s: s._replace(params=jax.tree_util.tree_map(jnp.asarray, params)))(states)
+                if what == "observe":
+                    return (states, key), jnp.sum(jax.vmap(observe)(full))
+                out = jax.vmap(jk.step, (None, 0, 0))(None, full, acts)
+                new = out.state if carried else out.state._replace(params=None)
+                return (new, key), out.rewards.sum()
+
+            return jax.lax.scan(body, (states, key), None, length=steps)[1]
+
+        return jax.jit(run)
+
+    rows = []
+    for label, carried, what in (("ours_jax_step_only", False, "step"),
+                                 ("ours_jax_step_only_params_in_state", True, "step"),
+                                 ("ours_jax_observe_only", False, "observe")):
+        times, compile_s = _time_rollout(rollout(carried, what), runs)
+        rows.append({"bench": "batch_parts", "system": label, "n_envs": n_envs,
+                     "env_steps": steps * n_envs, "runs": runs,
+                     "env_steps_per_s_median": round(steps * n_envs / statistics.median(times)),
+                     "compile_s": round(compile_s, 2), "device": str(jax.devices()[0].device_kind),
+                     "load": _load()})
+    return rows
+
+
 def plot(rows: list[dict[str, Any]], path: str) -> None:
     import matplotlib
 
@@ -252,6 +300,10 @@ def main() -> None:
                                              "pip install 'ocplus-plan[compare]'"}), flush=True)
                 continue
         for n_envs in args.kitchens:
+            if system == "ours_jax_parts":
+                for row in bench_ours_jax_parts(n_envs, args.env_steps, args.runs):
+                    print(json.dumps(row), flush=True)
+                continue
             if system == "ours_jax":
                 row = bench_ours_jax(n_envs, args.env_steps, args.runs)
             elif system.startswith("jaxmarl_"):

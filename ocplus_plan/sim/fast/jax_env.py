@@ -103,11 +103,18 @@ class JaxKitchenEnv:
     @partial(jax.jit, static_argnums=(0,))
     def reset(self, key: Any) -> tuple[dict[str, Any], jk.KitchenState]:
         state = jk.reset(key, self.params)
-        return self.get_obs(state), state
+        return self.get_obs(state), state._replace(params=None)
 
     def get_obs(self, state: jk.KitchenState) -> dict[str, Any]:
-        obs = observe(state)
+        obs = observe(self.kitchen_state(state))
         return {a: obs[i] for i, a in enumerate(self.agents)}
+
+    def kitchen_state(self, state: jk.KitchenState) -> jk.KitchenState:
+        """The env's state with its :class:`~ocplus_plan.sim.fast.jax_kitchen.Params`
+        attached (what :func:`jax_kitchen.step` takes). The env's own states carry none:
+        the env holds them once, as constants of the compiled step, so XLA folds the rules
+        this kitchen does not use and no kitchen copies the tables."""
+        return state._replace(params=jax.tree_util.tree_map(jnp.asarray, self.params))
 
     @partial(jax.jit, static_argnums=(0,))
     def step(self, key: Any, state: jk.KitchenState, actions: dict[str, Any],
@@ -117,7 +124,10 @@ class JaxKitchenEnv:
         key, key_reset = jax.random.split(key)
         out = self._advance(state, actions)
         done = out.terminated | out.truncated
-        fresh = jk.reset(key_reset, self.params) if reset_state is None else reset_state
+        if reset_state is None:
+            fresh = jk.reset(key_reset, self.params)._replace(params=None)
+        else:
+            fresh = reset_state._replace(params=None)
         state = jax.tree_util.tree_map(lambda r, s: jnp.where(done, r, s), fresh, out.state)
         return self.get_obs(state), state, *self._report(out)
 
@@ -130,7 +140,8 @@ class JaxKitchenEnv:
     # ------------------------------------------------------------ internals
     def _advance(self, state: jk.KitchenState, actions: dict[str, Any]) -> jk.StepOut:
         joint = jnp.stack([jnp.asarray(actions[a]).reshape(()) for a in self.agents])
-        return jk.step(None, state, joint)
+        out = jk.step(None, self.kitchen_state(state), joint)
+        return out._replace(state=out.state._replace(params=None))
 
     def _report(self, out: jk.StepOut) -> tuple[dict, dict, dict]:
         n = self.num_agents
