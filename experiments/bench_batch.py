@@ -184,20 +184,22 @@ def bench_jaxmarl(name: str, n_envs: int, env_steps: int, runs: int) -> dict[str
             "jaxmarl": getattr(jaxmarl, "__version__", "?"), "load": _load()}
 
 
-def bench_ours_jax(n_envs: int, env_steps: int, runs: int) -> dict[str, Any]:
-    """Ours in JAX (:func:`ocplus_plan.make_jax_env`, hard, MapC, 2 cooks, whole-map vector
-    observations of every cook, auto-reset), timed exactly as JaxMARL's envs."""
+def bench_ours_jax(n_envs: int, env_steps: int, runs: int, radius: int = 0) -> dict[str, Any]:
+    """Ours in JAX (:func:`ocplus_plan.make_jax_env`, hard, MapC, 2 cooks, vector
+    observations of every cook (whole map, or ``radius``), auto-reset), timed exactly as
+    JaxMARL's envs."""
     import jax
 
     import ocplus_plan
 
-    env = ocplus_plan.make_jax_env("hard", n_agents=2)
+    env = ocplus_plan.make_jax_env("hard", n_agents=2, obs_radius=radius)
     steps = max(20, env_steps // n_envs)
     times, compile_s = _time_rollout(_jax_rollout(env, n_envs, steps), runs)
     obs, state = env.reset(jax.random.PRNGKey(0))
     state_bytes = sum(x.nbytes for x in jax.tree_util.tree_leaves(state))
     obs_bytes = sum(o.nbytes for o in obs.values())
-    return {"bench": "batch", "system": "ours_jax", "preset": "hard", "map": env.rules.layout.name,
+    return {"bench": "batch", "system": "ours_jax" + (f"_r{radius}" if radius else ""),
+            "preset": "hard", "map": env.rules.layout.name, "obs_size": env.obs_size,
             "n_agents": 2, "n_envs": n_envs, "env_steps": steps * n_envs, "runs": runs,
             "env_steps_per_s_median": round(steps * n_envs / statistics.median(times)),
             "compile_s": round(compile_s, 2), "bytes_per_kitchen": state_bytes + obs_bytes,
@@ -207,13 +209,11 @@ def bench_ours_jax(n_envs: int, env_steps: int, runs: int) -> dict[str, Any]:
 
 def bench_ours_jax_parts(n_envs: int, env_steps: int, runs: int) -> list[dict[str, Any]]:
     """Where the JAX kitchen's time goes: the step alone (params as constants of the
-    compiled step, or carried in every kitchen's state), and the observation alone."""
+    compiled step, or carried in every kitchen's state), no observation, no restart."""
     import jax
     import jax.numpy as jnp
 
     from ocplus_plan.sim.fast import jax_kitchen as jk
-    from ocplus_plan.sim.fast.jax_observe import observe
-
     rules = make_rules("hard", n_agents=2)
     params = jk.kitchen_params(rules)
     steps = max(20, env_steps // n_envs)
@@ -230,8 +230,6 @@ def bench_ours_jax_parts(n_envs: int, env_steps: int, runs: int) -> list[dict[st
                 acts = jax.random.randint(k_act, (n_envs, 2), 0, 5)
                 full = states if carried else jax.vmap(
                     lambda s: s._replace(params=jax.tree_util.tree_map(jnp.asarray, params)))(states)
-                if what == "observe":
-                    return (states, key), jnp.sum(jax.vmap(observe)(full))
                 out = jax.vmap(jk.step, (None, 0, 0))(None, full, acts)
                 new = out.state if carried else out.state._replace(params=None)
                 return (new, key), out.rewards.sum()
@@ -242,8 +240,7 @@ def bench_ours_jax_parts(n_envs: int, env_steps: int, runs: int) -> list[dict[st
 
     rows = []
     for label, carried, what in (("ours_jax_step_only", False, "step"),
-                                 ("ours_jax_step_only_params_in_state", True, "step"),
-                                 ("ours_jax_observe_only", False, "observe")):
+                                 ("ours_jax_step_only_params_in_state", True, "step")):
         times, compile_s = _time_rollout(rollout(carried, what), runs)
         rows.append({"bench": "batch_parts", "system": label, "n_envs": n_envs,
                      "env_steps": steps * n_envs, "runs": runs,
@@ -304,8 +301,9 @@ def main() -> None:
                 for row in bench_ours_jax_parts(n_envs, args.env_steps, args.runs):
                     print(json.dumps(row), flush=True)
                 continue
-            if system == "ours_jax":
-                row = bench_ours_jax(n_envs, args.env_steps, args.runs)
+            if system in ("ours_jax", "ours_jax_r2"):
+                row = bench_ours_jax(n_envs, args.env_steps, args.runs,
+                                     2 if system.endswith("r2") else 0)
             elif system.startswith("jaxmarl_"):
                 row = bench_jaxmarl(system.removeprefix("jaxmarl_"), n_envs, args.env_steps,
                                     args.runs)

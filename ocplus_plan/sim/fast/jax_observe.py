@@ -4,20 +4,33 @@
 
 The observed cells are the rows of ``Params.view``: the whole map (``rows x cols`` as the
 reference encoder, or the padded grid, whose cells outside the map read as ``unknown``)
-or a ``2r+1`` window centred on the cook. Each channel is built by comparing the observed
-cells with the cells of the items and cooks (no scatter), so ``vmap`` over kitchens and
-``jit`` fuse it into a few elementwise kernels.
+or a ``2r+1`` window centred on the cook. The dense part (terrain one-hots of the
+observed cells, ``unknown``, the features) is written whole in one elementwise pass; the
+item and cook entries (three per item, one per cook) are then added by one scatter, as
+the numba engine's entry lists do: building each item channel by comparing every observed
+cell with every item ran at a tenth of this speed on an H100.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
 from ..codes import Cell
-from ..observe import GRID_CHANNELS, ITEM_KINDS, ITEM_STATES, TERRAIN_CODES
+from ..observe import (
+    _CH_KIND0,
+    _CH_STATE0,
+    CH_OTHER,
+    CH_PROGRESS,
+    CH_SELF,
+    GRID_CHANNELS,
+    ITEM_KINDS,
+    ITEM_STATES,
+    TERRAIN_CODES,
+)
 from .jax_kitchen import (
     _CELL,
     _HAND,
@@ -52,10 +65,19 @@ def obs_size(view_cells: int, n_orders: int) -> int:
 
 
 def observe(s: KitchenState) -> Any:
-    """``(N, size)`` float32: every cook's observation of ``s``."""
-    grid = _grid(s)
+    """``(N, size)`` float32: every cook's observation of ``s``: the dense part (terrain,
+    ``unknown``, features) written whole, then the few item and cook entries added."""
     n = s.pos.shape[0]
-    return jnp.concatenate([grid.reshape(n, -1), _features(s)], 1)
+    cells = s.params.view.shape[0]
+    cell, known = _view_cells(s)
+    channel = jnp.asarray(_TERRAIN_CHANNEL)[s.params.terrain[s.layout, cell] + 1]
+    terrain = (channel[:, None, :] == jnp.arange(_N_TERRAIN)[None, :, None]) & known[:, None, :]
+    f32 = jnp.float32
+    dense = jnp.concatenate([
+        terrain.astype(f32).reshape(n, -1), (~known).astype(f32),
+        jnp.zeros((n, (N_CHANNELS - _N_TERRAIN - 1) * cells), f32), _features(s)], 1)
+    idx, val = _entries(s, cells, dense.shape[1])
+    return jax.vmap(lambda d, i, v: d.at[i].add(v, mode="drop"))(dense, idx, val)
 
 
 def _view_cells(s: KitchenState) -> tuple[Any, Any]:
@@ -82,33 +104,41 @@ def _item_cells(s: KitchenState) -> tuple[Any, Any]:
     return cell, (where == _CELL) | (where == _HAND) | (where == _PLATE)
 
 
-def _grid(s: KitchenState) -> Any:
-    """``(N, channels, K)`` grid channels of every cook's view."""
+def _entries(s: KitchenState, cells: int, size: int) -> tuple[Any, Any]:
+    """Every cook's item and cook entries (flat index, value): ``(N, 3I + N)`` each; an
+    entry outside the cook's view gets index ``size`` (dropped)."""
     p = s.params
-    cell, known = _view_cells(s)
-    channel = jnp.asarray(_TERRAIN_CHANNEL)[p.terrain[s.layout, cell] + 1]
-    terrain = (channel[:, None, :] == jnp.arange(_N_TERRAIN)[None, :, None]) & known[:, None, :]
-    f32 = jnp.float32
-    item_cell, visible = _item_cells(s)
-    kinds = jnp.zeros(cell.shape[:1] + (_N_KINDS,) + cell.shape[1:], f32)
-    states = jnp.zeros(cell.shape[:1] + (_N_STATES,) + cell.shape[1:], f32)
-    progress = jnp.zeros(cell.shape, f32)
-    prog = jnp.minimum(1.0, s.item_prog.astype(f32) / p.prog_den)
-    shows_prog = visible & (s.item_prog != 0) & (s.item_where != _PLATE)
-    k_range, s_range = jnp.arange(_N_KINDS), jnp.arange(_N_STATES)
-    for i in range(item_cell.shape[0]):
-        here = ((cell == item_cell[i]) & known & visible[i]).astype(f32)[:, None, :]
-        kinds = kinds + here * (p.item_kidx[i] == k_range).astype(f32)[None, :, None]
-        states = states + here * (s.item_state[i] == s_range).astype(f32)[None, :, None]
-        progress = progress + here[:, 0] * jnp.where(shows_prog[i], prog[i], 0.0)
     n = s.pos.shape[0]
-    at = (cell[:, None, :] == s.pos[None, :, None]) & known[:, None, :]  # (viewer, cook, K)
-    me = jnp.eye(n, dtype=bool)[:, :, None]
-    self_ch = jnp.any(at & me, 1)
-    other = jnp.any(at & ~me, 1)
-    return jnp.concatenate([
-        terrain.astype(f32), (~known).astype(f32)[:, None], kinds, states, progress[:, None],
-        self_ch.astype(f32)[:, None], other.astype(f32)[:, None]], 1)
+    centred = p.ints[P_CENTRED] > 0
+    first, last = p.view[0], p.view[-1]
+    h, w = last[0] - first[0] + 1, last[1] - first[1] + 1
+    top = jnp.where(centred, s.pos // GRID + first[0], first[0])  # (N,)
+    left = jnp.where(centred, s.pos % GRID + first[1], first[1])
+
+    def at(cell: Any) -> tuple[Any, Any]:  # (N, len(cell)): view index, inside the view
+        dr = (cell // GRID)[None, :] - top[:, None]
+        dc = (cell % GRID)[None, :] - left[:, None]
+        return dr * w + dc, (dr >= 0) & (dr < h) & (dc >= 0) & (dc < w)
+
+    item_cell, visible = _item_cells(s)
+    where_i, seen = at(item_cell)
+    seen = seen & visible[None, :]
+    f32 = jnp.float32
+    prog = jnp.minimum(1.0, s.item_prog.astype(f32) / p.prog_den)
+    shows = (s.item_prog != 0) & (s.item_where != _PLATE)
+    kind_ix = (_CH_KIND0 + p.item_kidx)[None, :] * cells + where_i
+    state_ix = (_CH_STATE0 + s.item_state)[None, :] * cells + where_i
+    prog_ix = CH_PROGRESS * cells + where_i
+    where_a, seen_a = at(s.pos)
+    me = jnp.eye(n, dtype=bool)
+    cook_ix = jnp.where(me, CH_SELF, CH_OTHER) * cells + where_a
+    idx = jnp.concatenate([jnp.where(seen, kind_ix, size), jnp.where(seen, state_ix, size),
+                           jnp.where(seen & shows[None, :], prog_ix, size),
+                           jnp.where(seen_a, cook_ix, size)], 1)
+    ones = jnp.ones(seen.shape, f32)
+    val = jnp.concatenate([ones, ones, jnp.broadcast_to(prog, seen.shape),
+                           jnp.ones(seen_a.shape, f32)], 1)
+    return idx, val
 
 
 def _features(s: KitchenState) -> Any:
