@@ -199,12 +199,15 @@ def test_the_differential_run_reaches_every_rule():
 
 
 def test_one_compiled_step_serves_kitchens_of_different_layouts():
-    layouts = [make_rules("easy", n_agents=2, **QUICK), make_rules("medium", n_agents=2, **QUICK),
-               make_rules("hard", **QUICK), make_rules("easy", map="trio_kitchen", n_agents=2)]
+    quick = dict(QUICK, horizon=25)
+    layouts = [make_rules("easy", n_agents=2, **quick), make_rules("medium", n_agents=2, **quick),
+               make_rules("hard", **quick), make_rules("easy", map="trio_kitchen", n_agents=2,
+                                                       **quick)]
     stacked = jk.params_for_many(layouts, 2)
     assert stacked.terrain.shape == (4, 2, jk.CELLS)
+    assert {r.layout.shape for r in layouts} == {(5, 7), (7, 7), (9, 9), (8, 10)}
     totals = compare(layouts, 2, 3, steps=60, noise=0.2)
-    assert totals.get("dishes_served", 0) + totals.get("chops", 0) > 0
+    assert totals["chops"] > 0, totals
 
 
 def test_a_map_larger_than_the_grid_is_refused_with_the_fix():
