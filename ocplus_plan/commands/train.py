@@ -76,6 +76,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--torch-threads", type=int, default=1,
                    help="CPU threads of torch and of the batched engine (the machine is shared: 1 "
                         "unless it is yours)")
+    s.add_argument("--device", default="cpu",
+                   help="torch device of the SB3 trainer: cpu, cuda, cuda:N or auto")
     s.add_argument("--max-wall", type=float, default=None, metavar="SECONDS",
                    help="stop after this much training time and save the policy as usual")
     add_output_args(p, out="required",
@@ -109,7 +111,7 @@ def run(args: argparse.Namespace) -> int:
         checkpoint_every=args.checkpoint_every, engine=args.engine,
         torch_threads=args.torch_threads, max_wall_s=args.max_wall,
         bc=args.bc, bc_steps=args.bc_steps, bc_rounds=args.bc_rounds, bc_epochs=args.bc_epochs,
-        algo=args.algo, precision=args.precision,
+        algo=args.algo, precision=args.precision, device=args.device,
     )
     teacher = None
     if args.bc is not None:

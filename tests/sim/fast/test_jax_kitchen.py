@@ -211,12 +211,13 @@ def test_one_compiled_step_serves_kitchens_of_different_layouts():
 
 
 def test_a_map_larger_than_the_grid_is_refused_with_the_fix():
-    rows = ["-1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1"] * 13
-    with pytest.raises(ConfigError, match="at most"):
-        from ocplus_plan.sim.maps import load_map
+    from ocplus_plan.sim.maps import load_map
 
-        layout = load_map({"name": "wide", "map": [[int(v) for v in r.split()] for r in rows],
-                           "spawn_points": [[1, 1]]})
+    easy = load_map("easy_open")  # 5x7; widened with walls to 5x13
+    wide = [[int(v) for v in row] + [-1] * 6 for row in easy.grid]
+    layout = load_map({"name": "wide", "game_map": wide, "max_n_agent": 2,
+                       "agent_spawn_points": [list(p) for p in easy.spawn_points]})
+    with pytest.raises(ConfigError, match="pads maps to 12x12"):
         jk.kitchen_params(make_rules("easy", map=layout))
 
 
