@@ -157,4 +157,34 @@ def save_npz(path: str, params: dict[str, Any]) -> None:
     np.savez(path, **{k: np.asarray(v) for k, v in params.items()})
 
 
-__all__ = ["PPOConfig", "agent_steps", "forward", "init_params", "make_train", "save_npz"]
+def train_to_folder(env: Any, config: PPOConfig, out: str, seed: int = 0,
+                    command: str | None = None) -> dict[str, Any]:
+    """Train (one jitted call), write ``OUT/policy.npz`` and ``OUT/train.json``; returns
+    the summary (``ocplus train --engine jax``)."""
+    import json
+    import time
+    from pathlib import Path
+
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    params, rewards = jax.block_until_ready(jax.jit(make_train(env, config))(
+        jax.random.PRNGKey(seed)))
+    wall = time.perf_counter() - t0
+    save_npz(str(folder / "policy.npz"), params)
+    steps = agent_steps(config, env.num_agents)
+    summary = {
+        "command": command, "engine": "jax", "policy": str(folder / "policy.npz"),
+        "timesteps": steps, "wall_time_s": round(wall, 1),
+        "steps_per_s": round(steps / wall, 1), "config": config._asdict(),
+        "preset": env.rules.preset, "map": env.rules.layout.name, "n_agents": env.num_agents,
+        "obs_size": env.obs_size, "team_reward_per_step_by_update":
+            [round(float(r), 4) for r in np.asarray(rewards)],
+        "device": str(jax.devices()[0].device_kind),
+    }
+    (folder / "train.json").write_text(json.dumps(summary, indent=2) + "\n")
+    return summary
+
+
+__all__ = ["PPOConfig", "agent_steps", "forward", "init_params", "make_train", "save_npz",
+           "train_to_folder"]

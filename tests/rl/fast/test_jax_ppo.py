@@ -3,6 +3,7 @@ reward per update, and its weights save as a plain .npz whose MLP numpy can run.
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -37,3 +38,16 @@ def test_a_tiny_training_run_updates_the_shared_policy_and_saves_it(tmp_path: Pa
     logits, value = forward(params, x)
     np.testing.assert_allclose((h @ saved["w2"] + saved["b2"])[:, :-1], logits, rtol=1e-4,
                                atol=1e-5)
+
+
+def test_ocplus_train_engine_jax_writes_the_policy_and_summary(tmp_path: Path, capsys):
+    from ocplus_plan.cli import main
+
+    code = main(["train", "--engine", "jax", "--preset", "easy", "--steps", "32",
+                 "--n-kitchens", "2", "--n-steps", "4", "--n-epochs", "1", "--hidden", "8,8",
+                 "--obs-radius", "1", "--out", str(tmp_path), "--quiet"])
+    assert code == 0
+    summary = json.loads((tmp_path / "train.json").read_text())
+    assert summary["engine"] == "jax" and summary["timesteps"] == 32
+    assert set(np.load(tmp_path / "policy.npz")) == {"w0", "b0", "w1", "b1", "w2", "b2"}
+    assert "policy.npz" in capsys.readouterr().out
