@@ -6,6 +6,9 @@ the Gymnasium vector env over it (``make_vec(..., vectorization_mode="vector_ent
 ``copy=True`` and ``copy=False``). JaxMARL Overcooked V1 and V2 (the ``compare`` extra, CPU
 jax): ``jit(vmap(step))`` inside ``lax.scan`` over random actions, compile time excluded;
 each step's observations are summed into the scan output so XLA cannot drop them.
+``ours_jax``: the kitchen in JAX (:mod:`ocplus_plan.sim.fast.jax_kitchen`, the ``jax``
+extra) behind JaxMARL's interface, timed exactly as JaxMARL's envs on whatever device JAX
+sees (``--kitchens 1024 16384 65536 262144`` on a GPU).
 ``ours_batch_features``: what the trainer's batched engine does per step (the step
 without vector observations, the shaped rewards and every cook's ``features`` observation,
 :class:`ocplus_plan.rl.fast.features_batch.BatchFeatures`).
@@ -16,6 +19,8 @@ and bookkeeping) for each observation the engine can keep.
     python experiments/bench_batch.py                      # all systems, 1 ... 4096 kitchens
     python experiments/bench_batch.py --plot experiments/figures/batch_scaling.png
     python experiments/bench_batch.py --memory
+    python experiments/bench_batch.py --systems ours_jax jaxmarl_overcooked ours_batchsim \\
+        --kitchens 1024 16384 65536 262144 --runs 3
 """
 
 from __future__ import annotations
@@ -118,13 +123,13 @@ def memory_rows(n_envs: int = 64) -> list[dict[str, Any]]:
     return [{"bench": "batch_memory", "preset": "hard", "n_agents": 2, **r} for r in rows]
 
 
-def bench_jaxmarl(name: str, n_envs: int, env_steps: int, runs: int) -> dict[str, Any]:
+def _jax_rollout(env: Any, n_envs: int, steps: int) -> Any:
+    """``jit(vmap(step))`` inside ``lax.scan`` over uniform random actions for any
+    JaxMARL-style env (ours or JaxMARL's); every step's observations and first reward
+    are summed into the scan output so that XLA computes them."""
     import jax
     import jax.numpy as jnp
-    import jaxmarl
 
-    env = jaxmarl.make(name)
-    steps = max(20, env_steps // n_envs)
     n_actions = env.action_space(env.agents[0]).n
 
     def rollout(key: Any) -> Any:
@@ -143,22 +148,106 @@ def bench_jaxmarl(name: str, n_envs: int, env_steps: int, runs: int) -> dict[str
 
         return jax.lax.scan(body, (state, keys[0]), None, length=steps)[1]
 
-    run = jax.jit(rollout)
+    return jax.jit(rollout)
+
+
+def _time_rollout(run: Any, runs: int) -> tuple[list[float], float]:
+    import jax
+
+    t0 = time.perf_counter()
     run(jax.random.PRNGKey(0)).block_until_ready()  # compile
-    rates = []
+    compile_s = time.perf_counter() - t0
+    times = []
     for r in range(runs):
         t0 = time.perf_counter()
         run(jax.random.PRNGKey(r + 1)).block_until_ready()
-        rates.append(steps * n_envs / (time.perf_counter() - t0))
+        times.append(time.perf_counter() - t0)
+    return times, compile_s
+
+
+def bench_jaxmarl(name: str, n_envs: int, env_steps: int, runs: int) -> dict[str, Any]:
+    import jax
+    import jaxmarl
+
+    env = jaxmarl.make(name)
+    steps = max(20, env_steps // n_envs)
+    times, _ = _time_rollout(_jax_rollout(env, n_envs, steps), runs)
     _, state = env.reset(jax.random.PRNGKey(0))
     state_bytes = sum(x.nbytes for x in jax.tree_util.tree_leaves(state))
     obs, _ = env.reset(jax.random.PRNGKey(0))
     obs_bytes = sum(o.nbytes for o in obs.values())
     return {"bench": "batch", "system": f"jaxmarl_{name}", "n_agents": 2, "n_envs": n_envs,
             "env_steps": steps * n_envs, "runs": runs,
-            "env_steps_per_s_median": round(statistics.median(rates)),
+            "env_steps_per_s_median": round(steps * n_envs / statistics.median(times)),
             "bytes_per_kitchen": state_bytes + obs_bytes, "jax": jax.__version__,
+            "device": str(jax.devices()[0].device_kind),
             "jaxmarl": getattr(jaxmarl, "__version__", "?"), "load": _load()}
+
+
+def bench_ours_jax(n_envs: int, env_steps: int, runs: int, radius: int = 0) -> dict[str, Any]:
+    """Ours in JAX (:func:`ocplus_plan.make_jax_env`, hard, MapC, 2 cooks, vector
+    observations of every cook (whole map, or ``radius``), auto-reset), timed exactly as
+    JaxMARL's envs."""
+    import jax
+
+    import ocplus_plan
+
+    env = ocplus_plan.make_jax_env("hard", n_agents=2, obs_radius=radius)
+    steps = max(20, env_steps // n_envs)
+    times, compile_s = _time_rollout(_jax_rollout(env, n_envs, steps), runs)
+    obs, state = env.reset(jax.random.PRNGKey(0))
+    state_bytes = sum(x.nbytes for x in jax.tree_util.tree_leaves(state))
+    obs_bytes = sum(o.nbytes for o in obs.values())
+    return {"bench": "batch", "system": "ours_jax" + (f"_r{radius}" if radius else ""),
+            "preset": "hard", "map": env.rules.layout.name, "obs_size": env.obs_size,
+            "n_agents": 2, "n_envs": n_envs, "env_steps": steps * n_envs, "runs": runs,
+            "env_steps_per_s_median": round(steps * n_envs / statistics.median(times)),
+            "compile_s": round(compile_s, 2), "bytes_per_kitchen": state_bytes + obs_bytes,
+            "jax": jax.__version__, "device": str(jax.devices()[0].device_kind),
+            "load": _load(), "python": platform.python_version()}
+
+
+def bench_ours_jax_parts(n_envs: int, env_steps: int, runs: int) -> list[dict[str, Any]]:
+    """Where the JAX kitchen's time goes: the step alone (params as constants of the
+    compiled step, or carried in every kitchen's state), no observation, no restart."""
+    import jax
+    import jax.numpy as jnp
+
+    from ocplus_plan.sim.fast import jax_kitchen as jk
+    rules = make_rules("hard", n_agents=2)
+    params = jk.kitchen_params(rules)
+    steps = max(20, env_steps // n_envs)
+
+    def rollout(carried: bool, what: str) -> Any:
+        def run(key: Any) -> Any:
+            states = jax.vmap(jk.reset, (0, None))(jax.random.split(key, n_envs), params)
+            if not carried:
+                states = states._replace(params=None)
+
+            def body(carry: Any, _: Any) -> Any:
+                states, key = carry
+                key, k_act = jax.random.split(key)
+                acts = jax.random.randint(k_act, (n_envs, 2), 0, 5)
+                full = states if carried else jax.vmap(
+                    lambda s: s._replace(params=jax.tree_util.tree_map(jnp.asarray, params)))(states)
+                out = jax.vmap(jk.step, (None, 0, 0))(None, full, acts)
+                new = out.state if carried else out.state._replace(params=None)
+                return (new, key), out.rewards.sum()
+
+            return jax.lax.scan(body, (states, key), None, length=steps)[1]
+
+        return jax.jit(run)
+
+    rows = []
+    for label, carried, what in (("ours_jax_step_only", False, "step"),
+                                 ("ours_jax_step_only_params_in_state", True, "step")):
+        times, compile_s = _time_rollout(rollout(carried, what), runs)
+        rows.append({"bench": "batch_parts", "system": label, "n_envs": n_envs,
+                     "env_steps": steps * n_envs, "runs": runs,
+                     "env_steps_per_s_median": round(steps * n_envs / statistics.median(times)),
+                     "compile_s": round(compile_s, 2), "device": str(jax.devices()[0].device_kind),
+                     "load": _load()})
+    return rows
 
 
 def plot(rows: list[dict[str, Any]], path: str) -> None:
@@ -208,7 +297,14 @@ def main() -> None:
                                              "pip install 'ocplus-plan[compare]'"}), flush=True)
                 continue
         for n_envs in args.kitchens:
-            if system.startswith("jaxmarl_"):
+            if system == "ours_jax_parts":
+                for row in bench_ours_jax_parts(n_envs, args.env_steps, args.runs):
+                    print(json.dumps(row), flush=True)
+                continue
+            if system in ("ours_jax", "ours_jax_r2"):
+                row = bench_ours_jax(n_envs, args.env_steps, args.runs,
+                                     2 if system.endswith("r2") else 0)
+            elif system.startswith("jaxmarl_"):
                 row = bench_jaxmarl(system.removeprefix("jaxmarl_"), n_envs, args.env_steps,
                                     args.runs)
             else:

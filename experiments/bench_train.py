@@ -191,6 +191,39 @@ def before_after(args: argparse.Namespace) -> None:
                       "rounds": args.rounds, "uptime_loadavg": os.getloadavg()}), flush=True)
 
 
+def bench_jax_ppo(preset: str, n_agents: int, kitchens: list[int], n_steps: int,
+                  obs_radius: int, runs: int) -> None:
+    """``--jax-ppo``: the jitted parameter-shared PPO (rl/fast/jax_ppo.py) on the JAX
+    kitchen; agent-steps/s of whole training calls (rollouts and updates), compile apart."""
+    import jax
+
+    import ocplus_plan
+    from ocplus_plan.rl.fast.jax_ppo import PPOConfig, agent_steps, make_train
+
+    env = ocplus_plan.make_jax_env(preset, n_agents=n_agents, obs_radius=obs_radius)
+    for k in kitchens:
+        config = PPOConfig(n_envs=k, n_steps=n_steps, n_updates=5)
+        train = jax.jit(make_train(env, config))
+        t0 = time.perf_counter()
+        jax.block_until_ready(train(jax.random.PRNGKey(0)))
+        compile_s = time.perf_counter() - t0
+        times = []
+        for r in range(runs):
+            t0 = time.perf_counter()
+            _, rewards = jax.block_until_ready(train(jax.random.PRNGKey(r + 1)))
+            times.append(time.perf_counter() - t0)
+        print(json.dumps({
+            "bench": "train", "setup": "jax_ppo", "preset": preset, "n_agents": n_agents,
+            "obs_radius": obs_radius, "n_kitchens": k, "n_steps": n_steps,
+            "config": config._asdict(), "agent_steps": agent_steps(config, n_agents),
+            "agent_steps_per_s_median": round(agent_steps(config, n_agents)
+                                              / statistics.median(times)),
+            "compile_and_first_s": round(compile_s, 1),
+            "mean_team_reward_per_step_last_update": float(rewards[-1]),
+            "device": str(jax.devices()[0].device_kind), "jax": jax.__version__,
+            "load": " ".join(f"{x:.2f}" for x in os.getloadavg())}), flush=True)
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--preset", default="medium")
@@ -205,6 +238,10 @@ def main() -> None:
     p.add_argument("--fast-n-epochs", type=int, default=4)
     p.add_argument("--torch-threads", type=int, default=1)
     p.add_argument("--hidden", default="128,128")
+    p.add_argument("--jax-ppo", action="store_true",
+                   help="time the jitted JAX PPO instead (--n-kitchens, --fast-n-steps, "
+                        "--obs-radius; the jax extra, or jax with CUDA)")
+    p.add_argument("--obs-radius", type=int, default=0)
     c = p.add_argument_group("before/after (--before-rev)")
     c.add_argument("--before-rev", default=None, metavar="REV",
                    help="time the trainer at this commit against today's, interleaved")
@@ -220,6 +257,10 @@ def main() -> None:
     c.add_argument("--precision", default="fp32", choices=("fp32", "bf16"),
                    help="today's trainer: --precision (with --algo lean)")
     args = p.parse_args()
+    if args.jax_ppo:
+        bench_jax_ppo(args.preset, args.n_agents, [int(k) for k in args.n_kitchens.split(",")],
+                      args.fast_n_steps, args.obs_radius, 3)
+        return
     if args.before_rev:
         before_after(args)
         return

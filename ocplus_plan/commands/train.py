@@ -69,10 +69,11 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "(DAgger)")
     b.add_argument("--bc-epochs", type=_POSITIVE, default=8, help="fitting passes after each round")
     s = p.add_argument_group("speed")
-    s.add_argument("--engine", default="auto", choices=("auto", "batch", "loop"),
+    s.add_argument("--engine", default="auto", choices=("auto", "batch", "loop", "jax"),
                    help="batch: the batched engine (fast extra); loop: one transition per "
                         "kitchen (the reference); auto: batch when the fast extra is "
-                        "installed. Same observations and rewards either way")
+                        "installed. Same observations and rewards either way. jax: the "
+                        "jitted PPO on the JAX kitchen (jax extra; writes policy.npz)")
     s.add_argument("--algo", default="sb3", choices=("sb3", "lean"),
                    help="sb3: stable-baselines3's PPO; lean: the same PPO and network in a "
                         "plain torch loop (rl/lean.py; with many kitchens, short rollouts and "
@@ -84,6 +85,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--torch-threads", type=_types.whole("--torch-threads", 1, 1024), default=1,
                    help="CPU threads of torch and of the batched engine (the machine is shared: 1 "
                         "unless it is yours)")
+    s.add_argument("--device", default="cpu",
+                   help="torch device of the SB3 trainer: cpu, cuda, cuda:N or auto")
     s.add_argument("--max-wall", type=_types.seconds, default=None, metavar="SECONDS",
                    help="stop after this much training time and save the policy as usual")
     add_output_args(p, out=True, writes="policy.zip, checkpoints/, episodes.csv, train.json")
@@ -101,7 +104,33 @@ def _hidden(text: str) -> tuple[int, ...]:
     return sizes
 
 
+def _run_jax(args: argparse.Namespace) -> int:
+    """``--engine jax``: the jitted PPO (rl/fast/jax_ppo.py) on the JAX kitchen."""
+    from .. import make_jax_env
+    from ..errors import ConfigError
+    from ..rl.fast.jax_ppo import PPOConfig, train_to_folder
+
+    hidden = set(_hidden(args.hidden))
+    if len(hidden) != 1:
+        raise ConfigError(f"--engine jax: --hidden {args.hidden!r} must repeat one width "
+                          "(its MLP has two equal layers), e.g. 128,128")
+    kw = {k: v for k, v in (("n_agents", args.n_agents), ("map", args.map)) if v is not None}
+    env = make_jax_env(args.preset, obs_radius=args.obs_radius, **kw)
+    per_update = args.n_steps * args.n_kitchens * env.num_agents
+    config = PPOConfig(n_envs=args.n_kitchens, n_steps=args.n_steps,
+                       n_updates=max(1, args.steps // per_update), n_epochs=args.n_epochs,
+                       hidden=hidden.pop(), lr=args.lr, gamma=args.gamma,
+                       ent_coef=args.ent_coef)
+    command = "ocplus " + shlex.join(sys.argv[1:]) if sys.argv[1:2] == ["train"] else None
+    summary = train_to_folder(env, config, args.out, args.seed, command)
+    emit({k: summary[k] for k in ("policy", "timesteps", "wall_time_s", "steps_per_s",
+                                  "device")}, args)
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
+    if args.engine == "jax":
+        return _run_jax(args)
     from ..rl.train import TrainConfig, train
 
     config = TrainConfig(
@@ -116,7 +145,7 @@ def run(args: argparse.Namespace) -> int:
         checkpoint_every=args.checkpoint_every, engine=args.engine,
         torch_threads=args.torch_threads, max_wall_s=args.max_wall,
         bc=args.bc, bc_steps=args.bc_steps, bc_rounds=args.bc_rounds, bc_epochs=args.bc_epochs,
-        algo=args.algo, precision=args.precision,
+        algo=args.algo, precision=args.precision, device=args.device,
     )
     teacher = None
     if args.bc is not None:

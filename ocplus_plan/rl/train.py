@@ -81,6 +81,9 @@ class TrainConfig:
     algo: str = "sb3"
     #: the lean loop's matrix products: "fp32" or "bf16" (autocast; weights stay float32)
     precision: str = "fp32"
+    #: torch device of the SB3 trainer: "cpu", "cuda", "cuda:N" or "auto" (cuda when
+    #: torch sees one); the lean loop runs on the CPU
+    device: str = "cpu"
 
     def __post_init__(self) -> None:
         if self.engine == "auto":
@@ -119,6 +122,11 @@ class TrainConfig:
         if self.precision not in PRECISIONS:
             raise ConfigError(
                 f"precision must be one of {', '.join(PRECISIONS)}, got {self.precision!r}")
+        if not (self.device in ("cpu", "cuda", "auto") or self.device.startswith("cuda:")):
+            raise ConfigError(f"device must be cpu, cuda, cuda:N or auto, got {self.device!r}")
+        if self.device != "cpu" and self.algo == "lean":
+            raise ConfigError(f"device {self.device!r} needs algo 'sb3' (the lean loop runs on "
+                              "the CPU): drop --algo lean or use --device cpu")
         if self.precision != "fp32" and self.algo != "lean":
             raise ConfigError(f"precision {self.precision!r} needs algo 'lean' (the SB3 "
                               "trainer computes in float32): add --algo lean")
@@ -162,6 +170,9 @@ def build(config: TrainConfig) -> tuple[Any, Any, list[Rules], Rules]:
 
     torch.set_num_threads(config.torch_threads)
     torch.manual_seed(config.seed)
+    if config.device.startswith("cuda") and not torch.cuda.is_available():
+        raise ConfigError(f"device {config.device!r}: torch sees no CUDA device here; "
+                          "use --device cpu (or auto)")
     venv = KitchenVecEnv(
         [target, *stages] if stages else target, config.n_kitchens, config.seed,
         obs=config.obs, obs_radius=config.obs_radius, shaping=config.shaping,
@@ -178,7 +189,7 @@ def build(config: TrainConfig) -> tuple[Any, Any, list[Rules], Rules]:
         n_steps=config.n_steps, batch_size=batch, n_epochs=config.n_epochs,
         gamma=config.gamma, gae_lambda=config.gae_lambda, ent_coef=config.ent_coef,
         policy_kwargs={"net_arch": {"pi": list(config.hidden), "vf": list(config.hidden)}},
-        seed=config.seed, device="cpu", verbose=0,
+        seed=config.seed, device=config.device, verbose=0,
     )
     return model, venv, stages, target
 
@@ -203,17 +214,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
 
     model.set_logger(configure(str(out), []))
     if config.init:
-        source = load_policy(config.init)
-        torch.set_num_threads(config.torch_threads)  # load_policy's require_rl reset it
-        if source.meta["obs"] != config.obs or source.meta["obs_size"] != venv.obs_size:
-            raise ConfigError(
-                f"--init {config.init}: its observations ({source.meta['obs']}, "
-                f"{source.meta['obs_size']}) differ from this run's ({config.obs}, {venv.obs_size})"
-            )
-        try:
-            model.policy.load_state_dict(source.model.policy.state_dict())
-        except RuntimeError as exc:
-            raise ConfigError(f"--init {config.init}: network shapes differ ({exc})") from exc
+        _start_from(model, venv, config)
 
     meta_base = {
         "obs": config.obs, "obs_radius": config.obs_radius, "obs_size": venv.obs_size,
@@ -288,10 +289,27 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         **({"seconds": {k: round(v, 2) for k, v in learner.seconds.items()}}
            if config.algo == "lean" else {}),
         "machine": {"python": platform.python_version(), "cpus": _cpus(),
-                    "torch_threads": torch.get_num_threads()},
+                    "torch_threads": torch.get_num_threads(), "device": str(model.device)},
     }
     (out / "train.json").write_text(json.dumps(summary, indent=2) + "\n")
     return summary
+
+
+def _start_from(model: Any, venv: Any, config: TrainConfig) -> None:
+    """Load ``config.init``'s weights into ``model`` (same observations and shapes)."""
+    import torch
+
+    source = load_policy(config.init)
+    torch.set_num_threads(config.torch_threads)  # load_policy's require_rl reset it
+    if source.meta["obs"] != config.obs or source.meta["obs_size"] != venv.obs_size:
+        raise ConfigError(
+            f"--init {config.init}: its observations ({source.meta['obs']}, "
+            f"{source.meta['obs_size']}) differ from this run's ({config.obs}, {venv.obs_size})"
+        )
+    try:
+        model.policy.load_state_dict(source.model.policy.state_dict())
+    except RuntimeError as exc:
+        raise ConfigError(f"--init {config.init}: network shapes differ ({exc})") from exc
 
 
 def _cpus() -> int:

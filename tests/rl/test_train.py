@@ -238,3 +238,23 @@ def test_bare_ppo_without_a_checkpoint_for_the_kitchen_is_a_skipped_row(tmp_path
     rows = {r["agent"]: r for r in read_results(tmp_path / "e")}
     assert rows["ppo"]["status"] == "skipped" and "no shipped" in rows["ppo"]["reason"]
     assert rows["greedy"]["status"] == "ok"
+
+
+@pytest.mark.parametrize("bad, words", [({"device": "tpu"}, "device must be"),
+                                        ({"device": "cuda", "algo": "lean"}, "lean loop")])
+def test_device_choices_are_checked(bad: dict, words: str, tmp_path: Path):
+    with pytest.raises(ConfigError, match=words):
+        train(TrainConfig(out=str(tmp_path), **bad), progress=False)
+
+
+def test_the_trainer_builds_on_the_device_asked_for(tmp_path: Path):
+    import torch
+
+    from ocplus_plan.rl.train import build
+
+    model, venv, _, _ = build(TrainConfig(out=str(tmp_path), n_kitchens=1, device="cpu"))
+    venv.close()
+    assert model.device.type == "cpu"
+    if not torch.cuda.is_available():
+        with pytest.raises(ConfigError, match="no CUDA device"):
+            build(TrainConfig(out=str(tmp_path), n_kitchens=1, device="cuda"))
