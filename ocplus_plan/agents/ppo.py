@@ -8,7 +8,8 @@ the episode seed), or taken greedily with ``ppo:PATH@greedy``. torch and
 stable-baselines3 are imported when the first controller is built; without them the
 error names the ``rl`` extra.
 
-``ppo`` without a path picks a shipped checkpoint (package data built from
+``ppo:OUT/policy.npz`` plays a policy of ``ocplus train --engine jax`` with numpy alone
+(:mod:`ocplus_plan.rl.npz_policy`). ``ppo`` without a path picks a shipped checkpoint (package data built from
 ``experiments/checkpoints/``) by the kitchen's preset and agent count:
 ``{preset}_{n}agent.zip``, else ``{preset}_1agent.zip`` (the features policy is shared,
 so it drives any number of agents).
@@ -84,7 +85,8 @@ class PPOAgent(Controller):
     def __init__(self, path: str | None, seed: int = 0, mode: str | None = None) -> None:
         from ..rl.policy import require_rl
 
-        require_rl()  # fail early, naming the extra
+        if not _is_npz(path):
+            require_rl()  # fail early, naming the extra (a JAX policy needs numpy alone)
         self.path = path
         self.seed = seed
         self._mode = mode
@@ -102,7 +104,12 @@ class PPOAgent(Controller):
         from ..rl.policy import load_policy
 
         if path not in self._loaded:
-            self._loaded[path] = load_policy(path)
+            if _is_npz(path):
+                from ..rl.npz_policy import NpzPolicy
+
+                self._loaded[path] = NpzPolicy(path)
+            else:
+                self._loaded[path] = load_policy(path)
         return self._loaded[path]
 
     @property
@@ -124,6 +131,11 @@ class PPOAgent(Controller):
         meta = self.policy.meta
         key = id(state.rules)
         enc = self._encoders.get(key)
+        if enc is None and meta.get("engine") == "jax":
+            from ..rl.npz_policy import NpzInputs
+
+            enc = NpzInputs(state.rules, meta)
+            self._encoders = {key: enc}
         if enc is None:
             enc = make_encoder(meta["obs"], state.rules, meta.get("obs_radius", 0))
             if enc.size != meta["obs_size"]:
@@ -150,6 +162,10 @@ class PPOAgent(Controller):
     def info(self) -> dict[str, object]:
         checkpoint = str(self.policy.path) if self.policy is not None else self.path
         return {"checkpoint": checkpoint, "mode": self.mode}
+
+
+def _is_npz(path: str | None) -> bool:
+    return path is not None and str(path).endswith(".npz")
 
 
 def make_ppo_agent(arg: str | None, seed: int = 0) -> PPOAgent:

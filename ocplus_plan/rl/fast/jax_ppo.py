@@ -178,7 +178,8 @@ def train_to_folder(env: Any, config: PPOConfig, out: str, seed: int = 0,
         "timesteps": steps, "wall_time_s": round(wall, 1),
         "steps_per_s": round(steps / wall, 1), "config": config._asdict(),
         "preset": env.rules.preset, "map": env.rules.layout.name, "n_agents": env.num_agents,
-        "obs_size": env.obs_size, "team_reward_per_step_by_update":
+        "obs_size": env.obs_size, "obs_radius": env.obs_radius,
+        "team_reward_per_step_by_update":
             [round(float(r), 4) for r in np.asarray(rewards)],
         "device": str(jax.devices()[0].device_kind),
     }

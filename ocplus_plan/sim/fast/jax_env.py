@@ -67,6 +67,7 @@ class JaxKitchenEnv:
             raise ConfigError(f"reward_scope must be 'team' or 'per_agent', got {reward_scope!r}")
         self.rules = rules
         self.reward_scope = reward_scope
+        self.obs_radius = obs_radius
         self.params = jk.kitchen_params(rules, obs_radius)
         self.num_agents = rules.n_agents
         self.agents = [f"agent_{i}" for i in range(self.num_agents)]

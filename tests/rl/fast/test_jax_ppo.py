@@ -51,3 +51,41 @@ def test_ocplus_train_engine_jax_writes_the_policy_and_summary(tmp_path: Path, c
     assert summary["engine"] == "jax" and summary["timesteps"] == 32
     assert set(np.load(tmp_path / "policy.npz")) == {"w0", "b0", "w1", "b1", "w2", "b2"}
     assert "policy.npz" in capsys.readouterr().out
+
+
+def test_a_jax_policy_plays_in_eval_on_the_cpu_with_numpy(tmp_path: Path, capsys):
+    from ocplus_plan.agents import make_controller, run_episode
+    from ocplus_plan.cli import main
+    from ocplus_plan.rl.npz_policy import NpzInputs, NpzPolicy
+    from ocplus_plan.sim import make_rules, new_state
+
+    assert main(["train", "--engine", "jax", "--preset", "easy", "--timesteps", "32",
+                 "--n-kitchens", "2", "--n-steps", "4", "--n-epochs", "1", "--hidden", "8,8",
+                 "--obs-radius", "1", "--out", str(tmp_path / "run"), "--quiet"]) == 0
+    policy = tmp_path / "run" / "policy.npz"
+    loaded = NpzPolicy(policy)
+    rules = make_rules("easy", n_agents=loaded.meta["n_agents"])
+    state = new_state(rules, 0)
+    inputs = NpzInputs(rules, loaded.meta).encode_all(state)
+    saved = dict(np.load(policy))
+    logits, _ = forward({k: jax.numpy.asarray(v) for k, v in saved.items()}, inputs)
+    expected = np.asarray(jax.nn.softmax(logits, -1))
+    np.testing.assert_allclose(loaded.probs(inputs), expected, rtol=1e-4, atol=1e-5)
+    cook = make_controller(f"ppo:{policy}", 0)
+    summary = run_episode(new_state(rules, 3), cook, steps=30)
+    assert summary["t"] == 30
+    out = tmp_path / "eval"
+    assert main(["eval", "--preset", "easy", "--n-agents", str(rules.n_agents), "--agents",
+                 f"ppo:{policy}@greedy", "--seeds", "1", "--horizon", "20", "--out", str(out),
+                 "--quiet", "--json"]) == 0
+    assert '"errors": 0' in capsys.readouterr().out
+
+
+def test_a_jax_policy_refuses_a_kitchen_of_another_shape(tmp_path: Path):
+    from ocplus_plan.errors import ConfigError
+    from ocplus_plan.rl.npz_policy import NpzInputs
+
+    meta = {"obs_radius": 0, "obs_size": 7, "n_agents": 1, "map": "x"}
+    from ocplus_plan.sim import make_rules
+    with pytest.raises(ConfigError, match="size 7"):
+        NpzInputs(make_rules("easy", n_agents=1), meta)
