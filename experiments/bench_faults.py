@@ -72,6 +72,8 @@ def retention(lines: list[dict]) -> list[dict]:
             line["dishes_lost"] = base - with_fault
             line["episodes_losing_more_than_burnt"] = sum(
                 (b["dishes"] - e["dishes"]) > e["burns_applied"] for b, e in pairs)
+        if fault.startswith("switches"):
+            line["switches_applied"] = sum(e["switches_applied"] for _, e in pairs)
         if fault.startswith("blocker"):
             line["blocker_unsafe_steps"] = sum(e["blocker_unsafe_steps"] or 0 for _, e in pairs)
         out.append(line)

@@ -4,14 +4,15 @@
   calls and its planner seconds (reported by the worker about once a second), and how
   long it has run, so a bar never sits still without saying why.
 - The ETA comes from measured episode times per agent (and preset, once one has
-  finished there): the time each pending episode is expected to take, plus what the
-  running ones still need, spread over the workers. Before an agent has finished any
+  finished there): what the running episodes still need, then each pending episode's
+  expected time on the worker that is free first. Before an agent has finished any
   episode, the mean of all finished episodes stands in for it; before any has finished,
   there is no ETA.
 """
 
 from __future__ import annotations
 
+import heapq
 import statistics
 import sys
 import time
@@ -57,24 +58,23 @@ class EtaModel:
 
     def remaining(self, pending: list[EpisodeSpec], running: list[Running], jobs: int,
                   now: float) -> float | None:
-        """Seconds until the sweep ends: the expected work left over ``jobs`` workers."""
-        work = 0.0
-        for spec in pending:
-            e = self.expected(spec)
-            if e is None:
-                return None
-            work += e
-        longest = 0.0
+        """Seconds until the sweep ends: the running episodes' expected rest, then the
+        pending ones in order, each on the worker that is free first (as the backends
+        hand them out); None while an episode has no measured time to go by."""
+        loads = []
         for r in running:
             e = self.expected(r.spec)
             if e is None:
                 return None
-            left = max(e - (now - r.started), 0.0)
-            work += left
-            longest = max(longest, left)
-        if not pending:
-            return longest  # the last episodes run side by side
-        return max(work / max(1, min(jobs, len(pending) + len(running))), longest)
+            loads.append(max(e - (now - r.started), 0.0))
+        loads += [0.0] * max(0, jobs - len(loads))
+        heapq.heapify(loads)
+        for spec in pending:
+            e = self.expected(spec)
+            if e is None:
+                return None
+            heapq.heapreplace(loads, loads[0] + e)
+        return max(loads, default=0.0)
 
 
 def clock(seconds: float) -> str:
@@ -110,7 +110,8 @@ class SweepProgress:
         # redrawn in place on a terminal; in a log, one line every 30 s at most
         self.bar = tqdm(total=len(todo), desc="eval", unit="ep", disable=quiet,
                         dynamic_ncols=True, mininterval=0.1 if sys.stderr.isatty() else 30,
-                        bar_format="{desc}: {n_fmt}/{total_fmt} |{bar}| {elapsed}{postfix}")
+                        bar_format="{desc}: {percentage:3.0f}% {n_fmt}/{total_fmt} |{bar}| "
+                                   "{elapsed}{postfix}")
         self._by_key = {s.row_base()["key"]: s for s in todo}
         self._live = sys.stderr.isatty() and not quiet  # in a log, tqdm's own pace
 

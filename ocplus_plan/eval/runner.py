@@ -148,12 +148,20 @@ def plan_episodes(cfg: EvalConfig) -> tuple[list[EpisodeSpec], list[dict[str, An
 def _check_room_for_blocker(preset: str, map_name: str | None, cooks: int,
                             kw: dict[str, Any]) -> None:
     """``blocker:`` drives one agent more than the cooks: the map must have room for it."""
+    from ..execution.faults import safe_cells
+    from ..sim import new_state
+
     try:
-        make_rules(preset, map=map_name, **{**kw, "n_agents": cooks + 1})
+        rules = make_rules(preset, map=map_name, **{**kw, "n_agents": cooks + 1})
     except ConfigError as exc:
         raise ConfigError(f"--faults blocker:... adds an agent to the {cooks} cook(s) of "
                           f"{preset}, which this map has no room for ({exc}); give fewer "
                           "cooks with --n-agents, or drop blocker") from None
+    geo = new_state(rules, 0).geo
+    if not all(safe_cells(geo, li) for li in range(len(geo.walkables))):
+        raise ConfigError(f"--faults blocker:... on {rules.layout.name}: this map has no floor "
+                          "cell where an agent can stand without cutting the kitchen in two or "
+                          "blocking the only access to a station; drop blocker for this map")
 
 
 def check_backend(cfg: EvalConfig) -> None:

@@ -100,6 +100,9 @@ class BlockingAgent:
         self.agent_ids = tuple(agent_ids) if agent_ids is not None else (state.n_agents - 1,)
         self.target, self.wait = {}, {}
         self.moves = self.unsafe_steps = 0
+        if not safe_cells(state.geo, state.layout_index):
+            raise ConfigError("this map has no floor cell where a blocking agent seals nothing "
+                              "(every cell splits the floor or is a station's only access)")
         if self.cell is None:
             return
         r, c = self.cell
