@@ -18,6 +18,8 @@ Example (the numbers in docs/faults.md)::
         --out experiments/results/faults/retention-medium-hard-1cook-s0-5.jsonl
 
 Result folders of the evaluations go to a temporary directory that is removed at the end.
+``python experiments/bench_faults.py --table FILE...`` prints the table of docs/faults.md
+from result files.
 """
 
 from __future__ import annotations
@@ -80,7 +82,47 @@ def retention(lines: list[dict]) -> list[dict]:
     return out
 
 
+def table(paths: list[str]) -> list[str]:
+    """Markdown rows of docs/faults.md from the summary lines of earlier ``--out`` files."""
+    rows = ["| preset, cooks | agent | fault | dishes without -> with | retention | notes |",
+            "|---|---|---|---|---|---|"]
+    for path in paths:
+        lines = [json.loads(line) for line in Path(path).read_text().splitlines()]
+        meta = next((d for d in lines if d.get("meta")), {})
+        cooks = {d["preset"]: d["n_agents"] for d in lines if d.get("episode")}
+        timeouts: dict[tuple, int] = {}
+        for d in lines:
+            if d.get("episode") and d["status"] != "ok":
+                key = (d["preset"], d["agent"], d["faults"])
+                timeouts[key] = timeouts.get(key, 0) + 1
+        for d in lines:
+            if not d.get("summary"):
+                continue
+            notes = []
+            if "burns_applied" in d:
+                notes.append(f"{d['burns_applied']} burns applied, {d['dishes_lost']} dishes "
+                             f"lost; episodes losing more than they burnt: "
+                             f"{d['episodes_losing_more_than_burnt']}")
+            if "switches_applied" in d:
+                notes.append(f"{d['switches_applied']} extra switches applied")
+            if "blocker_unsafe_steps" in d:
+                notes.append(f"{d['blocker_unsafe_steps']} blocker steps on unsafe cells "
+                             "(from its spawn)")
+            n_out = timeouts.get((d["preset"], d["agent"], d["faults"]), 0)
+            if n_out:
+                notes.append(f"{n_out} episode(s) timed out, left out")
+            ratio = "-" if d["retention"] is None else f"{d['retention']:.2f}"
+            rows.append(f"| {d['preset']} {cooks.get(d['preset'], '?')} | {d['agent']} | "
+                        f"{d['faults']} | {d['dishes_without']} -> {d['dishes_with']} | "
+                        f"{ratio} | {'; '.join(notes)} (commit {meta.get('commit', '?')}) |")
+    return rows
+
+
 def main(argv: list[str] | None = None) -> int:
+    given = sys.argv[1:] if argv is None else argv
+    if given[:1] == ["--table"]:
+        print("\n".join(table(given[1:])))
+        return 0
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--presets", default="medium,hard")
     p.add_argument("--agents", default="greedy,planner:fast-downward")
