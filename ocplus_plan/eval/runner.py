@@ -213,9 +213,10 @@ def _drop_partial_last_line(path: Path) -> None:
 def run_eval(cfg: EvalConfig, echo: Any = print) -> EvalOutcome:
     """Run (or continue) an evaluation and write results.jsonl, summary.csv and plots."""
     out = Path(cfg.out)
-    episodes, skipped = plan_episodes(cfg)
-    with _backend_session(cfg):  # a Ray cluster is joined before any file is written
-        ran, n_err = _run_and_write(cfg, episodes, skipped, echo)
+    with _sigint_marks_interrupt():
+        episodes, skipped = plan_episodes(cfg)
+        with _backend_session(cfg):  # a Ray cluster is joined before any file is written
+            ran, n_err = _run_and_write(cfg, episodes, skipped, echo)
     summary = summarise(read_results(out))
     write_summary(summary, out / SUMMARY_FILE)
     plots: list[Path] = []
@@ -251,7 +252,7 @@ def _run_and_write(cfg: EvalConfig, episodes: list[EpisodeSpec], skipped: list[d
     for row in skipped:
         echo(f"skipping {row['agent']} on {row['preset']}: {row['reason']}")
     n_err = 0
-    with ResultsWriter(out) as writer, _sigint_marks_interrupt():
+    with ResultsWriter(out) as writer:
         for row in skipped:
             writer.write(row)
         bar = SweepProgress(todo, cfg.jobs or 1, cfg.quiet)

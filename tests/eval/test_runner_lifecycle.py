@@ -195,3 +195,17 @@ def test_a_long_episode_reports_its_step_and_planner_statistics(monkeypatch):
     agent, step, calls, planning = heard[-1]
     assert agent == "slowpoke" and 0 < step <= 15 and calls == step
     assert planning == pytest.approx(0.2 * calls)
+
+
+def test_a_model_module_that_exits_while_loading_is_skipped_with_the_reason(tmp_path,
+                                                                             monkeypatch):
+    (tmp_path / "exits_on_import.py").write_text("raise SystemExit(2)\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    out = tmp_path / "run"
+    outcome = run_eval(EvalConfig(presets=["easy"], agents=["llm:exits_on_import:ask", "greedy"],
+                                  seeds=[0], out=out, horizon=20, n_agents=1, quiet=True),
+                       echo=lambda *a: None)
+    rows = {r["agent"]: r for r in read_results(out)}
+    assert rows["llm:exits_on_import:ask"]["status"] == "skipped"
+    assert "SystemExit" in rows["llm:exits_on_import:ask"]["reason"]
+    assert rows["greedy"]["status"] == "ok" and outcome.skipped == 1
