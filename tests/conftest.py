@@ -11,6 +11,12 @@ there but pytest's own ``tmp_path`` folders and other tools' per-user caches
 failing run keeps it and says where.
 In a git checkout the same teardown compares ``git status --ignored`` before and after: no
 file may appear or change (tool caches such as ``__pycache__`` aside).
+
+Ray's session folders hold AF_UNIX sockets, whose paths may not exceed 107 bytes, so they
+cannot live inside a long TMPDIR (macOS' is about 50 characters, then our prefix):
+``ocplus_plan.eval.ray_backend.private_temp_dir`` makes them in the private folder when
+its path is short and in /tmp otherwise; the same teardown checks that none is left in
+/tmp either.
 """
 
 from __future__ import annotations
@@ -33,6 +39,14 @@ TOOL_CACHES = ("__pycache__", ".pytest_cache", ".hypothesis", ".ruff_cache")
 CHECKOUT = Path(__file__).resolve().parents[1]
 _KEY = pytest.StashKey[Path]()
 _FAILED = pytest.StashKey[bool]()
+
+
+def ray_folders() -> set[str]:
+    """Ray session folders (``ocray-*``) in /tmp, where a long TMPDIR sends them."""
+    from ocplus_plan.eval.ray_backend import TEMP_PREFIX
+
+    base = Path("/tmp")
+    return {p.name for p in base.glob(f"{TEMP_PREFIX}*")} if base.is_dir() else set()
 
 
 def pytest_configure(config: pytest.Config) -> None:
@@ -63,8 +77,9 @@ def checkout_status() -> set[str] | None:
 def _nothing_left_behind(request: pytest.FixtureRequest) -> Iterator[None]:
     private = request.config.stash[_KEY]
     before = checkout_status()
+    rays_before = ray_folders()
     yield
-    left = leftovers(private)
+    left = leftovers(private) + sorted(ray_folders() - rays_before)
     assert not left, (
         f"the test run left {left} in its temporary directory {private}: whatever creates "
         "them must remove them (or create them inside a directory it removes)")

@@ -141,7 +141,9 @@ def compile_and_solve(
         from ..planning.compile import compile as compile_state  # optional layer: lazy
         from ..planning.engines import solve
 
-        modelled = None
+        # cooks this controller does not drive (a blocking agent, another team) are
+        # obstacles, not cooks the plan may give work to
+        modelled = None if len(agents) == problem_state.n_agents else list(agents)
         if plan_cooks == "one" and gran == "stations":
             holders = [a for a in range(problem_state.n_agents)
                        if problem_state.agent_hand[a] >= 0]

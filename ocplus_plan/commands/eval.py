@@ -11,6 +11,9 @@ Episodes run in worker processes on this machine (--backend local, --jobs N) or 
 on a Ray cluster (--backend ray, the `cluster` extra): without --address a Ray instance
 is started here; --address auto joins the cluster `ray start` made on this machine,
 --address HOST:6379 a remote head node. Both backends write the same rows.
+
+--faults injects faults into every episode (docs/faults.md): KEY:VALUE pairs joined by
+commas, e.g. burns:3,switches:40,message-loss:0.3,blocker:moving.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from ..eval.runner import BACKENDS, EvalConfig, parse_list, parse_seeds, run_eval
+from ..execution.faults import FAULT_KEYS, parse_faults
 from . import _types
 from ._common import (
     HelpFormatter,
@@ -62,6 +66,10 @@ def add_sweep_args(p: argparse.ArgumentParser, *, agents: str | None) -> None:
                    help="--backend ray: reruns of an episode whose worker or node died")
     add_episode_timeout_arg(h)
     add_plots_arg(h)
+    h.add_argument("--faults", default="", metavar="KEY:VALUE,...",
+                   help="faults in every episode, e.g. burns:3,switches:40,message-loss:0.3,"
+                        "blocker:moving; keys: " + "; ".join(f"{k}:{v}" for k, v in
+                                                           FAULT_KEYS.items()))
     h.add_argument("--save-replays", type=_types.seed_selection, default="", metavar="SEEDS",
                    help="save these seeds' episodes as recordings under OUT/replays/ "
                         "(play back with `ocplus replay FILE`)")
@@ -82,10 +90,11 @@ def run_sweep(args: argparse.Namespace, *, agents: str, out: Path, plots: bool) 
         resume=args.resume, episode_timeout=args.episode_timeout, plots=plots,
         quiet=args.quiet, replay_seeds=_replay_seeds(args.save_replays),
         rules=sweep_rules(args),
+        faults=str(parse_faults(getattr(args, "faults", ""))),
     )
     say(args, f"ocplus {args.command}: presets {', '.join(cfg.presets)}; agents "
               f"{', '.join(cfg.agents)}; {len(seeds)} seed(s); {cfg.horizon} steps; "
-              f"{_where(cfg)}; output {out}")
+              f"{_where(cfg)}{'; faults ' + cfg.faults if cfg.faults else ''}; output {out}")
     t0 = time.monotonic()
     try:
         outcome = run_eval(cfg, echo=lambda message: note(args, message))

@@ -25,13 +25,15 @@ from __future__ import annotations
 import contextlib
 import functools
 import logging
+import os
 import shutil
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from pathlib import Path
 from typing import Any
 
 from ..errors import ConfigError, DependencyNotInstalled
-from .runner import (
+from .episode import (
     EpisodeSpec,
     EvalConfig,
     check_agent,
@@ -42,6 +44,32 @@ from .runner import (
 
 #: the pip extra that brings Ray
 EXTRA = "cluster"
+#: prefix of the private folder of a Ray instance started here
+TEMP_PREFIX = "ocray-"
+#: the longest folder that can hold that private folder: Ray's deepest socket path,
+#: ``<folder>/ocray-XXXXXXXX/session_<date>_<time>_<micros>_<pid>/sockets/plasma_store``,
+#: must stay within the 107 bytes of an AF_UNIX path
+MAX_BASE_CHARS = 30
+
+
+def short_temp_base() -> Path:
+    """A folder, short enough for Ray's socket paths, to make Ray's private folder in: the
+    temporary directory when its path is short (Linux: /tmp), else /tmp (macOS' TMPDIR is
+    about 50 characters). :class:`ConfigError` if neither works."""
+    for candidate in (tempfile.gettempdir(), "/tmp"):
+        if len(candidate) <= MAX_BASE_CHARS and os.path.isdir(candidate) \
+                and os.access(candidate, os.W_OK | os.X_OK):
+            return Path(candidate)
+    raise ConfigError(
+        f"Ray needs a temporary folder with a path of at most {MAX_BASE_CHARS} characters "
+        f"(its socket paths are limited to 107 bytes); {tempfile.gettempdir()!r} is longer and "
+        "/tmp is not writable: set TMPDIR to a short writable folder")
+
+
+def private_temp_dir() -> str:
+    """A new private folder for a Ray instance's session files, short whatever TMPDIR is;
+    the caller removes it."""
+    return tempfile.mkdtemp(prefix=TEMP_PREFIX, dir=short_temp_base())
 
 
 def import_ray() -> Any:
@@ -96,8 +124,8 @@ def ray_session(cfg: EvalConfig) -> Iterator[Any]:
         yield ray
         return
     # a Ray instance started here keeps its session files (sockets, logs) in a folder of
-    # its own that goes with it; a short name: Ray's socket paths must stay under 108 bytes
-    private = tempfile.mkdtemp(prefix="ray") if cfg.address is None else None
+    # its own that goes with it; a short path: Ray's socket paths must stay under 108 bytes
+    private = private_temp_dir() if cfg.address is None else None
     try:
         try:
             ray.init(address=cfg.address, num_cpus=cfg.jobs if cfg.address is None else None,
@@ -119,9 +147,11 @@ def ray_session(cfg: EvalConfig) -> Iterator[Any]:
             shutil.rmtree(private, ignore_errors=True)
 
 
-def run_on_ray(todo: list[EpisodeSpec], cfg: EvalConfig) -> Iterator[dict[str, Any]]:
+def run_on_ray(todo: list[EpisodeSpec], cfg: EvalConfig,
+               on_tick: Callable[[], None] | None = None) -> Iterator[dict[str, Any]]:
     """Run ``todo`` as Ray tasks on the Ray that :func:`ray_session` opened; yield each
-    episode's row as soon as it is finished."""
+    episode's row as soon as it is finished (``on_tick`` about once a second, for the
+    progress bar)."""
     import ray
 
     in_flight_limit = cfg.jobs or max(1, int(ray.cluster_resources().get("CPU", 1)))
@@ -135,6 +165,8 @@ def run_on_ray(todo: list[EpisodeSpec], cfg: EvalConfig) -> Iterator[dict[str, A
                 spec = pending.pop()
                 running[task.remote(spec, cfg.episode_timeout)] = spec
             finished, _ = ray.wait(list(running), num_returns=1, timeout=1.0)
+            if on_tick is not None:
+                on_tick()
             for ref in finished:
                 spec = running.pop(ref)
                 try:
@@ -157,4 +189,5 @@ def _first_line(exc: BaseException) -> str:
     return (str(exc).strip().splitlines() or [""])[0]
 
 
-__all__ = ["EXTRA", "import_ray", "ray_episode", "ray_session", "run_on_ray"]
+__all__ = ["EXTRA", "TEMP_PREFIX", "import_ray", "private_temp_dir", "ray_episode",
+           "ray_session", "run_on_ray", "short_temp_base"]

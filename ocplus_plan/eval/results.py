@@ -5,7 +5,9 @@ appended and flushed as soon as it is known, so an interrupted run keeps everyth
 finished so far. Each row has ``key`` (what identifies the episode for ``--resume``),
 ``status`` (``ok``, ``error`` or ``skipped``), ``reason`` (for the latter two), the
 configuration (``preset``, ``map``, ``n_agents``, ``agent``, ``seed``, ``horizon``),
-``metrics``, ``timings`` and ``controller`` (the controller's ``info()``).
+``metrics``, ``timings`` and ``controller`` (the controller's ``info()``); an episode run
+with ``--faults`` adds ``faults`` (the text, part of the key) and ``fault_report`` (what
+the faults did: burns and switches applied, messages lost, the blocker's moves).
 """
 
 from __future__ import annotations
@@ -41,8 +43,10 @@ _T975 = (12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 
 
 
 def episode_key(row: dict[str, Any]) -> str:
-    """A stable text key of one episode's configuration and seed."""
+    """A stable text key of one episode's configuration and seed (and faults, if any)."""
     parts = [str(row.get(f)) for f in GROUP_FIELDS] + [str(row.get("seed"))]
+    if row.get("faults"):
+        parts.append(f"faults={row['faults']}")
     return "|".join(parts)
 
 
@@ -131,11 +135,14 @@ def summarise(rows: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
     """One summary per (preset, map, n_agents, agent, horizon): counts, means and 95% CIs."""
     groups: dict[tuple, list[dict[str, Any]]] = {}
     for row in latest_rows(rows):
-        groups.setdefault(tuple(row.get(f) for f in GROUP_FIELDS), []).append(row)
+        gkey = tuple(row.get(f) for f in GROUP_FIELDS) + (row.get("faults") or "",)
+        groups.setdefault(gkey, []).append(row)
     out = []
     for gkey, members in groups.items():
         ok = [r for r in members if r.get("status") == "ok"]
         s: dict[str, Any] = dict(zip(GROUP_FIELDS, gkey))
+        if gkey[-1]:
+            s["faults"] = gkey[-1]
         s["episodes"] = len(ok)
         s["errors"] = sum(1 for r in members if r.get("status") == "error")
         s["skipped"] = sum(1 for r in members if r.get("status") == "skipped")
@@ -148,7 +155,8 @@ def summarise(rows: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
             s[f"{name}_ci95"] = ci
         out.append(s)
     out.sort(key=lambda s: (str(s["preset"]), s["dishes_served_mean"] is None,
-                            -(s["dishes_served_mean"] or 0.0), str(s["agent"])))
+                            -(s["dishes_served_mean"] or 0.0), str(s["agent"]),
+                            s.get("faults", "")))
     return out
 
 
@@ -164,7 +172,8 @@ def _metric(row: dict[str, Any], name: str) -> float | None:
 def write_summary(summary: list[dict[str, Any]], path: str | os.PathLike[str]) -> Path:
     """Write the summaries as CSV (numbers rounded to 4 decimals)."""
     p = Path(path)
-    fields = list(GROUP_FIELDS) + ["episodes", "errors", "skipped"]
+    fields = list(GROUP_FIELDS) + (["faults"] if any("faults" in s for s in summary) else [])
+    fields += ["episodes", "errors", "skipped"]
     fields += [f"{m}_{s}" for m in SUMMARY_METRICS for s in ("mean", "ci95")] + ["reason"]
     with p.open("w", newline="", encoding="utf-8") as fh:
         w = csv.DictWriter(fh, fieldnames=fields)
@@ -179,6 +188,11 @@ def _fmt(mean: float | None, ci: float | None, digits: int = 1) -> str:
     if mean is None:
         return "-"
     return f"{mean:.{digits}f} ± {ci or 0:.{digits}f}"
+
+
+def _label(s: dict[str, Any]) -> str:
+    """The agent's name in the leaderboard, with its faults if any."""
+    return str(s["agent"]) + (f" [{s['faults']}]" if s.get("faults") else "")
 
 
 def leaderboard(summary: list[dict[str, Any]]) -> str:
@@ -202,7 +216,7 @@ def leaderboard(summary: list[dict[str, Any]]) -> str:
             plan = s["planning_time_s_mean"] or s["decision_time_s_mean"] or 0.0
             err = f"  ({s['errors']} error(s))" if s["errors"] else ""
             lines.append(
-                f"  {rank:>2} {str(s['agent']):28s} {s['episodes']:>3} "
+                f"  {rank:>2} {_label(s):28s} {s['episodes']:>3} "
                 f"{_fmt(s['dishes_served_mean'], s['dishes_served_ci95']):>13} "
                 f"{(f'{comp:.0%}' if comp is not None else '-'):>11} "
                 f"{_fmt(s['reward_mean'], s['reward_ci95']):>17} "
@@ -212,7 +226,7 @@ def leaderboard(summary: list[dict[str, Any]]) -> str:
         for s in rows:
             if not s["episodes"]:
                 what = "skipped" if s["skipped"] else "failed"
-                lines.append(f"   - {str(s['agent']):28s} {what}: {s['reason']}")
+                lines.append(f"   - {_label(s):28s} {what}: {s['reason']}")
         lines.append("")
     return "\n".join(lines).rstrip() + "\n"
 

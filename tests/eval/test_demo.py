@@ -2,15 +2,19 @@
 
 from __future__ import annotations
 
+from ocplus_plan.agents import FACTORIES
 from ocplus_plan.cli import main
 from ocplus_plan.commands import demo
-from ocplus_plan.eval import runner
+from ocplus_plan.errors import DependencyNotInstalled
 
 
 def test_demo_runs_three_presets_and_reports_skipped_agents(tmp_path, capsys, monkeypatch):
-    # the planners are exercised by their own tests; here a not-yet-registered kind stands
-    # in for a planner that is missing, to check that the demo skips it with the reason
-    monkeypatch.setitem(runner.PENDING_KINDS, "laterkind", "a controller from a later issue")
+    # the planners are exercised by their own tests; here a kind whose extra is missing
+    # stands in for a planner that is missing, to check that the demo skips it with the reason
+    def missing(arg, seed):
+        raise DependencyNotInstalled("laterkind is not registered: its extra is missing")
+
+    monkeypatch.setitem(FACTORIES, "laterkind", missing)
     monkeypatch.setattr(demo, "DEMO_AGENTS", ["greedy", "laterkind:x", "random"])
     out = tmp_path / "demo"
     assert main(["demo", "--out", str(out), "--seeds", "2", "--horizon", "60", "--jobs", "2"]) == 0

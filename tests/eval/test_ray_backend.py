@@ -2,17 +2,18 @@
 across backends, and a sweep that survives a Ray worker killed in the middle of it.
 
 One small Ray instance (2 CPUs) serves the whole module; its session files live in a
-folder of the test session's TMPDIR that is removed with it."""
+short private folder (:func:`~ocplus_plan.eval.ray_backend.private_temp_dir`: in the test
+session's TMPDIR when that path is short, else in /tmp) that is removed with it."""
 
 from __future__ import annotations
 
 import shutil
 import signal
 import sys
-import tempfile
 import threading
 import time
 from collections import Counter
+from pathlib import Path
 
 import psutil
 import pytest
@@ -41,7 +42,9 @@ def _quiet(*_args) -> None:
 @pytest.fixture(scope="module")
 def ray_instance():
     ray = pytest.importorskip("ray", reason="the `cluster` extra (Ray) is not installed")
-    private = tempfile.mkdtemp(prefix="ray")  # short: Ray's socket paths have a length limit
+    from ocplus_plan.eval.ray_backend import private_temp_dir
+
+    private = private_temp_dir()  # short whatever TMPDIR is: Ray's socket paths are limited
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False, _temp_dir=private,
              logging_level="WARNING")
     try:
@@ -198,3 +201,24 @@ def test_cluster_that_cannot_be_joined_is_an_error_before_any_file(tmp_path, mon
                                           "ray start --head"):
         run_eval(_cfg(tmp_path / "run", address="10.0.0.9:6379"), echo=_quiet)
     assert not (tmp_path / "run").exists()
+
+
+# ------------------------------------------------------------------ Ray's temporary folder
+def test_rays_folder_is_short_whatever_tmpdir_is(tmp_path, monkeypatch):
+    import tempfile
+
+    from ocplus_plan.eval import ray_backend
+
+    long = tmp_path / ("a-directory-name-of-sixty-characters-like-the-ones-macos-uses"[:60])
+    long.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(long))
+    private = ray_backend.private_temp_dir()
+    try:
+        # Ray's deepest socket path under it stays inside the 107 bytes of AF_UNIX
+        deepest = f"{private}/session_2026-11-24_22-49-35_123456_1234567/sockets/plasma_store"
+        assert len(deepest) <= 107 and not private.startswith(str(long))
+        assert Path(private).name.startswith(ray_backend.TEMP_PREFIX)
+    finally:
+        Path(private).rmdir()
+    monkeypatch.setattr(tempfile, "tempdir", "/tmp")
+    assert ray_backend.short_temp_base() == Path("/tmp")

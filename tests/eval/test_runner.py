@@ -10,7 +10,7 @@ import pytest
 from ocplus_plan.agents import FACTORIES
 from ocplus_plan.agents.base import Controller
 from ocplus_plan.cli import main
-from ocplus_plan.errors import ConfigError
+from ocplus_plan.errors import ConfigError, DependencyNotInstalled
 from ocplus_plan.eval import runner
 from ocplus_plan.eval.results import read_results
 from ocplus_plan.eval.runner import EvalConfig, parse_seeds, run_eval
@@ -111,16 +111,35 @@ def test_a_planner_spec_with_options_is_checked_by_its_planner_name(tmp_path, mo
     assert [r["status"] for r in read_results(out)] == ["skipped"]
 
 
-def test_unregistered_kind_is_skipped_with_its_reason(tmp_path, monkeypatch):
-    monkeypatch.setitem(runner.PENDING_KINDS, "futurekind", "the future controller")
+def test_an_agent_whose_dependency_is_missing_is_skipped_with_its_reason(tmp_path,
+                                                                         monkeypatch):
+    def factory(arg, seed):
+        raise DependencyNotInstalled("the `future` extra is not installed: pip install -e "
+                                     "'.[future]'")
+
+    monkeypatch.setitem(FACTORIES, "futurekind", factory)
     messages = []
     outcome = run_eval(_cfg(tmp_path / "s", agents=["greedy", "futurekind:x"], seeds=[0]),
                        echo=messages.append)
     rows = read_results(tmp_path / "s")
     skipped = [r for r in rows if r["status"] == "skipped"]
-    assert len(skipped) == 1 and "not registered" in skipped[0]["reason"]
+    assert len(skipped) == 1 and "[future]" in skipped[0]["reason"]
     assert any("skipping futurekind:x" in m for m in messages)
     assert "futurekind:x" in outcome.leaderboard and "skipped" in outcome.leaderboard
+
+
+def test_the_runner_and_its_ray_backend_import_no_cycle():
+    import ast
+    from pathlib import Path
+
+    def imports(module: str) -> set[str]:
+        tree = ast.parse(Path(runner.__file__).with_name(f"{module}.py").read_text())
+        return {node.module for node in ast.walk(tree)
+                if isinstance(node, ast.ImportFrom) and node.level == 1 and node.module}
+
+    assert "runner" not in imports("ray_backend") and "runner" not in imports("local_backend")
+    assert not {"runner", "ray_backend", "local_backend"} & imports("episode")
+    assert not hasattr(runner, "PENDING_KINDS")
 
 
 def test_crashing_and_dying_controllers_become_error_rows(tmp_path, monkeypatch):
