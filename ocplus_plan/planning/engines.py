@@ -370,7 +370,7 @@ def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = No
     own_limit = min(limit, wall) if anytime else wall
     # A private working directory: Fast Downward and SymK write output.sas into the current
     # directory, so two solves in one directory (two test runs) corrupt each other's files.
-    workdir = tempfile.mkdtemp(prefix="ocplus-solve-")
+    workdir = tempfile.mkdtemp(prefix="ocplus-solve-", dir=short_temp_base())
     try:
         if config.command:
             outcome = _command.run_command(problem, config.command, limit, workdir,
@@ -485,11 +485,28 @@ def _freeze_queries(problem: Any, writes_pddl: bool = True) -> None:
         lambda self: values if self is problem else plain_values.fget(self))
 
 
+#: the longest temporary folder planners get their files in; a longer TMPDIR (macOS gives
+#: about 50 characters) is replaced by /tmp, since some planners overflow fixed-size buffers
+#: on long paths (LPG)
+MAX_TEMP_BASE_CHARS = 30
+
+
+def short_temp_base() -> str:
+    """The temporary folder when its path is short, else /tmp (where writable)."""
+    base = tempfile.gettempdir()
+    if len(base) <= MAX_TEMP_BASE_CHARS or not os.access("/tmp", os.W_OK | os.X_OK):
+        return base
+    return "/tmp"
+
+
 def _solve_in_child(problem: Any, config: PlannerConfig, limit: float,
                     workdir: str) -> dict[str, Any]:
     """Runs in the forked child: call the engine and return a picklable report."""
     warnings.simplefilter("ignore")
     os.chdir(workdir)
+    # the engines' own temporary files go here too: a short path whatever TMPDIR is
+    # (LPG aborts with "buffer overflow detected" on long file names)
+    tempfile.tempdir = workdir
     from unified_planning.shortcuts import OneshotPlanner
 
     os.environ.update(config.env)  # only in this child and the planner processes it starts

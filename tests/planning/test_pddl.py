@@ -231,7 +231,10 @@ def test_the_planners_that_read_pddl_files_solve_the_written_ones(name: str,
         assert result.plan is not None, [str(d) for d in result.diagnostics]
         return
     plan = tmp_path / "plan"
-    run = subprocess.run(_engine_command(name, domain, problem, plan), cwd=tmp_path,
+    # file names relative to the planner's folder: LPG overflows a buffer on long paths
+    # (a TMPDIR of 60 characters, as macOS gives)
+    run = subprocess.run(_engine_command(name, Path(domain.name), Path(problem.name),
+                                         Path(plan.name)), cwd=tmp_path,
                          capture_output=True, text=True, timeout=120, check=False)
     written = sorted(tmp_path.glob("plan*"))  # LPG appends _1.SOL
     assert run.returncode == 0 and written, (run.stdout[-1500:], run.stderr[-1500:])
