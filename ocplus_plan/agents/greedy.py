@@ -11,6 +11,8 @@ pan, a plate, the window, the sink, the trash) or, when it cannot reach such a
 place, puts it on a counter that a cook who can reach it also reaches (hand-over
 through counters, SPEC section 3).
 
+Hand-overs, relays and rescues count only on the cooks this controller drives: an agent it
+does not drive (a partner, a blocking agent) is an obstacle, never a teammate to leave work to.
 Movement: breadth-first paths on the current layout with the other agents' cells
 and the cells already claimed this step as obstacles (so the controller itself
 never causes a swap or a contested move); an agent whose way is blocked steps
@@ -190,7 +192,7 @@ class GreedyAgent(Controller):
             elif label == "to_plate":
                 budget[("plate", k)] -= 1
             return best, label
-        if dests and any(v.reach(b, d) < float("inf") for b in range(s.n_agents) if b != a
+        if dests and any(v.reach(b, d) < float("inf") for b in self.agent_ids if b != a
                          for d in dests):
             handover = self._handover(v, a, dests, claimed)
             if handover is not None:
@@ -203,7 +205,7 @@ class GreedyAgent(Controller):
     def _handover(self, v: KitchenView, a: int, dests: list[int], claimed: set[int]) -> int | None:
         """A free counter that ``a`` reaches and some cook who reaches a destination reaches."""
         reach = v.reach
-        helpers = [b for b in range(v.s.n_agents) if b != a
+        helpers = [b for b in self.agent_ids if b != a
                    and any(reach(b, d) < float("inf") for d in dests)]
         spots = [f for f in v.free_counters() if f not in claimed
                  and any(reach(b, f) < float("inf") for b in helpers)]
@@ -220,7 +222,7 @@ class GreedyAgent(Controller):
             d = v.reach(a, p)
             if d == float("inf") or left > d + _MARGIN:
                 continue
-            if all(v.reach(b, p) >= d for b in range(s.n_agents) if b != a):
+            if all(v.reach(b, p) >= d for b in self.agent_ids if b != a):
                 return p
         return None
 
@@ -231,7 +233,7 @@ class GreedyAgent(Controller):
         spots = [f for f in v.free_counters() if f not in claimed and v.reach_now(a, f) < 4]
         mine = min(v.reach(a, d) for d in dests)
         takers = []  # spots a cook nearer to a destination reaches (it may relay again)
-        for b in range(s.n_agents):
+        for b in self.agent_ids:  # only cooks this controller drives take an item on
             if b == a or not min(v.reach(b, d) for d in dests) < mine:
                 continue
             walls = frozenset(p for c, p in enumerate(s.agent_pos) if c not in (a, b))
@@ -362,7 +364,7 @@ class GreedyAgent(Controller):
             return True
         if any(v.reach(a, d) < float("inf") for d in dests):
             return True
-        finishers = [b for b in range(s.n_agents) if b != a
+        finishers = [b for b in self.agent_ids if b != a
                      and any(v.reach(b, d) < float("inf") for d in dests)]
         return bool(finishers) and all(v.reach(b, task.cell) == float("inf") for b in finishers)
 
