@@ -7,9 +7,9 @@ the mean of the episodes' ``dish_bound`` (the seed's upper bound, ``eval/bounds.
 the last column the best planner mean over that bound.
 
     .venv/bin/python experiments/planners_vs_greedy.py \\
-        "fd-bjolp one-cook+chain2=experiments/results/issue12/fd_bjolp_one_chain2.jsonl" \\
-        "fd-wastar=experiments/results/issue12/fd_wastar.jsonl" \\
-        "kairos=experiments/results/issue12/kairos.jsonl"
+        "fd-bjolp one-cook+chain2=experiments/results/executive/all-presets-1-2cooks_fast-downward-bjolp_one-cook-chain2_code-604ae5c.jsonl" \\
+        "fd-wastar=experiments/results/executive/all-presets-1-2cooks_fast-downward-wastar_code-604ae5c.jsonl" \\
+        "kairos=experiments/results/executive/all-presets-1-2cooks_kairos_code-604ae5c.jsonl"
 """
 
 from __future__ import annotations
