@@ -307,6 +307,88 @@ def _paths(geo: Geometry) -> _Paths:
     return _Paths(geo)
 
 
+class _ItemCosts:
+    """What it takes to bring one item of ``state`` onto a dish and the dish to the
+    window: the work (classical, temporal) and the chain of dependent steps
+    (see :func:`plan_bound`, **Work** and **Critical path**)."""
+
+    def __init__(self, state: State, paths: _Paths) -> None:
+        self.state, self.rules, self.geo, self.paths = state, state.rules, state.geo, paths
+        self.terrain = state.geo.terrains[state.layout_index]
+        self.agents = list(range(state.n_agents))
+        self.delivery = _cells(state.geo, Cell.DELIVERY)
+
+    def tile_of(self, i: int) -> int | None:  # the tile an item lies on; None: in a hand
+        where, loc = self.state.item_where[i], self.state.item_loc[i]
+        if where == Where.HAND:
+            return None
+        if where == Where.PLATE:
+            return self.tile_of(loc)
+        return loc  # CELL or WAITING (its spawn tile)
+
+    def reach(self, tile: int) -> float:
+        pos = self.state.agent_pos
+        return min((self.paths.dist(pos[a], tile) for a in self.agents), default=_INF)
+
+    def to_window(self, start_tile: int | None, holder: int) -> float:
+        """Carry to the serving window from a tile (or from the cell of ``holder``)."""
+        return min(self.carry(start_tile, holder, d) for d in self.delivery)
+
+    def carry(self, tile: int | None, holder: int, dest: int) -> float:
+        return (self.paths.carry_between(tile, dest) if tile is not None
+                else self.paths.carry(self.state.agent_pos[holder], dest))
+
+    def ingredient(self, i: int) -> tuple[int, int, float]:
+        """(classical work, temporal work, chain) of getting item ``i`` onto the dish."""
+        state, rules, geo, paths = self.state, self.rules, self.geo, self.paths
+        kind, st, prog = geo.item_kind[i], state.item_state[i], state.item_progress[i]
+        where, tile = state.item_where[i], self.tile_of(i)
+        holder = state.item_loc[i] if where == Where.HAND else -1
+        if where == Where.PLATE:
+            return 0, 0, 0.0
+        if st == ItemState.BURNT:  # trashed, it starts again fresh from its spawn tile
+            tile, holder, where, prog = geo.item_home[i], -1, Where.CELL, 0
+            st = ItemState.FRESH
+        on = self.terrain[tile] if tile is not None and where == Where.CELL else -1
+        if on == Cell.PAN and kind == Item.STEAK:  # heating: take it off in its window
+            wait = max(0, rules.cook_time - prog)
+            return 2, 2, max(self.reach(tile), wait) + 2 + self.to_window(tile, holder) + 1
+        got = 0.0 if tile is None else self.reach(tile)
+        if st in (ItemState.CHOPPED, ItemState.COOKED):
+            return 1, 1, got + 1 + self.to_window(tile, holder) + 1
+        pick = 0 if tile is None or on == Cell.BOARD else 1
+        if kind == Item.STEAK:
+            left = max(0, rules.cook_time - prog)  # classical cook: left + 1 steps
+            chains = [got + pick + self.carry(tile, holder, p) + max(1, left) + 1 + 1
+                      + paths.carry_between(p, d) + 1 for p in geo.pans for d in self.delivery]
+            return pick + left + 1 + 1, pick + 2 + 1, min(chains, default=_INF)
+        chop = max(1, rules.chop_steps - prog) if prog > 0 else rules.chop_steps
+        boards = [tile] if on == Cell.BOARD else _cells(geo, Cell.BOARD)
+        put = 0 if on == Cell.BOARD else 1
+        chains = [got + pick + (0 if b == tile else self.carry(tile, holder, b)) + put + chop + 1
+                  + paths.carry_between(b, d) + 1 for b in boards for d in self.delivery]
+        work = pick + put + chop + 1
+        return work, work, min(chains, default=_INF)
+
+    def plate(self, q: int) -> tuple[int, float]:
+        """(work, chain) of bringing plate ``q`` to the window (plating not included)."""
+        state, rules, geo, paths = self.state, self.rules, self.geo, self.paths
+        where, tile = state.item_where[q], self.tile_of(q)
+        holder = state.item_loc[q] if where == Where.HAND else -1
+        got = 0.0 if tile is None else self.reach(tile) + 1
+        pick = 0 if tile is None else 1
+        if state.item_state[q] != ItemState.DIRTY:
+            return pick + 1, got + self.to_window(tile, holder) + 1
+        prog = state.item_progress[q]
+        wash = max(1, rules.wash_steps - prog) if prog > 0 else rules.wash_steps
+        in_sink = tile is not None and where == Where.CELL and self.terrain[tile] == Cell.SINK
+        if in_sink:
+            return wash + 2, self.reach(tile) + wash + 1 + self.to_window(tile, holder) + 1
+        chains = [got + self.carry(tile, holder, k) + 1 + wash + 1 + paths.carry_between(k, d) + 1
+                  for k in _cells(geo, Cell.SINK) for d in self.delivery]
+        return pick + 1 + wash + 1 + 1, min(chains, default=_INF)
+
+
 def plan_bound(state: State, max_orders: int | None = None) -> PlanBound:
     """Lower bounds on the cost and the makespan of any plan that serves the first
     ``max_orders`` open orders of ``state`` (all by default) with its cooks.
@@ -346,87 +428,17 @@ def plan_bound(state: State, max_orders: int | None = None) -> PlanBound:
     Respawn waits, other cooks in the way, the order of orders and the contention for
     items, plates and stations are ignored: each only makes real plans longer.
     """
-    rules, geo = state.rules, state.geo
+    geo = state.geo
     orders = list(state.orders if max_orders is None else state.orders[:max_orders])
     paths = _paths(geo)
-    terrain = geo.terrains[state.layout_index]
-    agents = list(range(state.n_agents))
-    delivery = _cells(geo, Cell.DELIVERY)
-
-    def tile_of(i: int) -> int | None:  # the tile an item lies on; None: in a hand
-        where, loc = state.item_where[i], state.item_loc[i]
-        if where == Where.HAND:
-            return None
-        if where == Where.PLATE:
-            return tile_of(loc)
-        return loc  # CELL or WAITING (its spawn tile)
-
-    def reach(tile: int) -> float:
-        return min((paths.dist(state.agent_pos[a], tile) for a in agents), default=_INF)
-
-    def to_window(start_tile: int | None, holder: int) -> float:
-        """Carry to the serving window from a tile (or from the cell of ``holder``)."""
-        return min((paths.carry_between(start_tile, d) if start_tile is not None
-                    else paths.carry(state.agent_pos[holder], d)) for d in delivery)
-
-    def carry(tile: int | None, holder: int, dest: int) -> float:
-        return (paths.carry_between(tile, dest) if tile is not None
-                else paths.carry(state.agent_pos[holder], dest))
-
-    def ingredient(i: int) -> tuple[int, int, float]:
-        """(classical work, temporal work, chain) of getting item ``i`` onto the dish."""
-        kind, st, prog = geo.item_kind[i], state.item_state[i], state.item_progress[i]
-        where, tile = state.item_where[i], tile_of(i)
-        holder = state.item_loc[i] if where == Where.HAND else -1
-        if where == Where.PLATE:
-            return 0, 0, 0.0
-        if st == ItemState.BURNT:  # trashed, it starts again fresh from its spawn tile
-            tile, holder, where, prog = geo.item_home[i], -1, Where.CELL, 0
-            st = ItemState.FRESH
-        on = terrain[tile] if tile is not None and where == Where.CELL else -1
-        if on == Cell.PAN and kind == Item.STEAK:  # heating: take it off in its window
-            wait = max(0, rules.cook_time - prog)
-            return 2, 2, max(reach(tile), wait) + 2 + to_window(tile, holder) + 1
-        got = 0.0 if tile is None else reach(tile)
-        if st in (ItemState.CHOPPED, ItemState.COOKED):
-            return 1, 1, got + 1 + to_window(tile, holder) + 1
-        pick = 0 if tile is None or on == Cell.BOARD else 1
-        if kind == Item.STEAK:
-            left = max(0, rules.cook_time - prog)  # classical cook: left + 1 steps
-            chains = [got + pick + carry(tile, holder, p) + max(1, left) + 1 + 1
-                      + paths.carry_between(p, d) + 1 for p in geo.pans for d in delivery]
-            return pick + left + 1 + 1, pick + 2 + 1, min(chains, default=_INF)
-        chop = max(1, rules.chop_steps - prog) if prog > 0 else rules.chop_steps
-        boards = [tile] if on == Cell.BOARD else _cells(geo, Cell.BOARD)
-        put = 0 if on == Cell.BOARD else 1
-        chains = [got + pick + (0 if b == tile else carry(tile, holder, b)) + put + chop + 1
-                  + paths.carry_between(b, d) + 1 for b in boards for d in delivery]
-        work = pick + put + chop + 1
-        return work, work, min(chains, default=_INF)
-
-    def plate(q: int) -> tuple[int, float]:
-        """(work, chain) of bringing plate ``q`` to the window (plating not included)."""
-        where, tile = state.item_where[q], tile_of(q)
-        holder = state.item_loc[q] if where == Where.HAND else -1
-        got = 0.0 if tile is None else reach(tile) + 1
-        pick = 0 if tile is None else 1
-        if state.item_state[q] != ItemState.DIRTY:
-            return pick + 1, got + to_window(tile, holder) + 1
-        prog = state.item_progress[q]
-        wash = max(1, rules.wash_steps - prog) if prog > 0 else rules.wash_steps
-        in_sink = tile is not None and where == Where.CELL and terrain[tile] == Cell.SINK
-        if in_sink:
-            return wash + 2, reach(tile) + wash + 1 + to_window(tile, holder) + 1
-        chains = [got + carry(tile, holder, k) + 1 + wash + 1 + paths.carry_between(k, d) + 1
-                  for k in _cells(geo, Cell.SINK) for d in delivery]
-        return pick + 1 + wash + 1 + 1, min(chains, default=_INF)
-
+    item_costs = _ItemCosts(state, paths)
     items_of: dict[int, list[int]] = {}
     for i, k in enumerate(geo.item_kind):
         items_of.setdefault(k, []).append(i)
     plates = items_of.get(int(Item.PLATE), [])
-    costs = {i: ingredient(i) for k, its in items_of.items() if k != Item.PLATE for i in its}
-    plate_costs = [plate(q) for q in plates]
+    costs = {i: item_costs.ingredient(i)
+             for k, its in items_of.items() if k != Item.PLATE for i in its}
+    plate_costs = [item_costs.plate(q) for q in plates]
     work_c = work_t = 0
     critical = 0.0
     for order in orders:

@@ -346,6 +346,61 @@ def _cells(state: State, rc: Any) -> int:
     return state.geo.flat(*rc)
 
 
+def _plan_activities(compiled: Compiled, timed: list, copy: State, model: ModelState
+                     ) -> tuple[_Schedule, list[tuple[Fraction, Fraction, frozenset[str],
+                                                       frozenset[str]]], list[Fraction]]:
+    """What each agent does at which simulator step for a plan's timed actions: the
+    ``_Schedule``, the (from, until, item names, agent names) spans skipped in comparisons
+    while in progress, and the times to compare at. Raises :class:`_Mismatch` when the
+    model itself breaks a duration bound or an action lasts no whole number of steps."""
+    names = compiled.names
+    schedule = _Schedule(copy.n_agents)
+    #: (from, until, item and agent names) skipped in comparisons while in progress
+    busy: list[tuple[Fraction, Fraction, frozenset[str], frozenset[str]]] = []
+    checkpoints: list[Fraction] = []
+    for start, ai, duration in timed:
+        start = Fraction(start)
+        duration = Fraction(duration or 0)
+        bad = _duration_problem(model, ai, duration)
+        if bad:
+            raise _Mismatch(bad, "model")
+        step = compiled.map_back(ai, start, duration)
+        label = f"{ai} at {float(start):g}"
+        args = [str(p.object()) for p in ai.actual_parameters]
+        item_args = frozenset(x for x in args if x in names.items)
+        agent_args = frozenset(x for x in args if x in names.agents)
+        end = start + duration
+        if step.kind == "cook" and step.other_agent is not None:
+            place = _cells(copy, step.place)
+            a1, a2 = names.agent(step.agent), names.agent(step.other_agent)
+            schedule.add(_Activity(step.agent, _floor(start), 1, False, f"{label} (put on)",
+                                   _cells(copy, step.spot), place))
+            schedule.add(_Activity(step.other_agent, _floor(end), 1, False,
+                                   f"{ai} at {float(end):g} (take off)",
+                                   _cells(copy, step.other_spot), place))
+            busy.append((start, end + 1, item_args, frozenset()))
+            busy.append((start, start + 1, frozenset(), frozenset({a1})))
+            busy.append((end, end + 1, frozenset(), frozenset({a2})))
+            continue
+        busy.append((start, end, item_args, agent_args))
+        checkpoints.append(end)
+        if step.kind in _NO_STEPS or step.agent is None:
+            continue
+        if duration.denominator != 1:
+            raise _Mismatch(f"{label}: a {step.kind} lasting {float(duration):g} steps", "model")
+        n = int(duration)
+        if step.kind == "move":
+            schedule.add(_Activity(step.agent, _floor(start), n, True, label,
+                                   _cells(copy, step.spot)))
+        else:
+            bumps = n if step.kind in ("chop", "wash") else 1
+            if bumps != n:
+                raise _Mismatch(f"{label}: a {step.kind} modelled as {n} steps", "model")
+            schedule.add(_Activity(step.agent, _floor(start), n, False, label,
+                                   _cells(copy, step.spot), _cells(copy, step.place)))
+    return schedule, busy, checkpoints
+
+
 # ---------------------------------------------------------------- the replay
 def replay_temporal(compiled: Compiled, plan: Any, state: State,
                     freeze_layout: bool = False, until_horizon: bool = False) -> Replay:
@@ -370,52 +425,11 @@ def replay_temporal(compiled: Compiled, plan: Any, state: State,
     if problem_before:
         return Replay(False, 0, 0, f"before the plan: {problem_before}", "initial")
 
-    schedule = _Schedule(copy.n_agents)
-    #: (from, until, item and agent names) skipped in comparisons while in progress
-    busy: list[tuple[Fraction, Fraction, frozenset[str], frozenset[str]]] = []
-    checkpoints: list[Fraction] = []
     timed = list(plan.timed_actions)
-    for index, (start, ai, duration) in enumerate(timed):
-        start = Fraction(start)
-        duration = Fraction(duration or 0)
-        bad = _duration_problem(model, ai, duration)
-        if bad:
-            return failed(out, bad, "model")
-        step = compiled.map_back(ai, start, duration)
-        label = f"{ai} at {float(start):g}"
-        args = [str(p.object()) for p in ai.actual_parameters]
-        item_args = frozenset(x for x in args if x in names.items)
-        agent_args = frozenset(x for x in args if x in names.agents)
-        end = start + duration
-        if step.kind == "cook" and step.other_agent is not None:
-            place = _cells(copy, step.place)
-            a1, a2 = names.agent(step.agent), names.agent(step.other_agent)
-            schedule.add(_Activity(step.agent, _floor(start), 1, False, f"{label} (put on)",
-                                   _cells(copy, step.spot), place))
-            schedule.add(_Activity(step.other_agent, _floor(end), 1, False,
-                                   f"{ai} at {float(end):g} (take off)",
-                                   _cells(copy, step.other_spot), place))
-            busy.append((start, end + 1, item_args, frozenset()))
-            busy.append((start, start + 1, frozenset(), frozenset({a1})))
-            busy.append((end, end + 1, frozenset(), frozenset({a2})))
-            continue
-        busy.append((start, end, item_args, agent_args))
-        checkpoints.append(end)
-        if step.kind in _NO_STEPS or step.agent is None:
-            continue
-        if duration.denominator != 1:
-            return failed(out, f"{label}: a {step.kind} lasting {float(duration):g} steps",
-                         "model")
-        n = int(duration)
-        if step.kind == "move":
-            schedule.add(_Activity(step.agent, _floor(start), n, True, label,
-                                   _cells(copy, step.spot)))
-        else:
-            bumps = n if step.kind in ("chop", "wash") else 1
-            if bumps != n:
-                return failed(out, f"{label}: a {step.kind} modelled as {n} steps", "model")
-            schedule.add(_Activity(step.agent, _floor(start), n, False, label,
-                                   _cells(copy, step.spot), _cells(copy, step.place)))
+    try:
+        schedule, busy, checkpoints = _plan_activities(compiled, timed, copy, model)
+    except _Mismatch as m:
+        return failed(out, m.message, m.category)
     out.actions = len(timed)
 
     world = _TimedWorld(copy, schedule)

@@ -150,6 +150,12 @@ def schemas(encoding: str, granularity: str, k_max: int = 3,
             switches: bool = False) -> list[Schema]:
     """All action schemas of one encoding and granularity (``switches``: the stations
     moves of anticipated layout switches)."""
+    return ([_move_schema(granularity, switches), *_hand_schemas()] + _plate_schemas(k_max)
+            + _cook_schemas(encoding))
+
+
+def _move_schema(granularity: str, switches: bool) -> Schema:
+    """The move between spots (stations) or cells, or per layout with ``switches``."""
     move_cost: int | str = "dist s1 s2" if granularity == "stations" else 1
     move_params = "a:agent s1:spot s2:spot"
     # cells: a cell is entered only while it is floor (``open``; timed initial literals
@@ -159,9 +165,13 @@ def schemas(encoding: str, granularity: str, k_max: int = 3,
     if switches and granularity == "stations":
         move_params += " l:layout"
         move_pre, move_cost = "agent_at a s1; vacant s2; llink l s1 s2; now l", "ldist l s1 s2"
-    out = [
-        _schema("move", "move", move_params, move_pre,
-                "agent_at a s2; vacant s1", "agent_at a s1; vacant s2", move_cost),
+    return _schema("move", "move", move_params, move_pre,
+                   "agent_at a s2; vacant s1", "agent_at a s1; vacant s2", move_cost)
+
+
+def _hand_schemas() -> list[Schema]:
+    """Picking, putting, chopping, washing, plating and trashing one item."""
+    return [
         _schema("pick", "pick", HAND, f"{AGENT_AT}; free_hand a; item_at i p; nowait p; grabbable p",
                 "holding a i; free p", "free_hand a; item_at i p"),
         _schema("pick_chopped", "pick", HAND, f"{AGENT_AT}; free_hand a; item_at i p; board p; ready i",
@@ -207,6 +217,11 @@ def schemas(encoding: str, granularity: str, k_max: int = 3,
                 "free_hand a; item_at i h; fresh i; untouched i",
                 "holding a i; free h; ready i; burnt i; partly i"),
     ]
+
+
+def _plate_schemas(k_max: int) -> list[Schema]:
+    """Trashing and delivering a plate of ``k`` ingredients, ``k`` up to ``k_max``."""
+    out = []
     for k in range(1, k_max + 1):
         items = " ".join(f"i{j}:item h{j}:place" for j in range(1, k + 1))
         bind = "; ".join(f"on_plate i{j} q; home i{j} h{j}; free h{j}" for j in range(1, k + 1))
@@ -229,8 +244,14 @@ def schemas(encoding: str, granularity: str, k_max: int = 3,
                 f"served o; up_next o2; free_hand a; item_at q hq; plate_has q c0; {plate_add}; {back_add}",
                 f"up_next o; holding a q; free hq; plate_has q c{'; clean q' if dirty else ''}; "
                 f"{back_del}"))
+    return out
+
+
+def _cook_schemas(encoding: str) -> list[Schema]:
+    """Cooking a steak: the classical one-action cook (with rescue and abandon of a steak
+    already on a pan) or the temporal take-offs (the envelope is built separately)."""
     if encoding == "classical":
-        out += [
+        return [
             _schema("cook", "cook", HAND,
                     f"{AGENT_AT}; holding a i; is_steak i; fresh i; untouched i; pan p; free p",
                     "ready i", "fresh i", "cook_cost_full"),
@@ -251,18 +272,16 @@ def schemas(encoding: str, granularity: str, k_max: int = 3,
                     "item_at i p; burnt i; calm", "cooking_on i p; fresh i; ready i; partly i", 0,
                     agent=None),
         ]
-    else:
-        out += [
-            _schema("take_off", "take_off", HAND,
-                    f"{AGENT_AT}; free_hand a; on_heat i p; window i",
-                    "holding a i; ready i; free p; untouched i",
-                    "free_hand a; on_heat i p; fresh i; partly i"),
-            _schema("take_burnt", "take_off", HAND,
-                    f"{AGENT_AT}; free_hand a; on_heat i p; overdone i",
-                    "holding a i; burnt i; free p; untouched i",
-                    "free_hand a; on_heat i p; fresh i; ready i; partly i"),
-        ]
-    return out
+    return [
+        _schema("take_off", "take_off", HAND,
+                f"{AGENT_AT}; free_hand a; on_heat i p; window i",
+                "holding a i; ready i; free p; untouched i",
+                "free_hand a; on_heat i p; fresh i; partly i"),
+        _schema("take_burnt", "take_off", HAND,
+                f"{AGENT_AT}; free_hand a; on_heat i p; overdone i",
+                "holding a i; burnt i; free p; untouched i",
+                "free_hand a; on_heat i p; fresh i; ready i; partly i"),
+    ]
 
 
 def hand_change(schema: Schema) -> str:

@@ -209,6 +209,43 @@ class FeatureEncoder:
         return [c / 2 for c in counts] + [fits, complete] + [m / 2 for m in missing]
 
     def _encode(self, state: State, agent: int) -> list[float]:
+        best_cost, best_act, best_cell, wanted = self._nearest(state, agent)
+        kinds, istate, cell_item = self.geo.item_kind, state.item_state, state.cell_item
+        f: list[float] = []
+        for t in range(len(TARGETS)):
+            if best_act[t] < 0:
+                f += (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+            else:
+                onehot = [0.0, 0.0, 0.0, 0.0]
+                onehot[best_act[t]] = 1.0
+                f += onehot
+                f += (min(best_cost[t] / PATH_SCALE, 1.0), 1.0)
+
+        held = state.agent_hand[agent]
+        hand = [0.0] * (2 + len(HAND_KINDS) + len(STATES))
+        if held < 0:
+            hand[0] = 1.0
+        else:
+            hand[1] = 1.0 if kinds[held] in wanted else 0.0
+            hand[2 + _HAND_INDEX[kinds[held]]] = 1.0
+            hand[2 + len(HAND_KINDS) + _STATE_INDEX[istate[held]]] = 1.0
+        f += hand
+        if held >= 0 and kinds[held] == _PLATE:
+            f += self._plate_summary(state, held)
+        else:
+            f += [0.0] * 10
+        near = best_cell[_T["clean_plate"]]
+        f += self._plate_summary(state, cell_item[near]) if near >= 0 else [0.0] * 10
+
+        f += self._demand(state)
+        f += self._around(state, agent)
+        f += self._clock(state, best_cell)
+        return f
+
+    def _nearest(self, state: State, agent: int
+                 ) -> tuple[list[int], list[int], list[int], set[int]]:
+        """Per target: the cheapest walk's cost, its first action and the cell (-1: none
+        reachable); and the item kinds the open orders want."""
         geo = self.geo
         layout = state.layout_index
         terrain = geo.terrains[layout]
@@ -216,7 +253,6 @@ class FeatureEncoder:
         others = tuple(sorted(p for b, p in enumerate(state.agent_pos) if b != agent))
         reach = self._reach(layout, pos, others)
         cell_item, kinds, istate = state.cell_item, geo.item_kind, state.item_state
-        progress = state.item_progress
         n_t = len(TARGETS)
         best_cost = [_NO_PATH] * n_t
         best_act = [-1] * n_t
@@ -270,33 +306,12 @@ class FeatureEncoder:
                      else _T["wanted_ready"] if t in _READY_TARGETS else -1)
                 if w >= 0 and cost < best_cost[w]:
                     best_cost[w], best_act[w], best_cell[w] = cost, act, c
+        return best_cost, best_act, best_cell, wanted
 
+    @staticmethod
+    def _demand(state: State) -> list[float]:
+        """Per order slot: its ingredient counts and a presence flag; then the total demand."""
         f: list[float] = []
-        for t in range(n_t):
-            if best_act[t] < 0:
-                f += (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-            else:
-                onehot = [0.0, 0.0, 0.0, 0.0]
-                onehot[best_act[t]] = 1.0
-                f += onehot
-                f += (min(best_cost[t] / PATH_SCALE, 1.0), 1.0)
-
-        held = state.agent_hand[agent]
-        hand = [0.0] * (2 + len(HAND_KINDS) + len(STATES))
-        if held < 0:
-            hand[0] = 1.0
-        else:
-            hand[1] = 1.0 if kinds[held] in wanted else 0.0
-            hand[2 + _HAND_INDEX[kinds[held]]] = 1.0
-            hand[2 + len(HAND_KINDS) + _STATE_INDEX[istate[held]]] = 1.0
-        f += hand
-        if held >= 0 and kinds[held] == _PLATE:
-            f += self._plate_summary(state, held)
-        else:
-            f += [0.0] * 10
-        near = best_cell[_T["clean_plate"]]
-        f += self._plate_summary(state, cell_item[near]) if near >= 0 else [0.0] * 10
-
         demand = [0.0] * 4
         for o in range(MAX_ORDERS):
             if o < len(state.orders):
@@ -308,7 +323,13 @@ class FeatureEncoder:
             else:
                 f += (0.0, 0.0, 0.0, 0.0, 0.0)
         f += [min(d / 3, 1.0) for d in demand]
+        return f
 
+    def _around(self, state: State, agent: int) -> list[float]:
+        """The four neighbours (walkable, taken) and the other cooks (offset, hand)."""
+        geo, layout, pos = self.geo, state.layout_index, state.agent_pos[agent]
+        kinds = geo.item_kind
+        f: list[float] = []
         walk = geo.walkables[layout]
         others = {state.agent_pos[b] for b in range(state.n_agents) if b != agent}
         for v in geo.neighbors[pos]:
@@ -326,7 +347,13 @@ class FeatureEncoder:
                 f += [(brow - row) / geo.rows, (bcol - col) / geo.cols, 1.0] + kind
             else:
                 f += [0.0] * (3 + 1 + len(HAND_KINDS))
+        return f
 
+    def _clock(self, state: State, best_cell: list[int]) -> list[float]:
+        """Time, layout, the next switch, the nearest cooking steak's progress and burn risk."""
+        terrain, progress, cell_item = (self.geo.terrains[state.layout_index],
+                                        state.item_progress, state.cell_item)
+        layout = state.layout_index
         rules = self.rules
         switch_in = 0.0
         if rules.dynamic:
@@ -338,8 +365,7 @@ class FeatureEncoder:
         if cooked >= 0 and terrain[cooked] == _PAN:
             left = ticks_until_burnt(rules, progress[cell_item[cooked]])
             burn_in = max(0.0, 1.0 - left / (rules.burn_time + 1 - rules.cook_time))
-        f += [state.t / rules.horizon, float(layout), switch_in, min(cook_prog, 1.0), burn_in]
-        return f
+        return [state.t / rules.horizon, float(layout), switch_in, min(cook_prog, 1.0), burn_in]
 
 
 __all__ = ["TARGETS", "FeatureEncoder"]

@@ -88,10 +88,9 @@ class VectorEncoder:
         self.rules = rules
         self.radius = r = obs_radius
         self.comm_vocab = comm_vocab
-        self.n_agents = n = rules.n_agents
+        self.n_agents = rules.n_agents
         rows, cols = rules.layout.shape
         self.rows, self.cols = rows, cols
-        hp, wp = rows + 2 * r, cols + 2 * r
         self.window = (2 * r + 1, 2 * r + 1) if r else (rows, cols)
         wh, ww = self.window
         self._cells = wh * ww
@@ -100,6 +99,18 @@ class VectorEncoder:
         self._has_switch = rules.dynamic and rules.layout.switch_grid is not None
         self._rc = [divmod(f, cols) for f in range(rows * cols)]
 
+        self._init_static(rules)
+        geo_kinds = [int(k) for k in Geometry.build(rules).item_kind]
+        self._init_items(rules, geo_kinds)
+        self._init_features(rules, comm_vocab)
+        self._init_bounds(rules, geo_kinds)
+
+    def _init_static(self, rules: Rules) -> None:
+        """The static planes per layout (terrain one-hots, unknown outside the map) and,
+        for a window, the gather indices of every agent cell's window."""
+        r, rows, cols, n = self.radius, self.rows, self.cols, self.n_agents
+        wh, ww = self.window
+        hp, wp = rows + 2 * r, cols + 2 * r
         # static planes per layout (padded by r): terrain one-hots, unknown outside the map
         static = []
         for grid in rules.layout.grids():
@@ -122,7 +133,9 @@ class VectorEncoder:
             chan = (np.arange(len(GRID_CHANNELS)) * hp * wp)[None, :, None]
             self._gather = (chan + win[:, None, :]).reshape(rows * cols, -1)
 
-        geo_kinds = [int(k) for k in Geometry.build(rules).item_kind]
+    def _init_items(self, rules: Rules, geo_kinds: list[int]) -> None:
+        """The channel offsets of every item's kind, state and progress entries."""
+        rows, cols = self.rows, self.cols
         # item entries are built as channel * map_cells + cell (for r = 0 the window is the
         # map, so these are already output offsets; windows re-index them)
         m = self._map_cells = rows * cols
@@ -144,7 +157,9 @@ class VectorEncoder:
         ]
         self._item_kind = geo_kinds
 
-        # features
+    def _init_features(self, rules: Rules, comm_vocab: int) -> None:
+        """The feature names and offsets, and the zero features of the blank rows."""
+        n = self.n_agents
         names = [f"hand:{k.name.lower()}" for k in ITEM_KINDS]
         names += [f"hand_state:{s.name.lower()}" for s in ITEM_STATES]
         names += [f"hand_plate:{k.name.lower()}" for k in INGREDIENT_KINDS]
@@ -167,6 +182,9 @@ class VectorEncoder:
             feat = np.full((self._gather.shape[0], self.n_features), zero_slot)
             self._gather = np.concatenate([self._gather, feat], axis=1)
 
+    def _init_bounds(self, rules: Rules, geo_kinds: list[int]) -> None:
+        """The exact element bounds :attr:`low` / :attr:`high` and the per-step offsets."""
+        rows, cols = self.rows, self.cols
         counts = {k: geo_kinds.count(int(k)) for k in ITEM_KINDS}
         grid_high = np.ones(self.grid_shape, np.float32)
         for i, k in enumerate(ITEM_KINDS):

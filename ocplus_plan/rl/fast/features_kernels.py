@@ -16,16 +16,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...sim.fast.kernels import (
-    A_HAND, A_POS, B_PLATE_ADD, B_PUTDOWN, C_LAYOUT, C_SWITCH, C_T, I_LIFE, I_LOC, I_PROG,
-    I_STATE, I_WHERE, O_RECIPE,
+from ...sim.fast.arrays import (
+    A_HAND, A_POS, B_PLATE_ADD, B_PUTDOWN, C_LAYOUT, C_SWITCH, C_T, CELL_BOARD, CELL_DELIVERY,
+    CELL_PAN, CELL_SINK, CELL_TRASH, I_LIFE, I_LOC, I_PROG, I_STATE, I_WHERE, ITEM_PLATE,
+    ITEM_STEAK, O_RECIPE, STATE_CHOPPED, STATE_CLEAN, STATE_COOKED, STATE_DIRTY, STATE_FRESH,
+    WHERE_PLATE,
 )
 
-# codes (sim/codes.py) as plain ints
-_STEAK, _PLATE_KIND = 10, 5
-_BOARD, _DELIVERY, _PAN, _SINK, _TRASH = 6, 7, 9, 11, 12
-_FRESH, _CHOPPED, _COOKED, _CLEAN, _DIRTY = 0, 1, 2, 4, 5
-_ON_PLATE = 2  # Where.PLATE
 _NO_PATH = 1 << 30
 PATH_SCALE = 20.0
 # target indices (features.TARGETS order)
@@ -116,8 +113,9 @@ def shaping_range(k, g, before, paid, coef, team, true, out, active, start, stop
                 code = g.terrain[lay, k.bumps[e, 2, a]]
                 st = k.items[e, I_STATE, it]
                 need = needed(e, g.kind[it], k.orders, g.kind_index, g.recipes)
-                if (code == _BOARD and need) or (code == _PAN and st == _FRESH and need) or (
-                        code == _SINK and st == _DIRTY):
+                if (code == CELL_BOARD and need) \
+                        or (code == CELL_PAN and st == STATE_FRESH and need) \
+                        or (code == CELL_SINK and st == STATE_DIRTY):
                     s += w[W_STAGE]
                     paid[e, it] = k.items[e, I_LIFE, it] + 1
             elif what == B_PLATE_ADD and w[W_USEFUL_PLATE]:
@@ -166,13 +164,13 @@ def plate_contents(e, plate, items, kind, kidx, counts):
         counts[j] = 0
     ready = True
     for i in range(items.shape[2]):
-        if items[e, I_WHERE, i] == _ON_PLATE and items[e, I_LOC, i] == plate:
+        if items[e, I_WHERE, i] == WHERE_PLATE and items[e, I_LOC, i] == plate:
             counts[kidx[kind[i]]] += 1
             st = items[e, I_STATE, i]
-            if kind[i] == _STEAK:
-                if st != _COOKED:
+            if kind[i] == ITEM_STEAK:
+                if st != STATE_COOKED:
                     ready = False
-            elif st != _CHOPPED:
+            elif st != STATE_CHOPPED:
                 ready = False
     return ready
 
@@ -182,7 +180,7 @@ def fits_order(e, plate, items, orders, g, counts, complete):
     ``complete``) an active order."""
     ready = plate_contents(e, plate, items, g.kind, g.kind_index, counts)
     total = counts[0] + counts[1] + counts[2] + counts[3]
-    if items[e, I_STATE, plate] != _CLEAN or not ready or total == 0:
+    if items[e, I_STATE, plate] != STATE_CLEAN or not ready or total == 0:
         return False
     for o in range(orders.shape[2]):
         r = orders[e, O_RECIPE, o]
@@ -203,7 +201,7 @@ def potential(e, a, lay, agents, items, orders, g, counts):
         return 0.0
     w = g.weights
     k = g.kind[held]
-    if k == _PLATE_KIND:
+    if k == ITEM_PLATE:
         if w[W_CARRY_DISH] and fits_order(e, held, items, orders, g, counts, True):
             d = g.to_delivery[lay, agents[e, A_POS, a]]
             near = 1.0 - min(d, 20) / 20 if d >= 0 else 0.0
@@ -212,9 +210,9 @@ def potential(e, a, lay, agents, items, orders, g, counts):
     if not needed(e, k, orders, g.kind_index, g.recipes):
         return 0.0
     st = items[e, I_STATE, held]
-    if (k == _STEAK and st == _COOKED) or (k != _STEAK and st == _CHOPPED):
+    if (k == ITEM_STEAK and st == STATE_COOKED) or (k != ITEM_STEAK and st == STATE_CHOPPED):
         return w[W_CARRY_READY]
-    return w[W_CARRY_FRESH] if st == _FRESH else 0.0
+    return w[W_CARRY_FRESH] if st == STATE_FRESH else 0.0
 
 
 def plate_summary(e, plate, items, orders, g, counts, gap, out, a, off):
@@ -237,7 +235,7 @@ def plate_summary(e, plate, items, orders, g, counts, gap, out, a, off):
                 gap[1, j] = gap[0, j]
     for j in range(4):
         out[e, a, off + j] = counts[j] / 2
-    clean = items[e, I_STATE, plate] == _CLEAN
+    clean = items[e, I_STATE, plate] == STATE_CLEAN
     if best_sum >= 0 and clean and ((ready and total > 0) or total == 0):
         out[e, a, off + 4] = 1.0
         out[e, a, off + 5] = 1.0 if best_sum == 0 else 0.0
@@ -311,44 +309,42 @@ def reach_cells(pos, lay, interact, nbrs, dist, first, reach):
 # ---------------------------------------------------------------- one agent's features
 def target_of(code, it, st, k, kidx, is_counter):
     """The TARGETS index of an interaction cell (-1: none), as FeatureEncoder._encode."""
-    if code == _DELIVERY:
+    if code == CELL_DELIVERY:
         return T_DELIVERY
-    if code == _TRASH:
+    if code == CELL_TRASH:
         return T_TRASH
     if it < 0:
-        if code == _BOARD:
+        if code == CELL_BOARD:
             return T_FREE_BOARD
-        if code == _PAN:
+        if code == CELL_PAN:
             return T_FREE_PAN
-        if code == _SINK:
+        if code == CELL_SINK:
             return T_FREE_SINK
         if is_counter[code]:
             return T_FREE_COUNTER
         return -1
-    if k == _PLATE_KIND:
-        if st == _CLEAN:
+    if k == ITEM_PLATE:
+        if st == STATE_CLEAN:
             return T_CLEAN_PLATE
-        return T_SINK_TO_WASH if code == _SINK else T_DIRTY_PLATE
-    if k == _STEAK:
-        if st == _FRESH:
-            return T_COOKING_STEAK if code == _PAN else T_RAW_STEAK
-        if st == _COOKED:
+        return T_SINK_TO_WASH if code == CELL_SINK else T_DIRTY_PLATE
+    if k == ITEM_STEAK:
+        if st == STATE_FRESH:
+            return T_COOKING_STEAK if code == CELL_PAN else T_RAW_STEAK
+        if st == STATE_COOKED:
             return T_COOKED_STEAK
         return T_BURNT_STEAK
-    if st == _FRESH:
-        return T_BOARD_TO_CHOP if code == _BOARD else T_FRESH_TOMATO + kidx[k]
-    if st == _CHOPPED:
+    if st == STATE_FRESH:
+        return T_BOARD_TO_CHOP if code == CELL_BOARD else T_FRESH_TOMATO + kidx[k]
+    if st == STATE_CHOPPED:
         return T_CHOPPED_TOMATO + kidx[k]
     return -1
 
 
-def encode(e, a, clock, agents, cells, items, orders, g, out, dist, first, queue, reach, best,
-           wanted, counts, gap):
-    """FeatureEncoder._encode of agent ``a`` of env ``e`` into ``out[e, a]``."""
-    p, nbrs, interact, kind, kidx = g.params, g.nbrs, g.interact, g.kind, g.kind_index
-    n = agents.shape[2]
-    lay = clock[e, C_LAYOUT]
-    pos = agents[e, A_POS, a]
+def nearest(e, a, lay, pos, n, cells, items, agents, g, dist, first, queue, reach, best,
+            wanted):
+    """FeatureEncoder._nearest: per target, the cheapest walk's cost, first action and cell
+    into ``best[0..2]`` (``_NO_PATH``, -1, -1: none reachable)."""
+    nbrs, interact, kind, kidx = g.nbrs, g.interact, g.kind, g.kind_index
     bfs(e, a, lay, agents, g.walk, nbrs, n > 1, dist, first, queue)
     missing = reach_cells(pos, lay, interact, nbrs, dist, first, reach)
     if n > 1 and missing:  # cells reachable only through others: the path ignoring them
@@ -385,39 +381,11 @@ def encode(e, a, clock, agents, cells, items, orders, g, out, dist, first, queue
                 w = T_WANTED_READY
             if w >= 0 and cost < best[0, w]:
                 best[0, w], best[1, w], best[2, w] = cost, act, c
-    for j in range(N_FEATURES):
-        out[e, a, j] = 0.0
-    for t in range(N_TARGETS):
-        if best[1, t] >= 0:
-            out[e, a, 6 * t + best[1, t]] = 1.0
-            out[e, a, 6 * t + 4] = min(best[0, t] / PATH_SCALE, 1.0)
-            out[e, a, 6 * t + 5] = 1.0
 
-    held = agents[e, A_HAND, a]
-    if held < 0:
-        out[e, a, F_HAND] = 1.0
-    else:
-        hk = kidx[kind[held]]
-        out[e, a, F_HAND + 1] = 1.0 if hk < 4 and wanted[hk] else 0.0
-        out[e, a, F_HAND + 2 + hk] = 1.0
-        out[e, a, F_HAND + 7 + items[e, I_STATE, held]] = 1.0
-        if kind[held] == _PLATE_KIND:
-            plate_summary(e, held, items, orders, g, counts, gap, out, a, F_HAND_PLATE)
-    near = best[2, T_CLEAN_PLATE]
-    if near >= 0:
-        plate_summary(e, cells[e, near], items, orders, g, counts, gap, out, a, F_NEAR_PLATE)
 
-    for j in range(4):
-        counts[j] = 0
-    for o in range(min(MAX_ORDERS, orders.shape[2])):
-        r = orders[e, O_RECIPE, o]
-        for j in range(4):
-            counts[j] += g.recipes[r, j]
-            out[e, a, F_ORDERS + 5 * o + j] = float(g.recipes[r, j]) / 2
-        out[e, a, F_ORDERS + 5 * o + 4] = 1.0
-    for j in range(4):
-        out[e, a, F_DEMAND + j] = min(float(counts[j]) / 3, 1.0)
-
+def around(e, a, lay, pos, n, agents, g, out):
+    """FeatureEncoder._around: the four neighbours (walkable, taken) and the other cooks."""
+    p, nbrs, kind, kidx = g.params, g.nbrs, g.kind, g.kind_index
     for d in range(4):
         v = nbrs[pos, d]
         out[e, a, F_ADJ + 2 * d] = 1.0 if v >= 0 and g.walk[lay, v] else 0.0
@@ -437,6 +405,51 @@ def encode(e, a, clock, agents, cells, items, orders, g, out, dist, first, queue
             bh = agents[e, A_HAND, b]
             out[e, a, off + 3 + (0 if bh < 0 else 1 + kidx[kind[bh]])] = 1.0
 
+
+def encode(e, a, clock, agents, cells, items, orders, g, out, dist, first, queue, reach, best,
+           wanted, counts, gap):
+    """FeatureEncoder._encode of agent ``a`` of env ``e`` into ``out[e, a]``."""
+    p, kind, kidx = g.params, g.kind, g.kind_index
+    n = agents.shape[2]
+    lay = clock[e, C_LAYOUT]
+    pos = agents[e, A_POS, a]
+    nearest(e, a, lay, pos, n, cells, items, agents, g, dist, first, queue, reach, best,
+            wanted)
+    for j in range(N_FEATURES):
+        out[e, a, j] = 0.0
+    for t in range(N_TARGETS):
+        if best[1, t] >= 0:
+            out[e, a, 6 * t + best[1, t]] = 1.0
+            out[e, a, 6 * t + 4] = min(best[0, t] / PATH_SCALE, 1.0)
+            out[e, a, 6 * t + 5] = 1.0
+
+    held = agents[e, A_HAND, a]
+    if held < 0:
+        out[e, a, F_HAND] = 1.0
+    else:
+        hk = kidx[kind[held]]
+        out[e, a, F_HAND + 1] = 1.0 if hk < 4 and wanted[hk] else 0.0
+        out[e, a, F_HAND + 2 + hk] = 1.0
+        out[e, a, F_HAND + 7 + items[e, I_STATE, held]] = 1.0
+        if kind[held] == ITEM_PLATE:
+            plate_summary(e, held, items, orders, g, counts, gap, out, a, F_HAND_PLATE)
+    near = best[2, T_CLEAN_PLATE]
+    if near >= 0:
+        plate_summary(e, cells[e, near], items, orders, g, counts, gap, out, a, F_NEAR_PLATE)
+
+    for j in range(4):
+        counts[j] = 0
+    for o in range(min(MAX_ORDERS, orders.shape[2])):
+        r = orders[e, O_RECIPE, o]
+        for j in range(4):
+            counts[j] += g.recipes[r, j]
+            out[e, a, F_ORDERS + 5 * o + j] = float(g.recipes[r, j]) / 2
+        out[e, a, F_ORDERS + 5 * o + 4] = 1.0
+    for j in range(4):
+        out[e, a, F_DEMAND + j] = min(float(counts[j]) / 3, 1.0)
+
+    around(e, a, lay, pos, n, agents, g, out)
+
     t_now = clock[e, C_T]
     if p[Q_DYNAMIC]:
         out[e, a, F_CLOCK + 2] = min(max(clock[e, C_SWITCH] - t_now, 0) / p[Q_SWITCH_STEP], 1.0)
@@ -446,7 +459,7 @@ def encode(e, a, clock, agents, cells, items, orders, g, out, dist, first, queue
     if cooking >= 0:
         out[e, a, F_CLOCK + 3] = min(items[e, I_PROG, cells[e, cooking]] / p[Q_COOK], 1.0)
     cooked = best[2, T_COOKED_STEAK]
-    if cooked >= 0 and g.terrain[lay, cooked] == _PAN:
+    if cooked >= 0 and g.terrain[lay, cooked] == CELL_PAN:
         left = max(0, p[Q_BURN] + 1 - items[e, I_PROG, cells[e, cooked]])
         out[e, a, F_CLOCK + 4] = max(0.0, 1.0 - left / (p[Q_BURN] + 1 - p[Q_COOK]))
 
@@ -454,5 +467,5 @@ def encode(e, a, clock, agents, cells, items, orders, g, out, dist, first, queue
 KERNELS = (
     "features_range", "shaping_range", "wanted_kinds", "needed", "plate_contents",
     "fits_order", "potential", "plate_summary", "bfs", "occupied_by_other", "reach_cells",
-    "target_of", "encode",
+    "target_of", "nearest", "around", "encode",
 )

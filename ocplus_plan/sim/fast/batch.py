@@ -25,6 +25,7 @@ other layer inspects.
 
 from __future__ import annotations
 
+import importlib
 import importlib.util
 import os
 import sys
@@ -83,7 +84,9 @@ def compile_kernels(module: types.ModuleType, compiled: bool, nrt: bool = False)
     """``module`` as written (``compiled=False``), or a copy of it whose functions named in
     its ``KERNELS`` numba compiled without the GIL. ``nrt=False`` (the engine's kernels,
     which allocate nothing): no reference counting, which on shared arrays cost a quarter
-    of the step and made the threads fight; kernels that allocate need ``nrt=True``."""
+    of the step and made the threads fight; kernels that allocate need ``nrt=True``.
+    A module's ``KERNELS_FROM`` (name -> module) names kernels it imports from another
+    kernel module: the compiled copy calls that module's compiled ones."""
     if not compiled:
         return module
     try:
@@ -101,6 +104,9 @@ def compile_kernels(module: types.ModuleType, compiled: bool, nrt: bool = False)
     exec(compile(source, module.__file__, "exec"), mod.__dict__)  # noqa: S102 (our own source)
     for name in module.KERNELS:
         setattr(mod, name, numba.njit(cache=True, nogil=True, _nrt=nrt)(getattr(mod, name)))
+    for name, home in getattr(module, "KERNELS_FROM", {}).items():  # imported kernels
+        setattr(mod, name, getattr(compile_kernels(importlib.import_module(home), True, nrt),
+                                   name))
     return mod
 
 

@@ -18,90 +18,25 @@ Design notes (profiled with numba 0.68):
 * orders draw no random numbers here: each env carries a queue of recipe indices drawn
   in advance from its episode generator (``queue``, read at ``clock[e, C_QPOS]``), which
   the Python side refills; a draw is one queue read;
-* observations are kept, not rebuilt: ``obs`` holds every agent's vector observation
-  (SPEC section 8, exactly :class:`ocplus_plan.sim.observe.VectorEncoder`'s) and each
-  step lists the observation's dynamic entries (index, value) in a fixed order and touches
-  only those that differ from the previous step's list (all stale ones are taken away
-  before new ones are added). Entries add (several items on a plate share a count cell);
-  only counts, small integers, ever share an index, so this is exact in float32.
+* observations are kept, not rebuilt, by :mod:`.observe_kernels` after every step;
+* the codes and array layouts are :mod:`.arrays`' (the codes come from ``sim/codes.py``).
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
-import numpy as np
-
-
-# codes (sim/codes.py), repeated as plain ints so the compiled kernels see constants
-_COUNTER = 1
-_TOMATO, _LETTUCE, _PLATE_KIND, _ONION, _STEAK = 3, 4, 5, 8, 10
-_BOARD, _DELIVERY, _PAN, _SINK, _TRASH = 6, 7, 9, 11, 12
-_FRESH, _CHOPPED, _COOKED, _BURNT, _CLEAN, _DIRTY = 0, 1, 2, 3, 4, 5
-_CELL, _HAND, _PLATE, _WAITING = 0, 1, 2, 3
-_STAY = 4
-# columns and rows of the state arrays
-C_T, C_LAYOUT, C_SWITCH, C_ORDER_ID, C_QPOS = range(5)  # clock (E, 5)
-A_POS, A_HAND = range(2)  # agents (E, 2, n_agents)
-# items (E, 6, n_items); I_LIFE counts the item's respawns (batch bookkeeping, not State)
-I_STATE, I_PROG, I_WHERE, I_LOC, I_OWNER, I_LIFE = range(6)
-O_ID, O_RECIPE, O_CREATED, O_DEADLINE = range(4)  # orders (E, 4, n_orders), oldest first
-DISHES, COMPLETED, EXPIRED, BURNS, WRONG, CHOPS, COOKS, WASHES, SWITCHES = range(9)
-STAT_NAMES = ("dishes_served", "orders_completed", "orders_expired", "burns",
-              "wrong_deliveries", "chops", "cooks", "washes", "layout_switches")
-# params (ints) and reward values (floats)
-(P_CHOP, P_COOK, P_BURN, P_WASH, P_HORIZON, P_LIMIT, P_STOP, P_DIRTY, P_DYNAMIC,
- P_SWITCH_STEP, P_SHARED, P_FIXED, P_RADIUS, P_ROWS, P_COLS, P_HAS_SWITCH, P_OBSERVE) = range(17)
-R_SUBTASK, R_CORRECT, R_WRONG, R_STEP, R_BURNED, R_EXPIRED = range(6)
-# what each agent's bump did in the last step (bumps (E, 3, agents): kind, item, plate)
-B_NONE, B_PUTDOWN, B_PLATE_ADD = range(3)
-# observation layout: window cells and width, channel starts, feature offsets, static size
-(V_CELLS, V_WW, V_KIND0, V_STATE0, V_PROG, V_SELF, V_OTHER, V_FEAT, V_ORDER0,
- V_STATIC) = range(10)
-
-
-class StaticArrays(NamedTuple):
-    """What one rule set fixes (built by :func:`ocplus_plan.sim.fast.batch.static_arrays`)."""
-
-    params: np.ndarray  # int64 (17,)
-    rewards: np.ndarray  # float64 (6,)
-    terrain: np.ndarray  # int64 (layouts, cells)
-    walk: np.ndarray  # bool (layouts, cells)
-    nbrs: np.ndarray  # int64 (cells, 4)
-    pans: np.ndarray  # int64 (n_pans,)
-    switch_cells: np.ndarray  # int64 (n,)
-    kind: np.ndarray  # int64 (items,) item kind
-    home: np.ndarray  # int64 (items,) spawn tile
-    kind_index: np.ndarray  # int64 (16,): item kind -> 0..4 (tomato lettuce onion steak plate)
-    prog_den: np.ndarray  # float64 (items,) what the progress channel divides by
-    recipes: np.ndarray  # int64 (recipes, 4) ingredient counts
-    fixed: np.ndarray  # int64 (n_fixed,) recipe indices of the fixed orders
-    spawn: np.ndarray  # int64 (agents,)
-    obs_layout: np.ndarray  # int64 (10,) observation layout (V_*)
-    static_obs: np.ndarray  # float32 (layouts, padded static planes + 1)
-    static_gather: np.ndarray  # int64 (cells or 1, static size of one agent's observation)
-
-
-class KitchenArrays(NamedTuple):
-    """The state of ``E`` kitchens (first axis), their observations and scratch space."""
-
-    clock: np.ndarray  # (E, 5) C_*
-    agents: np.ndarray  # (E, 2, agents) A_*
-    cells: np.ndarray  # (E, cells) item id lying there, -1
-    items: np.ndarray  # (E, 6, items) I_*
-    orders: np.ndarray  # (E, 4, n_orders) O_*
-    stats: np.ndarray  # (E, 9)
-    queue: np.ndarray  # (E, Q) recipe indices drawn ahead
-    rewards: np.ndarray  # float64 (E, agents), the last step's
-    subtasks: np.ndarray  # (E, agents): chops, washes and cooks each finished in the last step
-    bumps: np.ndarray  # (E, 3, agents): each agent's last putdown (item, cell) / plate_add
-    #   (item, plate), or B_NONE
-    obs: np.ndarray  # float32 (E, agents, size)
-    static_at: np.ndarray  # (E, agents): layout * cells + cell whose static part is in obs
-    ent_idx: np.ndarray  # (E, agents + 1, K): last entries per agent; the last row is scratch
-    ent_val: np.ndarray  # float32 (E, agents + 1, K)
-    ent_n: np.ndarray  # (E, agents)
-    scratch: np.ndarray  # int64 (E, 3, agents): move targets, status, chain
+from .arrays import (
+    ACTION_STAY, A_HAND, A_POS, BURNS, B_NONE, B_PLATE_ADD, B_PUTDOWN, CELL_BOARD,
+    CELL_COUNTER, CELL_DELIVERY, CELL_PAN, CELL_SINK, CELL_TRASH, CHOPS, COMPLETED, COOKS,
+    C_LAYOUT, C_ORDER_ID, C_QPOS, C_SWITCH, C_T, DISHES, EXPIRED, ITEM_LETTUCE, ITEM_ONION,
+    ITEM_PLATE, ITEM_STEAK, ITEM_TOMATO, I_LIFE, I_LOC, I_OWNER, I_PROG, I_STATE, I_WHERE,
+    KitchenArrays, O_CREATED, O_DEADLINE, O_ID, O_RECIPE, P_BURN, P_CHOP, P_COLS, P_COOK,
+    P_DIRTY, P_DYNAMIC, P_FIXED, P_HAS_SWITCH, P_HORIZON, P_LIMIT, P_OBSERVE, P_RADIUS, P_ROWS,
+    P_SHARED, P_STOP, P_SWITCH_STEP, P_WASH, R_BURNED, R_CORRECT, R_EXPIRED, R_STEP, R_SUBTASK,
+    R_WRONG, STATE_BURNT, STATE_CHOPPED, STATE_CLEAN, STATE_COOKED, STATE_DIRTY, STATE_FRESH,
+    STAT_NAMES, SWITCHES, StaticArrays, WASHES, WHERE_CELL, WHERE_HAND, WHERE_PLATE,
+    WHERE_WAITING, WRONG,
+)
+from .observe_kernels import observe_env, on_plate
 
 
 # ---------------------------------------------------------------- entry points
@@ -148,9 +83,9 @@ def reset_some(k, g, envs):
         for c in range(cells.shape[1]):
             cells[e, c] = -1
         for i in range(items.shape[2]):
-            items[e, I_STATE, i] = _CLEAN if kind[i] == _PLATE_KIND else _FRESH
+            items[e, I_STATE, i] = STATE_CLEAN if kind[i] == ITEM_PLATE else STATE_FRESH
             items[e, I_PROG, i] = 0
-            items[e, I_WHERE, i] = _CELL
+            items[e, I_WHERE, i] = WHERE_CELL
             items[e, I_LOC, i] = home[i]
             items[e, I_OWNER, i] = -1
             items[e, I_LIFE, i] = 0
@@ -235,7 +170,7 @@ def step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewa
     for a in range(n):
         scratch[e, 0, a] = -1
         act = actions[e, a]
-        if act == _STAY:
+        if act == ACTION_STAY:
             continue
         tgt = nbrs[agents[e, A_POS, a], act]
         if tgt < 0:
@@ -251,14 +186,14 @@ def step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewa
             record_bump(e, a, tgt, held, here, agents, cells, items, bumps)
     waiting = False
     for i in range(items.shape[2]):
-        if items[e, I_WHERE, i] == _WAITING:
+        if items[e, I_WHERE, i] == WHERE_WAITING:
             waiting = True
     if waiting:
         for i in range(items.shape[2]):
             at = items[e, I_LOC, i]
-            if items[e, I_WHERE, i] == _WAITING and cells[e, at] < 0:
+            if items[e, I_WHERE, i] == WHERE_WAITING and cells[e, at] < 0:
                 cells[e, at] = i
-                items[e, I_WHERE, i] = _CELL
+                items[e, I_WHERE, i] = WHERE_CELL
     if moving:
         resolve_moves(e, agents, scratch)
     for j in range(len(pans)):
@@ -288,11 +223,11 @@ def record_bump(e, a, cell, held, here, agents, cells, items, bumps):
             bumps[e, 0, a] = B_PUTDOWN
             bumps[e, 1, a] = held
             bumps[e, 2, a] = cell
-        elif items[e, I_WHERE, held] == _PLATE:
+        elif items[e, I_WHERE, held] == WHERE_PLATE:
             bumps[e, 0, a] = B_PLATE_ADD
             bumps[e, 1, a] = held
             bumps[e, 2, a] = items[e, I_LOC, held]
-    elif here >= 0 and items[e, I_WHERE, here] == _PLATE and items[e, I_LOC, here] == held:
+    elif here >= 0 and items[e, I_WHERE, here] == WHERE_PLATE and items[e, I_LOC, here] == held:
         bumps[e, 0, a] = B_PLATE_ADD
         bumps[e, 1, a] = here
         bumps[e, 2, a] = held
@@ -348,15 +283,15 @@ def tick_pan(e, it, items, stats, rewards, subtasks, p, rw):
     items[e, I_PROG, it] = ticks
     st = items[e, I_STATE, it]
     owner = items[e, I_OWNER, it]
-    if st == _FRESH and p[P_COOK] - ticks <= 0:
-        items[e, I_STATE, it] = _COOKED
+    if st == STATE_FRESH and p[P_COOK] - ticks <= 0:
+        items[e, I_STATE, it] = STATE_COOKED
         stats[e, COOKS] += 1
         if owner >= 0:
             rewards[e, owner] += rw[R_SUBTASK]
             subtasks[e, owner] += 1
-        st = _COOKED
-    if st != _BURNT and p[P_BURN] + 1 - ticks <= 0:
-        items[e, I_STATE, it] = _BURNT
+        st = STATE_COOKED
+    if st != STATE_BURNT and p[P_BURN] + 1 - ticks <= 0:
+        items[e, I_STATE, it] = STATE_BURNT
         stats[e, BURNS] += 1
         if owner >= 0:
             rewards[e, owner] += rw[R_BURNED]
@@ -369,7 +304,8 @@ def maybe_switch(e, clock, agents, cells, stats, p, terrain, walk, switch_cells)
         f = switch_cells[j]
         if not walk[new, f] and occupant(e, f, agents) >= 0:
             return
-        if terrain[old, f] == _COUNTER and terrain[new, f] != _COUNTER and cells[e, f] >= 0:
+        if terrain[old, f] == CELL_COUNTER and terrain[new, f] != CELL_COUNTER \
+                and cells[e, f] >= 0:
             return
     clock[e, C_LAYOUT] = new
     clock[e, C_SWITCH] = clock[e, C_T] + p[P_SWITCH_STEP]
@@ -378,20 +314,17 @@ def maybe_switch(e, clock, agents, cells, stats, p, terrain, walk, switch_cells)
 
 # ---------------------------------------------------------------- bumps (queries.bump_effect)
 def is_veg(kind):
-    return kind == _TOMATO or kind == _LETTUCE or kind == _ONION
+    return kind == ITEM_TOMATO or kind == ITEM_LETTUCE or kind == ITEM_ONION
 
 
 def plateable(e, it, items, kind):
     st = items[e, I_STATE, it]
-    return (is_veg(kind[it]) and st == _CHOPPED) or (kind[it] == _STEAK and st == _COOKED)
+    return ((is_veg(kind[it]) and st == STATE_CHOPPED)
+            or (kind[it] == ITEM_STEAK and st == STATE_COOKED))
 
 
 def fresh_veg(e, it, items, kind):
-    return is_veg(kind[it]) and items[e, I_STATE, it] == _FRESH
-
-
-def on_plate(e, i, plate, items):
-    return items[e, I_WHERE, i] == _PLATE and items[e, I_LOC, i] == plate
+    return is_veg(kind[it]) and items[e, I_STATE, it] == STATE_FRESH
 
 
 def interact(e, a, cell, clock, agents, cells, items, orders, stats, queue, rewards, subtasks,
@@ -399,23 +332,23 @@ def interact(e, a, cell, clock, agents, cells, items, orders, stats, queue, rewa
     """Agent ``a`` bumps the non-walkable ``cell`` of terrain ``code``."""
     held = agents[e, A_HAND, a]
     here = cells[e, cell]
-    if code == _COUNTER or code == _TOMATO or code == _LETTUCE or code == _PLATE_KIND \
-            or code == _ONION or code == _STEAK or code == _PAN:
+    if code == CELL_COUNTER or code == ITEM_TOMATO or code == ITEM_LETTUCE or code == ITEM_PLATE \
+            or code == ITEM_ONION or code == ITEM_STEAK or code == CELL_PAN:
         if held < 0:
             if here >= 0:
                 pick(e, a, cell, here, agents, cells, items)
         elif here >= 0:
             plate_exchange(e, a, cell, held, here, agents, cells, items, kind)
-        elif code != _PAN:
+        elif code != CELL_PAN:
             put(e, a, cell, held, agents, cells, items)
-        elif kind[held] == _STEAK and (items[e, I_STATE, held] == _FRESH
-                                       or items[e, I_STATE, held] == _COOKED):
+        elif kind[held] == ITEM_STEAK and (items[e, I_STATE, held] == STATE_FRESH
+                                       or items[e, I_STATE, held] == STATE_COOKED):
             put(e, a, cell, held, agents, cells, items)
-    elif code == _BOARD:
+    elif code == CELL_BOARD:
         if held < 0:
             if here >= 0:
                 if fresh_veg(e, here, items, kind):
-                    advance(e, a, here, p[P_CHOP], _CHOPPED, CHOPS, items, stats, rewards,
+                    advance(e, a, here, p[P_CHOP], STATE_CHOPPED, CHOPS, items, stats, rewards,
                             subtasks, rw)
                 else:
                     pick(e, a, cell, here, agents, cells, items)
@@ -423,40 +356,40 @@ def interact(e, a, cell, clock, agents, cells, items, orders, stats, queue, rewa
             plate_exchange(e, a, cell, held, here, agents, cells, items, kind)
         elif fresh_veg(e, held, items, kind):
             put(e, a, cell, held, agents, cells, items)
-    elif code == _SINK:
+    elif code == CELL_SINK:
         if held < 0:
             if here >= 0:
-                if items[e, I_STATE, here] == _DIRTY:
-                    advance(e, a, here, p[P_WASH], _CLEAN, WASHES, items, stats, rewards,
+                if items[e, I_STATE, here] == STATE_DIRTY:
+                    advance(e, a, here, p[P_WASH], STATE_CLEAN, WASHES, items, stats, rewards,
                             subtasks, rw)
                 else:
                     pick(e, a, cell, here, agents, cells, items)
-        elif here < 0 and items[e, I_STATE, held] == _DIRTY:
+        elif here < 0 and items[e, I_STATE, held] == STATE_DIRTY:
             put(e, a, cell, held, agents, cells, items)
-    elif code == _DELIVERY:
+    elif code == CELL_DELIVERY:
         if held >= 0:
             deliver(e, a, held, clock, agents, cells, items, orders, stats, queue, rewards, p,
                     rw, kind, home, kidx, recipes)
-    elif code == _TRASH and held >= 0:
-        if kind[held] != _PLATE_KIND:
+    elif code == CELL_TRASH and held >= 0:
+        if kind[held] != ITEM_PLATE:
             agents[e, A_HAND, a] = -1
-            send_home(e, held, _FRESH, cells, items, home)
+            send_home(e, held, STATE_FRESH, cells, items, home)
         else:  # the plate is emptied (an empty one: nothing to throw away)
             for i in range(items.shape[2]):
                 if on_plate(e, i, held, items):
-                    send_home(e, i, _FRESH, cells, items, home)
+                    send_home(e, i, STATE_FRESH, cells, items, home)
 
 
 def plate_exchange(e, a, cell, held, here, agents, cells, items, kind):
-    if kind[here] == _PLATE_KIND and items[e, I_STATE, here] == _CLEAN \
+    if kind[here] == ITEM_PLATE and items[e, I_STATE, here] == STATE_CLEAN \
             and plateable(e, held, items, kind):
         agents[e, A_HAND, a] = -1
-        items[e, I_WHERE, held] = _PLATE
+        items[e, I_WHERE, held] = WHERE_PLATE
         items[e, I_LOC, held] = here
-    elif kind[held] == _PLATE_KIND and items[e, I_STATE, held] == _CLEAN \
+    elif kind[held] == ITEM_PLATE and items[e, I_STATE, held] == STATE_CLEAN \
             and plateable(e, here, items, kind):
         cells[e, cell] = -1
-        items[e, I_WHERE, here] = _PLATE
+        items[e, I_WHERE, here] = WHERE_PLATE
         items[e, I_LOC, here] = held
         items[e, I_OWNER, here] = a
 
@@ -464,7 +397,7 @@ def plate_exchange(e, a, cell, held, here, agents, cells, items, kind):
 def pick(e, a, cell, it, agents, cells, items):
     cells[e, cell] = -1
     agents[e, A_HAND, a] = it
-    items[e, I_WHERE, it] = _HAND
+    items[e, I_WHERE, it] = WHERE_HAND
     items[e, I_LOC, it] = a
     items[e, I_OWNER, it] = a
 
@@ -472,7 +405,7 @@ def pick(e, a, cell, it, agents, cells, items):
 def put(e, a, cell, it, agents, cells, items):
     agents[e, A_HAND, a] = -1
     cells[e, cell] = it
-    items[e, I_WHERE, it] = _CELL
+    items[e, I_WHERE, it] = WHERE_CELL
     items[e, I_LOC, it] = cell
 
 
@@ -496,15 +429,15 @@ def send_home(e, it, state, cells, items, home):
     items[e, I_LIFE, it] += 1
     if cells[e, h] < 0:
         cells[e, h] = it
-        items[e, I_WHERE, it] = _CELL
+        items[e, I_WHERE, it] = WHERE_CELL
     else:
-        items[e, I_WHERE, it] = _WAITING
+        items[e, I_WHERE, it] = WHERE_WAITING
 
 
 def deliver(e, a, held, clock, agents, cells, items, orders, stats, queue, rewards, p, rw,
             kind, home, kidx, recipes):
     slot = -1
-    if kind[held] == _PLATE_KIND:
+    if kind[held] == ITEM_PLATE:
         slot = matching_order(e, held, items, orders, kind, kidx, recipes)
     if slot < 0:
         stats[e, WRONG] += 1
@@ -515,15 +448,15 @@ def deliver(e, a, held, clock, agents, cells, items, orders, stats, queue, rewar
     rewards[e, a] += rw[R_CORRECT]
     for i in range(items.shape[2]):
         if on_plate(e, i, held, items):
-            send_home(e, i, _FRESH, cells, items, home)
+            send_home(e, i, STATE_FRESH, cells, items, home)
     agents[e, A_HAND, a] = -1
-    send_home(e, held, _DIRTY if p[P_DIRTY] else _CLEAN, cells, items, home)
+    send_home(e, held, STATE_DIRTY if p[P_DIRTY] else STATE_CLEAN, cells, items, home)
     replace_order(e, slot, clock, orders, queue, p)
 
 
 def matching_order(e, plate, items, orders, kind, kidx, recipes):
     """The slot of the oldest order the plate serves (orders.plate_recipe / matching_order)."""
-    if items[e, I_STATE, plate] != _CLEAN:
+    if items[e, I_STATE, plate] != STATE_CLEAN:
         return -1
     c0 = c1 = c2 = c3 = 0
     for i in range(items.shape[2]):
@@ -549,138 +482,12 @@ def matching_order(e, plate, items, orders, kind, kidx, recipes):
     return -1
 
 
-# ---------------------------------------------------------------- observations
-def observe_env(e, clock, agents, items, orders, obs, static_at, ent_idx, ent_val, ent_n, p,
-                view, kind, kidx, prog_den, recipes, static_obs, gather, n_cells):
-    """Bring every agent's observation of env ``e`` up to date (see the module note)."""
-    lay = clock[e, C_LAYOUT]
-    scratch = ent_idx.shape[1] - 1
-    for a in range(agents.shape[2]):
-        me = agents[e, A_POS, a]
-        at = lay * n_cells + (me if p[P_RADIUS] else 0)
-        if static_at[e, a] != at:  # a new layout, or (window) a new agent cell
-            row = me if p[P_RADIUS] else 0
-            for j in range(view[V_STATIC]):
-                obs[e, a, j] = static_obs[lay, gather[row, j]]
-            static_at[e, a] = at
-        m = entries(e, a, me, clock, agents, items, orders, ent_idx, ent_val, scratch, p,
-                    view, kind, kidx, prog_den, recipes)
-        old_n = ent_n[e, a]
-        for j in range(old_n):  # take the stale entries away first, then add the new ones
-            if j >= m or ent_idx[e, a, j] != ent_idx[e, scratch, j] \
-                    or ent_val[e, a, j] != ent_val[e, scratch, j]:
-                obs[e, a, ent_idx[e, a, j]] -= ent_val[e, a, j]
-        for j in range(m):
-            x, v = ent_idx[e, scratch, j], ent_val[e, scratch, j]
-            if j >= old_n or ent_idx[e, a, j] != x or ent_val[e, a, j] != v:
-                obs[e, a, x] += v
-                ent_idx[e, a, j] = x
-                ent_val[e, a, j] = v
-        ent_n[e, a] = m
-
-
-def window_index(me, cell, r, cols, ww):
-    """``cell``'s index in the window of an agent on ``me`` (-1 outside it); r = 0: itself."""
-    if r == 0:
-        return cell
-    dr = cell // cols - me // cols
-    dc = cell % cols - me % cols
-    if dr < -r or dr > r or dc < -r or dc > r:
-        return -1
-    return (dr + r) * ww + dc + r
-
-
-def entries(e, a, me, clock, agents, items, orders, idx, val, row, p, view, kind, kidx,
-            prog_den, recipes):
-    """Agent ``a``'s dynamic observation entries, in a fixed order, into ``idx[e, row]`` /
-    ``val[e, row]``; returns their number (VectorEncoder._entries, value for value)."""
-    cells = view[V_CELLS]
-    r, cols, ww = p[P_RADIUS], p[P_COLS], view[V_WW]
-    m = 0
-    for i in range(items.shape[2]):
-        w = items[e, I_WHERE, i]
-        loc = items[e, I_LOC, i]
-        if w == _CELL:
-            cell = loc
-        elif w == _HAND:
-            cell = agents[e, A_POS, loc]
-        elif w == _PLATE:
-            if items[e, I_WHERE, loc] == _CELL:
-                cell = items[e, I_LOC, loc]
-            else:
-                cell = agents[e, A_POS, items[e, I_LOC, loc]]
-        else:
-            continue
-        at = window_index(me, cell, r, cols, ww)
-        if at < 0:
-            continue
-        idx[e, row, m] = (view[V_KIND0] + kidx[kind[i]]) * cells + at
-        val[e, row, m] = 1.0
-        idx[e, row, m + 1] = (view[V_STATE0] + items[e, I_STATE, i]) * cells + at
-        val[e, row, m + 1] = 1.0
-        m += 2
-        prog = items[e, I_PROG, i]
-        if prog != 0 and w != _PLATE:
-            idx[e, row, m] = view[V_PROG] * cells + at
-            val[e, row, m] = min(1.0, prog / prog_den[i])
-            m += 1
-    for b in range(agents.shape[2]):
-        at = window_index(me, agents[e, A_POS, b], r, cols, ww)
-        if at >= 0:
-            idx[e, row, m] = (view[V_SELF] if b == a else view[V_OTHER]) * cells + at
-            val[e, row, m] = 1.0
-            m += 1
-    fb = view[V_FEAT]
-    held = agents[e, A_HAND, a]
-    if held >= 0:
-        idx[e, row, m] = fb + kidx[kind[held]]
-        idx[e, row, m + 1] = fb + 5 + items[e, I_STATE, held]
-        val[e, row, m] = 1.0
-        val[e, row, m + 1] = 1.0
-        m += 2
-        if kind[held] == _PLATE_KIND:
-            for i in range(items.shape[2]):
-                if on_plate(e, i, held, items):
-                    idx[e, row, m] = fb + 11 + kidx[kind[i]]
-                    val[e, row, m] = 1.0
-                    m += 1
-    t = clock[e, C_T]
-    idx[e, row, m] = fb + 15
-    val[e, row, m] = (me // cols) / max(1, p[P_ROWS] - 1)
-    idx[e, row, m + 1] = fb + 16
-    val[e, row, m + 1] = (me % cols) / max(1, cols - 1)
-    idx[e, row, m + 2] = fb + 17
-    val[e, row, m + 2] = t / p[P_HORIZON]
-    idx[e, row, m + 3] = fb + 18
-    val[e, row, m + 3] = clock[e, C_LAYOUT]
-    m += 4
-    if p[P_HAS_SWITCH]:
-        idx[e, row, m] = fb + 19
-        val[e, row, m] = min(1.0, max(0, clock[e, C_SWITCH] - t) / p[P_SWITCH_STEP])
-        m += 1
-    for o in range(orders.shape[2]):
-        ob = view[V_ORDER0] + 6 * o
-        rec = orders[e, O_RECIPE, o]
-        for j in range(4):
-            if recipes[rec, j]:
-                idx[e, row, m] = ob + j
-                val[e, row, m] = recipes[rec, j]
-                m += 1
-        idx[e, row, m] = ob + 4
-        val[e, row, m] = 1.0
-        m += 1
-        dl = orders[e, O_DEADLINE, o]
-        if p[P_LIMIT] >= 0 and dl >= 0:
-            idx[e, row, m] = ob + 5
-            val[e, row, m] = min(1.0, max(0, dl - t) / p[P_LIMIT])
-            m += 1
-    return m
-
-
 KERNELS = (
     "step_range", "reset_some", "observe_some", "draw", "put_order", "replace_order",
     "expire_orders", "step_env", "record_bump", "resolve_moves", "occupant", "in_chain",
-    "tick_pan", "maybe_switch", "is_veg", "plateable", "fresh_veg", "on_plate", "interact",
+    "tick_pan", "maybe_switch", "is_veg", "plateable", "fresh_veg", "interact",
     "plate_exchange", "pick", "put", "advance", "send_home", "deliver", "matching_order",
-    "observe_env", "window_index", "entries",
 )
+#: kernels of other modules these call: compiled there and put in place of the imports
+KERNELS_FROM = {"observe_env": "ocplus_plan.sim.fast.observe_kernels",
+                "on_plate": "ocplus_plan.sim.fast.observe_kernels"}
