@@ -16,25 +16,21 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import DependencyNotInstalled
-from ..sim.codes import Cell
+from ..sim.stations import CELL_KINDS
 from .metrics import ACTION_NAMES
 from .results import latest_rows, mean_ci, read_results, summarise
 
 _PRESET_ORDER = ["easy", "medium", "hard"]
+#: each cell kind's colour and label, from its record (``sim/stations.py``): the same
+#: colours as the rendered tiles and the same letters as the text observation's map
 _TERRAIN_RGB: dict[int, tuple[float, float, float]] = {
-    int(Cell.BLOCK): (0.25, 0.25, 0.25), int(Cell.FLOOR): (0.97, 0.97, 0.95),
-    int(Cell.SPAWN): (0.97, 0.97, 0.95), int(Cell.COUNTER): (0.80, 0.68, 0.50),
-    int(Cell.TOMATO): (0.90, 0.35, 0.30), int(Cell.LETTUCE): (0.45, 0.80, 0.40),
-    int(Cell.ONION): (0.85, 0.75, 0.90), int(Cell.STEAK): (0.70, 0.35, 0.35),
-    int(Cell.PLATE): (0.85, 0.90, 0.98), int(Cell.BOARD): (0.75, 0.55, 0.30),
-    int(Cell.DELIVERY): (0.35, 0.70, 0.95), int(Cell.PAN): (0.45, 0.45, 0.50),
-    int(Cell.SINK): (0.60, 0.80, 0.85), int(Cell.TRASH): (0.35, 0.35, 0.30),
-}
-_TERRAIN_LABEL: dict[int, str] = {
-    int(Cell.TOMATO): "T", int(Cell.LETTUCE): "L", int(Cell.ONION): "O", int(Cell.STEAK): "S",
-    int(Cell.PLATE): "P", int(Cell.BOARD): "B", int(Cell.DELIVERY): "D", int(Cell.PAN): "Pn",
-    int(Cell.SINK): "Sk", int(Cell.TRASH): "X",
-}
+    int(k.code): (k.colour[0] / 255, k.colour[1] / 255, k.colour[2] / 255) for k in CELL_KINDS}
+_LABELLED = [k for k in CELL_KINDS if k.role not in ("floor", "wall", "counter")]
+_TERRAIN_LABEL: dict[int, str] = {int(k.code): k.letter for k in _LABELLED}
+#: cells whose terrain switches between layouts: a colour far from the walls, the floor
+#: and both ends of the visit colour map (white to black through red and yellow)
+_SWITCH_RGB = (0.15, 0.75, 0.85)
+_HEAT_CMAP = "inferno_r"
 
 
 def _pyplot() -> Any:
@@ -184,13 +180,49 @@ def _actions(plt: Any, ok: list[dict[str, Any]], out: Path) -> Path:
 
 
 def _terrain(row: dict[str, Any]) -> Any:
-    """The kitchen's main grid for a row, or None when the map cannot be found any more."""
+    """The kitchen's main grid for a row and the mask of its switching cells (or None),
+    or (None, None) when the map cannot be found any more."""
     from ..sim.maps import load_map
 
     try:
-        return load_map(row.get("map_source") or row["map"]).grid
+        layout = load_map(row.get("map_source") or row["map"])
     except Exception:
-        return None
+        return None, None
+    switching = None if layout.switch_grid is None else layout.grid != layout.switch_grid
+    return layout.grid, switching
+
+
+def _draw_kitchen(ax: Any, grid: Any, switching: Any) -> set[int]:
+    """The kitchen under a heatmap: cell colours, switching cells, station letters;
+    returns the codes it labelled (for the key)."""
+    import numpy as np
+
+    rgb = np.array([[_TERRAIN_RGB.get(int(v), (1, 0, 1)) for v in line] for line in grid])
+    if switching is not None:
+        rgb[switching] = _SWITCH_RGB
+    ax.imshow(rgb, interpolation="nearest")
+    shown = set()
+    for (r, c), v in np.ndenumerate(grid):
+        if int(v) in _TERRAIN_LABEL:
+            dark = sum(_TERRAIN_RGB[int(v)]) < 1.2
+            ax.text(c, r, _TERRAIN_LABEL[int(v)], ha="center", va="center", fontsize=7,
+                    color="white" if dark else "black")
+            shown.add(int(v))
+    return shown
+
+
+def _key(fig: Any, shown: set[int], switching: bool) -> None:
+    """A key under the figure: each label's cell kind, and the switching cells' colour."""
+    from matplotlib.patches import Patch
+
+    handles = [Patch(facecolor=_TERRAIN_RGB[int(k.code)], edgecolor="gray",
+                     label=f"{k.letter} {k.word}") for k in _LABELLED if int(k.code) in shown]
+    if switching:
+        handles.append(Patch(facecolor=_SWITCH_RGB, edgecolor="gray",
+                             label="switches wall/floor"))
+    if handles:
+        fig.legend(handles=handles, loc="lower center", ncol=min(4, len(handles)),
+                   fontsize=7, frameon=False)
 
 
 def _heatmaps(plt: Any, ok: list[dict[str, Any]], out: Path) -> list[Path]:
@@ -204,21 +236,17 @@ def _heatmaps(plt: Any, ok: list[dict[str, Any]], out: Path) -> list[Path]:
                 continue
             heat = np.sum([np.array(r["metrics"]["heatmaps"], dtype=float) for r in rs], axis=0)
             n_cooks, rows, cols = heat.shape
-            grid = _terrain(rs[0])
+            grid, switching = _terrain(rs[0])
+            fits = grid is not None and grid.shape == (rows, cols)
             fig, axes = plt.subplots(1, n_cooks, figsize=(0.45 * cols * n_cooks + 1.2,
-                                                          0.45 * rows + 1.0), squeeze=False)
+                                                          0.45 * rows + 1.8), squeeze=False)
+            shown: set[int] = set()
             for a, ax in enumerate(axes[0]):
-                if grid is not None and grid.shape == (rows, cols):
-                    rgb = np.array([[_TERRAIN_RGB.get(int(v), (1, 0, 1)) for v in line]
-                                    for line in grid])
-                    ax.imshow(rgb, interpolation="nearest")
-                    for (r, c), v in np.ndenumerate(grid):
-                        if int(v) in _TERRAIN_LABEL:
-                            ax.text(c, r, _TERRAIN_LABEL[int(v)], ha="center", va="center",
-                                    fontsize=7, color="black")
+                if fits:
+                    shown |= _draw_kitchen(ax, grid, switching)
                 share = heat[a] / max(1.0, heat[a].sum())
                 masked = np.ma.masked_where(share <= 0, share)
-                im = ax.imshow(masked, cmap="inferno_r", alpha=0.85, interpolation="nearest",
+                im = ax.imshow(masked, cmap=_HEAT_CMAP, alpha=0.85, interpolation="nearest",
                                vmin=0, vmax=max(1e-9, float(share.max())))
                 ax.set_title(f"cook {a}", fontsize=9)
                 ax.set_xticks([])
@@ -226,6 +254,7 @@ def _heatmaps(plt: Any, ok: list[dict[str, Any]], out: Path) -> list[Path]:
                 fig.colorbar(im, ax=ax, fraction=0.046, pad=0.04, label="share of steps")
             fig.suptitle(f"Visited cells: {agent} on {preset} ({rs[0]['map']}, {len(rs)} episodes)",
                          fontsize=9)
+            _key(fig, shown, fits and switching is not None and bool(switching.any()))
             path = out / f"heatmap_{_slug(preset)}_{_slug(agent)}.png"
             _save(plt, fig, path)
             files.append(path)

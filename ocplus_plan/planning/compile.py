@@ -18,6 +18,7 @@ from typing import Any
 from ..errors import CompileError
 from ..sim.codes import COUNTERS, Cell, Item, ItemState, Where
 from ..sim.state import Order, State
+from ..sim.stations import PLACE_FLAGS
 from ._build import Builder as _Builder
 from ._build import new_problem as _new_problem
 from .model import BUMP_DONE_KINDS, build_domain, hand_change
@@ -30,8 +31,7 @@ _HOLDERS = frozenset(int(c) for c in COUNTERS)
 _GRABBABLE = _HOLDERS | {int(Cell.PAN)}
 #: a held clean plate takes a ready ingredient from here
 _TAKES_FROM = _HOLDERS | {int(Cell.BOARD), int(Cell.PAN)}
-_PLACE_FLAGS = {int(Cell.BOARD): "board", int(Cell.PAN): "pan", int(Cell.SINK): "sink",
-                int(Cell.TRASH): "trash", int(Cell.DELIVERY): "serving"}
+_PLACE_FLAGS = PLACE_FLAGS  # the place flag of each station kind (sim/stations.py)
 _STATE_FLAG = {ItemState.FRESH: "fresh", ItemState.CHOPPED: "ready",
                ItemState.COOKED: "ready", ItemState.BURNT: "burnt", ItemState.CLEAN: "clean",
                ItemState.DIRTY: "dirty"}

@@ -27,13 +27,12 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from ..sim.codes import Cell
-from ..sim.words import CELL_WORDS
+from ..sim.stations import CELL_KINDS
 from .model import FLUENTS, SWITCH_FLUENTS, build_domain
 
 #: what a ``place`` object is, by the label its name starts with (the compiler names
 #: places after their cell code); the words are the kitchen's own (:mod:`..sim.words`)
-PLACE_WORDS = {Cell(code).name.lower(): word for code, word in CELL_WORDS.items()}
+PLACE_WORDS = {k.name: k.word for k in CELL_KINDS}
 
 TYPE_WORDS = {
     "agent": "a cook",

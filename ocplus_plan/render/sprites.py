@@ -13,22 +13,16 @@ from functools import cache
 import numpy as np
 
 from ..sim.codes import Cell, Item, ItemState
+from ..sim.stations import KIND_OF, item_colour
 
 #: pixels per grid cell in every frame this package draws
 TILE_SIZE = 16
 
 Sprite = tuple[np.ndarray, np.ndarray]  # (rgb (T, T, 3) uint8, mask (T, T) bool)
 
-FLOOR = (226, 214, 186)
-COUNTER = (150, 104, 62)
 UNKNOWN = (0, 0, 0)
-ITEM_COLOURS: dict[int, tuple[int, int, int]] = {
-    int(Item.TOMATO): (220, 40, 40),
-    int(Item.LETTUCE): (60, 180, 60),
-    int(Item.ONION): (190, 120, 210),
-    int(Item.STEAK): (235, 120, 135),
-    int(Item.PLATE): (245, 245, 245),
-}
+#: each item kind's colour: its spawn tile's (``sim/stations.py``)
+ITEM_COLOURS: dict[int, tuple[int, int, int]] = {int(k): item_colour(k) for k in Item}
 AGENT_COLOURS: tuple[tuple[int, int, int], ...] = (
     (40, 90, 220), (240, 150, 20), (150, 40, 170), (20, 170, 170), (120, 120, 120),
 )
@@ -53,54 +47,98 @@ def _paint(img: np.ndarray, mask: np.ndarray, colour: tuple[int, int, int]) -> N
     img[mask] = colour
 
 
-def _counter() -> np.ndarray:
-    img = _tile(COUNTER)
+def _counter(colour: tuple[int, int, int]) -> np.ndarray:
+    img = _tile(colour)
     img[:2] = (180, 132, 84)  # lit top edge
     img[-1] = (110, 74, 42)
     return img
 
 
+_COUNTER = KIND_OF[int(Cell.COUNTER)].colour  # what stations stand on
+
+
+def _floor(colour: tuple[int, int, int]) -> np.ndarray:
+    img = _tile(colour)
+    img[-1] = img[:, -1] = (206, 194, 166)
+    return img
+
+
+def _wall(colour: tuple[int, int, int]) -> np.ndarray:
+    img = _tile(colour)
+    diag = ((_YY.astype(int) + _XX.astype(int)) % 6) == 0
+    img[diag] = (90, 90, 98)
+    return img
+
+
+def _crate(colour: tuple[int, int, int]) -> np.ndarray:
+    img = _counter(_COUNTER)  # a crate marked with its item's colour in the corner
+    img[2:6, 1:5] = colour
+    img[2:6, 1] = img[2:6, 4] = (90, 60, 30)
+    return img
+
+
+def _board(colour: tuple[int, int, int]) -> np.ndarray:
+    t = TILE_SIZE
+    img = _counter(_COUNTER)
+    img[3 : t - 3, 2 : t - 2] = colour
+    img[3 : t - 3 : 3, 2 : t - 2] = (186, 146, 92)
+    return img
+
+
+def _window(colour: tuple[int, int, int]) -> np.ndarray:
+    t = TILE_SIZE
+    img = _tile(colour)
+    img[t // 2 - 1 : t // 2 + 1, 3 : t - 3] = (240, 240, 240)
+    img[t // 2 - 3 : t // 2 + 3, t - 5 : t - 3] = (240, 240, 240)
+    return img
+
+
+def _pan(colour: tuple[int, int, int]) -> np.ndarray:
+    t = TILE_SIZE
+    img = _counter(_COUNTER)
+    _paint(img, _disk(t / 2, t / 2, t * 0.42), colour)
+    img[t // 2 - 1 : t // 2 + 1, 0:2] = colour
+    return img
+
+
+def _sink(colour: tuple[int, int, int]) -> np.ndarray:
+    t = TILE_SIZE
+    img = _counter(_COUNTER)
+    img[3 : t - 3, 2 : t - 2] = (180, 180, 190)
+    img[5 : t - 5, 4 : t - 4] = colour
+    return img
+
+
+def _trash(colour: tuple[int, int, int]) -> np.ndarray:
+    t = TILE_SIZE
+    img = _counter(_COUNTER)
+    _paint(img, _disk(t / 2, t / 2, t * 0.4), colour)
+    cross = (np.abs(_YY - _XX) < 1.2) | (np.abs(_YY + _XX - t) < 1.2)
+    _paint(img, cross & _disk(t / 2, t / 2, t * 0.3), (200, 200, 200))
+    return img
+
+
+def _station(colour: tuple[int, int, int]) -> np.ndarray:
+    """Any other station: a counter with a square of its colour."""
+    t = TILE_SIZE
+    img = _counter(_COUNTER)
+    img[3 : t - 3, 3 : t - 3] = colour
+    return img
+
+
+#: how each ``sprite`` style of ``sim/stations.py`` is drawn, in the record's colour
+_STYLES = {"floor": _floor, "wall": _wall, "counter": _counter, "crate": _crate,
+           "board": _board, "window": _window, "pan": _pan, "sink": _sink, "trash": _trash,
+           "station": _station}
+
+
 @cache
 def terrain_tile(code: int) -> np.ndarray:
-    """The opaque tile of a cell code (read-only)."""
-    t = TILE_SIZE
-    code = int(code)
-    if code in (Cell.FLOOR, Cell.SPAWN):
-        img = _tile(FLOOR)
-        img[-1] = img[:, -1] = (206, 194, 166)
-    elif code == Cell.BLOCK:
-        img = _tile((58, 58, 64))
-        diag = ((_YY.astype(int) + _XX.astype(int)) % 6) == 0
-        img[diag] = (90, 90, 98)
-    elif code == Cell.COUNTER:
-        img = _counter()
-    elif code in (Cell.TOMATO, Cell.LETTUCE, Cell.ONION, Cell.STEAK, Cell.PLATE):
-        img = _counter()  # a crate marked with its item's colour in the corner
-        img[2:6, 1:5] = ITEM_COLOURS[code]
-        img[2:6, 1] = img[2:6, 4] = (90, 60, 30)
-    elif code == Cell.BOARD:
-        img = _counter()
-        img[3 : t - 3, 2 : t - 2] = (214, 176, 118)
-        img[3 : t - 3 : 3, 2 : t - 2] = (186, 146, 92)
-    elif code == Cell.DELIVERY:
-        img = _tile((70, 160, 80))
-        img[t // 2 - 1 : t // 2 + 1, 3 : t - 3] = (240, 240, 240)
-        img[t // 2 - 3 : t // 2 + 3, t - 5 : t - 3] = (240, 240, 240)
-    elif code == Cell.PAN:
-        img = _counter()
-        _paint(img, _disk(t / 2, t / 2, t * 0.42), (45, 45, 50))
-        img[t // 2 - 1 : t // 2 + 1, 0:2] = (45, 45, 50)
-    elif code == Cell.SINK:
-        img = _counter()
-        img[3 : t - 3, 2 : t - 2] = (180, 180, 190)
-        img[5 : t - 5, 4 : t - 4] = (90, 150, 220)
-    elif code == Cell.TRASH:
-        img = _counter()
-        _paint(img, _disk(t / 2, t / 2, t * 0.4), (40, 40, 40))
-        cross = (np.abs(_YY - _XX) < 1.2) | (np.abs(_YY + _XX - t) < 1.2)
-        _paint(img, cross & _disk(t / 2, t / 2, t * 0.3), (200, 200, 200))
-    else:  # pragma: no cover - every valid code is handled above
+    """The opaque tile of a cell code (read-only), drawn as its record says."""
+    kind = KIND_OF.get(int(code))
+    if kind is None:  # pragma: no cover - every valid code has a record
         raise ValueError(f"no tile for cell code {code}")
+    img = _STYLES[kind.sprite](kind.colour)
     img.setflags(write=False)
     return img
 

@@ -44,10 +44,7 @@ from .rules import Rules
 from .state import Geometry, State
 
 #: terrain codes with a one-hot channel, in channel order (``Cell.SPAWN`` reads as floor)
-TERRAIN_CODES: tuple[Cell, ...] = (
-    Cell.BLOCK, Cell.FLOOR, Cell.COUNTER, Cell.TOMATO, Cell.LETTUCE, Cell.PLATE, Cell.BOARD,
-    Cell.DELIVERY, Cell.ONION, Cell.PAN, Cell.STEAK, Cell.SINK, Cell.TRASH,
-)
+TERRAIN_CODES: tuple[Cell, ...] = tuple(c for c in Cell if c != Cell.SPAWN)
 ITEM_KINDS: tuple[Item, ...] = (Item.TOMATO, Item.LETTUCE, Item.ONION, Item.STEAK, Item.PLATE)
 INGREDIENT_KINDS: tuple[Item, ...] = ITEM_KINDS[:4]
 ITEM_STATES: tuple[ItemState, ...] = (

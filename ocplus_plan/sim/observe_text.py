@@ -20,6 +20,7 @@ from ..errors import ConfigError
 from .codes import Action, Cell, Item, ItemState, Where
 from .queries import ticks_until_burnt, ticks_until_cooked
 from .rules import Rules
+from .stations import WORK_PLACES
 from .state import State
 from .words import (
     ACTION_WORDS,
@@ -36,9 +37,8 @@ from .words import (
 
 #: the characters a text observation may contain
 TEXT_CHARSET: str = "".join(sorted(set(string.printable) - set("\t\r\x0b\x0c")))
-#: stations listed by name, in this order
-_STATION_ORDER = (Cell.BOARD, Cell.PAN, Cell.SINK, Cell.DELIVERY, Cell.TRASH, Cell.TOMATO,
-                  Cell.LETTUCE, Cell.ONION, Cell.STEAK, Cell.PLATE)
+#: stations listed by name, in this order (work stations, then crates: see :mod:`.stations`)
+_STATION_ORDER = tuple(k.code for k in WORK_PLACES)
 
 
 def max_text_length(state: State) -> int:

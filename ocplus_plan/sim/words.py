@@ -15,28 +15,19 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from .codes import READY_STATE, Action, Cell, Item, ItemState, Where
+from .codes import READY_STATE, Action, Item, ItemState, Where
 from .orders import matching_order, plate_recipe
 from .queries import Bump, bump_effect
+from .stations import CELL_KINDS
 
 if TYPE_CHECKING:
     from .state import State
 
-#: what each cell code is called
-CELL_WORDS: dict[int, str] = {
-    Cell.BLOCK: "wall", Cell.FLOOR: "floor", Cell.SPAWN: "floor", Cell.COUNTER: "counter",
-    Cell.TOMATO: "tomato counter", Cell.LETTUCE: "lettuce counter", Cell.ONION: "onion counter",
-    Cell.STEAK: "steak counter", Cell.PLATE: "plate counter", Cell.BOARD: "cutting board",
-    Cell.DELIVERY: "serving window", Cell.PAN: "pan", Cell.SINK: "sink", Cell.TRASH: "trash can",
-}
+#: what each cell code is called (from its record, :mod:`.stations`)
+CELL_WORDS: dict[int, str] = {k.code: k.word for k in CELL_KINDS}
 #: one character per cell code for a picture of the map (``State.describe``, the text
 #: observation); an item lying on a spawn tile upper-cases its letter, on a plain counter it reads ``*``
-CELL_GLYPHS: dict[int, str] = {
-    Cell.BLOCK: "#", Cell.FLOOR: ".", Cell.SPAWN: ".", Cell.COUNTER: "-",
-    Cell.TOMATO: "t", Cell.LETTUCE: "l", Cell.ONION: "o", Cell.STEAK: "s",
-    Cell.PLATE: "p", Cell.BOARD: "B", Cell.DELIVERY: "D", Cell.PAN: "P",
-    Cell.SINK: "S", Cell.TRASH: "T",
-}
+CELL_GLYPHS: dict[int, str] = {k.code: k.letter for k in CELL_KINDS}
 #: the word of each action, and back (a reply may also give the action's number)
 ACTION_WORDS: dict[int, str] = {a: a.name.lower() for a in Action}
 ACTION_BY_WORD: dict[str, int] = {w: a for a, w in ACTION_WORDS.items()}

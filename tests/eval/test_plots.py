@@ -81,3 +81,29 @@ def test_missing_matplotlib_is_a_clear_dependency_error(tmp_path, monkeypatch):
     monkeypatch.setattr(builtins, "__import__", no_matplotlib)
     with pytest.raises(DependencyNotInstalled, match=r"\.\[plots\]"):
         plots.make_plots(tmp_path)
+
+
+def test_heatmaps_key_the_letters_and_colour_the_switching_cells_apart():
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from matplotlib import colormaps
+
+    from ocplus_plan.eval import plots
+    from ocplus_plan.sim import make_rules
+
+    rules = make_rules("hard")
+    grid, switching = plots._terrain({"map": rules.layout.name})
+    assert switching is not None and switching.any()
+    fig, ax = plt.subplots()
+    shown = plots._draw_kitchen(ax, grid, switching)
+    plots._key(fig, shown, True)
+    drawn = ax.get_images()[0].get_array()
+    assert np.allclose(drawn[switching], plots._SWITCH_RGB)
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert "D serving window" in labels and "switches wall/floor" in labels
+    assert len(labels) == len(shown) + 1
+    plt.close(fig)
+    # the switching colour is far from the walls and from both ends of the visit colours
+    cmap = colormaps[plots._HEAT_CMAP]
+    for other in (plots._TERRAIN_RGB[-1], cmap(0.0)[:3], cmap(1.0)[:3]):
+        assert np.abs(np.subtract(plots._SWITCH_RGB, other)).sum() > 0.6

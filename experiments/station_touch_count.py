@@ -1,0 +1,70 @@
+"""How many package files a new kind of station ("oven") touches, counted with grep at a
+commit (read with ``git show``, no checkout).
+
+Two counts over ``ocplus_plan/**/*.py``:
+
+* ``enumerating``: files that name *every* existing station kind (board, pan, sink, trash
+  can, serving window) by its code (``Cell.BOARD``, ``CELL_BOARD`` or a private
+  ``_BOARD``): each enumerates the stations one by one, so a new kind joins it;
+* ``presentation``: files that tie a station's code to a word, letter, colour, sprite or
+  planning name in place: a line with a station code followed by a string or a tuple
+  literal (``Cell.PAN: "pan"``, ``CellKind(Cell.PAN, "pan", ...``), or, under
+  ``render/``, a drawing branch (``elif code == Cell.PAN:``). A station whose rules are
+  those of an existing one touches these files only.
+
+Example::
+
+    .venv/bin/python experiments/station_touch_count.py cf6e435 HEAD \\
+        --out experiments/results/house/station-touch-count.jsonl
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import subprocess
+from pathlib import Path
+
+STATIONS = ("BOARD", "PAN", "SINK", "TRASH", "DELIVERY")
+CODE = r"(?:Cell\.|CELL_|\b_)({})\b"
+PRESENTATION = re.compile(CODE.format("|".join(STATIONS)) + r"(?:\)?: *[\"(]|, *\")")
+DRAWING = re.compile(r"code == " + CODE.format("|".join(STATIONS)) + r":$", re.MULTILINE)
+
+
+def files_at(commit: str) -> dict[str, str]:
+    names = subprocess.run(["git", "ls-tree", "-r", "--name-only", commit, "ocplus_plan"],
+                           capture_output=True, text=True, check=True).stdout.split()
+    return {n: subprocess.run(["git", "show", f"{commit}:{n}"], capture_output=True,
+                              text=True, check=True).stdout
+            for n in names if n.endswith(".py")}
+
+
+def counts(commit: str) -> dict:
+    files = files_at(commit)
+    enumerating = sorted(n for n, text in files.items()
+                         if all(re.search(CODE.format(s), text) for s in STATIONS))
+    presentation = sorted(n for n, text in files.items() if PRESENTATION.search(text) or (
+        n.startswith("ocplus_plan/render/") and DRAWING.search(text)))
+    sha = subprocess.run(["git", "rev-parse", "--short", commit], capture_output=True,
+                         text=True, check=True).stdout.strip()
+    return {"commit": sha, "package_files": len(files), "enumerating": len(enumerating),
+            "presentation": len(presentation), "enumerating_files": enumerating,
+            "presentation_files": presentation}
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("commits", nargs="+")
+    p.add_argument("--out", type=Path, default=None)
+    args = p.parse_args()
+    lines = [counts(c) for c in args.commits]
+    for line in lines:
+        print(json.dumps(line))
+    if args.out:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        args.out.write_text("".join(json.dumps(line) + "\n" for line in lines))
+
+
+if __name__ == "__main__":
+    main()
