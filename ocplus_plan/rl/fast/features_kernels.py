@@ -1,5 +1,5 @@
 """The RL baseline's features and reward shaping as array kernels over the batched engine's
-state (:class:`ocplus_plan.sim.fast.kernels.KitchenArrays`), written in the subset of
+state (:class:`ocplus_plan.sim.fast.arrays.KitchenArrays`), written in the subset of
 Python that numba compiles (plain Python without the ``fast`` extra, as the engine's own
 kernels: see :func:`ocplus_plan.sim.fast.batch.compile_kernels`).
 

@@ -36,6 +36,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ...errors import ConfigError, DependencyNotInstalled, InvalidActionError
+from . import arrays as ba
 from . import kernels as bk
 from ..codes import Item
 from ..observe import _CH_KIND0, _CH_STATE0, CH_OTHER, CH_PROGRESS, CH_SELF, VectorEncoder
@@ -111,25 +112,25 @@ def compile_kernels(module: types.ModuleType, compiled: bool, nrt: bool = False)
 
 
 def static_arrays(rules: Rules, encoder: VectorEncoder, observe: bool = True,
-                  ) -> bk.StaticArrays:
+                  ) -> ba.StaticArrays:
     """The kernels' tables for one rule set and observation encoder (``observe``: keep
     the vector observations up to date)."""
     geo = geometry_for(rules)
     i64 = np.int64
     params = np.zeros(17, i64)
-    params[[bk.P_CHOP, bk.P_COOK, bk.P_BURN, bk.P_WASH, bk.P_HORIZON, bk.P_SWITCH_STEP]] = (
+    params[[ba.P_CHOP, ba.P_COOK, ba.P_BURN, ba.P_WASH, ba.P_HORIZON, ba.P_SWITCH_STEP]] = (
         rules.chop_steps, rules.cook_time, rules.burn_time, rules.wash_steps, rules.horizon,
         rules.map_switch_step)
     limit, stop = rules.order_time_limit, rules.stop_after_orders
-    params[bk.P_LIMIT] = -1 if limit is None else limit
-    params[bk.P_STOP] = -1 if stop is None else stop
-    params[bk.P_DIRTY], params[bk.P_DYNAMIC] = rules.dirty_plates, rules.dynamic
-    params[bk.P_SHARED] = rules.reward_mode == "shared"
-    params[bk.P_FIXED] = rules.fixed_orders is not None
-    params[bk.P_RADIUS], params[bk.P_ROWS], params[bk.P_COLS] = (
+    params[ba.P_LIMIT] = -1 if limit is None else limit
+    params[ba.P_STOP] = -1 if stop is None else stop
+    params[ba.P_DIRTY], params[ba.P_DYNAMIC] = rules.dirty_plates, rules.dynamic
+    params[ba.P_SHARED] = rules.reward_mode == "shared"
+    params[ba.P_FIXED] = rules.fixed_orders is not None
+    params[ba.P_RADIUS], params[ba.P_ROWS], params[ba.P_COLS] = (
         encoder.radius, geo.rows, geo.cols)
-    params[bk.P_HAS_SWITCH] = encoder._has_switch
-    params[bk.P_OBSERVE] = observe
+    params[ba.P_HAS_SWITCH] = encoder._has_switch
+    params[ba.P_OBSERVE] = observe
     rw = rules.rewards
     rewards = np.array([rw.subtask_finished, rw.correct_delivery, rw.wrong_delivery,
                         rw.step_penalty, rw.burned_penalty, rw.order_expired], np.float64)
@@ -150,7 +151,7 @@ def static_arrays(rules: Rules, encoder: VectorEncoder, observe: bool = True,
         cells_w, encoder.window[1], _CH_KIND0, _CH_STATE0, CH_PROGRESS, CH_SELF, CH_OTHER,
         encoder.grid_size, encoder.grid_size + encoder._order0, static_size], i64)
     spawn = [geo.flat(r, c) for r, c in rules.layout.spawn_points[: rules.n_agents]]
-    return bk.StaticArrays(
+    return ba.StaticArrays(
         params, rewards, np.array(geo.terrains, i64), np.array(geo.walkables, bool),
         np.array(geo.neighbors, i64), np.array(geo.pans, i64).reshape(-1),
         np.array(geo.switch_cells, i64).reshape(-1), np.array(geo.item_kind, i64),
@@ -195,7 +196,7 @@ class BatchSim:
         def z(*shape: int, dtype: Any = i32) -> np.ndarray:
             return np.zeros((e, *shape), dtype)
 
-        self.arrays = bk.KitchenArrays(
+        self.arrays = ba.KitchenArrays(
             clock=z(5), agents=z(2, n), cells=z(n_cells), items=z(6, n_items),
             orders=z(4, n_orders), stats=z(9), queue=z(self._queue_len),
             rewards=z(n, dtype=np.float64), subtasks=z(n), bumps=z(3, n),
@@ -247,15 +248,15 @@ class BatchSim:
             raise ConfigError("the state belongs to other rules than this batch's")
         a = self.arrays
         a.cells[e] = state.cell_item
-        a.items[e, : bk.I_LIFE] = (state.item_state, state.item_progress, state.item_where,
+        a.items[e, : ba.I_LIFE] = (state.item_state, state.item_progress, state.item_where,
                                    state.item_loc, state.item_agent)
-        a.items[e, bk.I_LIFE] = 0
+        a.items[e, ba.I_LIFE] = 0
         a.agents[e] = (state.agent_pos, state.agent_hand)
         a.clock[e] = (state.t, state.layout_index, state.next_switch, state.next_order_id, 0)
         index = {r: i for i, r in enumerate(self.rules.recipes)}
         a.orders[e] = np.array([(o.order_id, index[o.recipe], o.created, o.deadline)
                                 for o in state.orders]).T
-        a.stats[e] = [state.stats[name] for name in bk.STAT_NAMES]
+        a.stats[e] = [state.stats[name] for name in ba.STAT_NAMES]
         self.seeds[e] = state.seed
         rng = np.random.Generator(np.random.PCG64())
         rng.bit_generator.state = state.rng_state()
@@ -269,7 +270,7 @@ class BatchSim:
         if self.rules.fixed_orders is None:
             self.arrays.queue[e] = rng.integers(len(self.rules.recipes), size=self._queue_len)
         self._draw_rngs[e] = rng
-        self.arrays.clock[e, bk.C_QPOS] = 0
+        self.arrays.clock[e, ba.C_QPOS] = 0
         self._drawn_before[e] = 0
 
     def step_active(self, actions: np.ndarray, active: np.ndarray | None = None,
@@ -295,10 +296,10 @@ class BatchSim:
         self._step_range(acts, act)
         self._refill_queues()
         a, p = self.arrays, self.static.params
-        stop = p[bk.P_STOP]
-        terminated = (a.stats[:, bk.COMPLETED] >= stop) & act if stop >= 0 else \
+        stop = p[ba.P_STOP]
+        terminated = (a.stats[:, ba.COMPLETED] >= stop) & act if stop >= 0 else \
             np.zeros(self.n_envs, bool)
-        truncated = ~terminated & (a.clock[:, bk.C_T] >= p[bk.P_HORIZON]) & act
+        truncated = ~terminated & (a.clock[:, ba.C_T] >= p[ba.P_HORIZON]) & act
         return terminated, truncated
 
     def step(self, actions: np.ndarray) -> BatchStep:
@@ -321,11 +322,11 @@ class BatchSim:
         s = new_state(rules, self.seeds[e])
         s.cell_item = a.cells[e].tolist()
         (s.item_state, s.item_progress, s.item_where, s.item_loc,
-         s.item_agent) = a.items[e, : bk.I_LIFE].tolist()
+         s.item_agent) = a.items[e, : ba.I_LIFE].tolist()
         s.agent_pos, s.agent_hand = a.agents[e].tolist()
         s.t, s.layout_index, s.next_switch, s.next_order_id, used = a.clock[e].tolist()
         s.orders = [Order(i, rules.recipes[r], c, d) for i, r, c, d in zip(*a.orders[e].tolist())]
-        s.stats = dict(zip(bk.STAT_NAMES, a.stats[e].tolist()))
+        s.stats = dict(zip(ba.STAT_NAMES, a.stats[e].tolist()))
         rng = np.random.Generator(np.random.PCG64())
         rng.bit_generator.state = self._rng_start[e]
         drawn = int(self._drawn_before[e]) + used
@@ -373,13 +374,13 @@ class BatchSim:
         if self.rules.fixed_orders is not None:
             return
         a, q = self.arrays, self._queue_len
-        low = np.flatnonzero(a.clock[:, bk.C_QPOS] > q - self._per_step_draws)
+        low = np.flatnonzero(a.clock[:, ba.C_QPOS] > q - self._per_step_draws)
         n_recipes = len(self.rules.recipes)
         for e in low.tolist():
-            used = int(a.clock[e, bk.C_QPOS])
+            used = int(a.clock[e, ba.C_QPOS])
             a.queue[e, : q - used] = a.queue[e, used:].copy()
             a.queue[e, q - used :] = self._draw_rngs[e].integers(n_recipes, size=used)
-            a.clock[e, bk.C_QPOS] = 0
+            a.clock[e, ba.C_QPOS] = 0
             self._drawn_before[e] += used
 
 

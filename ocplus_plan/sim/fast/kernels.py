@@ -3,8 +3,8 @@ at a time, written in the subset of Python that numba compiles.
 
 Plain Python as it stands (the fallback, and what ``numba`` compiles: see
 :func:`ocplus_plan.sim.fast.batch.kernels`). The state of ``E`` kitchens lives in a few integer
-arrays whose first axis is the env (:class:`KitchenArrays`); the tables of one rule set in
-:class:`StaticArrays`. The functions follow ``step.py`` rule for rule and in the same order
+arrays whose first axis is the env (:class:`.arrays.KitchenArrays`); the tables of one rule set in
+:class:`.arrays.StaticArrays`. The functions follow ``step.py`` rule for rule and in the same order
 (bumps in agent order, waiting respawns, simultaneous moves, pans, layout switch, expiry);
 a differential property test (``tests/sim/fast/test_batch.py``) holds the two to the same
 kitchen, bit for bit.
@@ -29,11 +29,10 @@ from .arrays import (
     CELL_COUNTER, CELL_DELIVERY, CELL_PAN, CELL_SINK, CELL_TRASH, CHOPS, COMPLETED, COOKS,
     C_LAYOUT, C_ORDER_ID, C_QPOS, C_SWITCH, C_T, DISHES, EXPIRED, ITEM_LETTUCE, ITEM_ONION,
     ITEM_PLATE, ITEM_STEAK, ITEM_TOMATO, I_LIFE, I_LOC, I_OWNER, I_PROG, I_STATE, I_WHERE,
-    KitchenArrays, O_CREATED, O_DEADLINE, O_ID, O_RECIPE, P_BURN, P_CHOP, P_COLS, P_COOK,
-    P_DIRTY, P_DYNAMIC, P_FIXED, P_HAS_SWITCH, P_HORIZON, P_LIMIT, P_OBSERVE, P_RADIUS, P_ROWS,
-    P_SHARED, P_STOP, P_SWITCH_STEP, P_WASH, R_BURNED, R_CORRECT, R_EXPIRED, R_STEP, R_SUBTASK,
-    R_WRONG, STATE_BURNT, STATE_CHOPPED, STATE_CLEAN, STATE_COOKED, STATE_DIRTY, STATE_FRESH,
-    STAT_NAMES, SWITCHES, StaticArrays, WASHES, WHERE_CELL, WHERE_HAND, WHERE_PLATE,
+    O_CREATED, O_DEADLINE, O_ID, O_RECIPE, P_BURN, P_CHOP, P_COOK, P_DIRTY, P_DYNAMIC, P_FIXED,
+    P_LIMIT, P_OBSERVE, P_SHARED, P_SWITCH_STEP, P_WASH, R_BURNED, R_CORRECT, R_EXPIRED,
+    R_STEP, R_SUBTASK, R_WRONG, STATE_BURNT, STATE_CHOPPED, STATE_CLEAN, STATE_COOKED,
+    STATE_DIRTY, STATE_FRESH, SWITCHES, WASHES, WHERE_CELL, WHERE_HAND, WHERE_PLATE,
     WHERE_WAITING, WRONG,
 )
 from .observe_kernels import observe_env, on_plate
