@@ -19,8 +19,6 @@ ALLOWED = {
     "agents/planner.py::compile_and_solve",
     "execution/executive.py",
     "execution/schedule.py",
-    "rl/train.py::train",
-    "sim/maps.py::_parse",
 }
 
 

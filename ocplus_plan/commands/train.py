@@ -106,7 +106,7 @@ def _hidden(text: str) -> tuple[int, ...]:
 
 def _run_jax(args: argparse.Namespace) -> int:
     """``--engine jax``: the jitted PPO (rl/fast/jax_ppo.py) on the JAX kitchen."""
-    from .. import make_jax_env
+    from ..env import make_jax_env
     from ..errors import ConfigError
     from ..rl.fast.jax_ppo import PPOConfig, train_to_folder
 

@@ -27,7 +27,7 @@ from .core import MODES, EnvConfig, parse_env_kwargs
 REGISTRY: dict[str, tuple[str, dict[str, Any]]] = {
     "OvercookedPlus-v0": ("ocplus_plan.env.gym_env:OvercookedPlusEnv", {"preset": "hard"}),
     # the paper's id: its constructor's defaults and map-driven preset (env/paper.py)
-    "Overcooked-Plus": ("ocplus_plan.env.paper:make_paper_env", {}),
+    "Overcooked-Plus": ("ocplus_plan.env.gym_env:make_paper_env", {}),
     "OvercookedPlusSingle-v0": (
         "ocplus_plan.env.gym_env:OvercookedPlusSingleEnv", {"preset": "hard"},
     ),
@@ -58,6 +58,17 @@ def parallel_env(preset: str = "hard", **kwargs: Any) -> Any:
     return OvercookedPlusParallelEnv(preset, **kwargs)
 
 
+def make_jax_env(preset: str = "hard", *, reward_scope: str = "team", **kwargs: Any) -> Any:
+    """The kitchen in JAX behind JaxMARL's ``MultiAgentEnv`` interface (the ``jax`` extra),
+    from the Gymnasium env's keywords (:class:`ocplus_plan.sim.fast.jax_env.JaxKitchenEnv`)."""
+    from ..sim.fast.jax_env import JaxKitchenEnv  # needs jax: DependencyNotInstalled names the extra
+
+    rules, config = parse_env_kwargs(preset, **kwargs)
+    return JaxKitchenEnv.from_options(
+        rules, mode=config.mode, obs_radius=config.obs_radius, comm=config.comm,
+        render_mode=config.render_mode, reward_scope=reward_scope)
+
+
 def __getattr__(name: str) -> Any:
     # lazy access to the env classes without importing them at package import
     if name in ("OvercookedPlusEnv", "OvercookedPlusSingleEnv", "StateSpace"):
@@ -75,6 +86,7 @@ __all__ = [
     "EnvConfig",
     "OvercookedPlusEnv",
     "OvercookedPlusSingleEnv",
+    "make_jax_env",
     "parallel_env",
     "parse_env_kwargs",
     "register_envs",

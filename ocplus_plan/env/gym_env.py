@@ -205,7 +205,7 @@ class OvercookedPlusEnv(_Base):
 
     **Registered configurations.** ``OvercookedPlus-v0`` (this class, preset ``hard``, 2
     cooks, MapC), ``Overcooked-Plus`` (this class as the paper's constructor builds it:
-    :func:`ocplus_plan.env.paper.make_paper_env`) and ``OvercookedPlusSingle-v0``
+    :func:`make_paper_env`) and ``OvercookedPlusSingle-v0``
     (:class:`OvercookedPlusSingleEnv`); ``import ocplus_plan`` registers them, or use
     ``gymnasium.make("ocplus_plan:OvercookedPlus-v0")`` with no import of ours first.
     """
@@ -339,4 +339,15 @@ class OvercookedPlusSingleEnv(_Base):
         return self._finish(result, reward)
 
 
-__all__ = ["OvercookedPlusEnv", "OvercookedPlusSingleEnv", "StateSpace"]
+def make_paper_env(**kwargs: Any) -> Any:
+    """The entry point of ``gymnasium.make("Overcooked-Plus", **kwargs)``: the env the
+    paper's constructor builds from ``kwargs`` (see :func:`paper_config`), so ``make`` and
+    ``create_env(**kwargs)`` give the same kitchen on every map the paper ships (mapA-D, F)."""
+    from .paper import paper_config
+
+    config = paper_config(kwargs)
+    return OvercookedPlusEnv(config.pop("preset"), **config)
+
+
+
+__all__ = ["OvercookedPlusEnv", "OvercookedPlusSingleEnv", "StateSpace", "make_paper_env"]

@@ -186,21 +186,11 @@ def paper_config(kwargs: dict[str, Any], preset: str | None = None) -> dict[str,
     return config
 
 
-def make_paper_env(**kwargs: Any) -> Any:
-    """The entry point of ``gymnasium.make("Overcooked-Plus", **kwargs)``: the env the
-    paper's constructor builds from ``kwargs`` (see :func:`paper_config`), so ``make`` and
-    ``create_env(**kwargs)`` give the same kitchen on every map the paper ships (mapA-D, F)."""
-    from .gym_env import OvercookedPlusEnv
-
-    config = paper_config(kwargs)
-    return OvercookedPlusEnv(config.pop("preset"), **config)
-
-
 def create_env(preset: str | None = None, **kwargs: Any) -> Any:
     """The paper's ``create_env``: a preset of its own (``easy`` mapA, ``medium`` mapB,
     ``hard`` mapC, as in its ``env_creater``) updated with ``kwargs``, or ``kwargs`` alone
     (then what ``gymnasium.make("Overcooked-Plus", **kwargs)`` builds: see
-    :func:`paper_config`).
+    :func:`paper_config` and :func:`ocplus_plan.env.gym_env.make_paper_env`).
 
     Returns a Gymnasium env whose ``step`` gives one reward per cook
     (``reward_scope="per_agent"``, the paper's loop reads ``reward[i]``); pass
@@ -245,5 +235,5 @@ def one_cook(env: Any) -> OneCook:
 
 
 __all__ = ["PAPER_PRESETS", "PAPER_TASKS", "OneCook", "create_env", "human_cooks",
-           "make_paper_env", "one_cook", "paper_config", "preset_for_map",
+           "one_cook", "paper_config", "preset_for_map",
            "translate_paper_keywords"]
