@@ -156,9 +156,9 @@ def check_agent(spec: str) -> str | None:
         if not arg:
             raise ConfigError("agent 'planner' needs a planner name: planner:NAME "
                               "(e.g. planner:fast-downward)")
-        from ..agents.planner import planner_name
+        from ..execution.spec import PlannerSpec
 
-        reason = _planner_unavailable(planner_name(arg))
+        reason = _planner_unavailable(PlannerSpec.parse(arg).name)
         if reason:
             return reason
     if kind not in FACTORIES:

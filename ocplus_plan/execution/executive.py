@@ -22,19 +22,13 @@ from __future__ import annotations
 import time
 from collections import Counter, deque
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 
 from ..errors import ConfigError
 from ..sim.codes import Action, Cell, ItemState
 from ..sim.queries import (
-    Bump,
-    bump_effect,
-    bumps_needed,
     direction,
     distances,
     interaction_spots,
-    is_plateable,
-    switching_walks,
     ticks_until_burnt,
     walkable_in_any_layout,
 )
@@ -55,32 +49,10 @@ from .plans import (
     Policy,
     causal_dependencies,
 )
+from .tasks import BumpRecord, Task, already_done, pan_eta, ready, snapshot
 
 _PAN = int(Cell.PAN)
 _RAW, _CHOPPED, _CLEAN = int(ItemState.FRESH), int(ItemState.CHOPPED), int(ItemState.CLEAN)
-#: the bump that processes the item of a chop / wash step (several of them finish it)
-_PROCESS = {"chop": Bump.CHOP, "wash": Bump.WASH}
-
-
-@dataclass
-class Task:
-    """A plan step in an agent's queue, with what the executive learned while doing it."""
-
-    step: PlanStep
-    deps: frozenset[int]
-    bumps: int = 0
-    failures: int = 0
-    waited: int = 0
-    unreachable: bool = False
-
-
-@dataclass
-class _Bump:
-    task: Task
-    hand: int
-    here: int
-    here_state: tuple[int, int]
-    plate_sizes: tuple[int, int]
 
 
 class Executive:
@@ -123,7 +95,7 @@ class Executive:
         #: the orders open when the current plan was made, and the cooks it gave no work
         self.seen_orders: set[int] = set()
         self.idle_in_plan: set[int] = set()
-        self.pending: dict[int, _Bump] = {}
+        self.pending: dict[int, BumpRecord] = {}
         self.last_pos: dict[int, int] = {a: state.agent_pos[a] for a in self.agent_ids}
         self.stuck: Counter[int] = Counter()
         self.boosted: dict[int, int] = {}
@@ -361,62 +333,11 @@ class Executive:
         self.stuck[agent] = 0
         self.boosted.pop(agent, None)
 
-    def _already_done(self, state: State, task: Task) -> bool:
-        """Chop/wash of an item that is already processed (e.g. per-level chop steps): an
-        empty hand's bump there would no longer chop or wash. Not before the other cooks'
-        steps it waits for are done and its item lies there: a cook that reaches the board
-        before another has put the vegetable on it finds nothing to chop, which does not
-        mean the chopping is done."""
-        kind = task.step.kind
-        if kind == "goto":
-            return state.agent_pos[task.step.agent] == task.step.target
-        if kind in _PROCESS:
-            here = state.cell_item[task.step.target]
-            if not task.deps <= self.done_steps:
-                return False
-            if task.step.items and here not in task.step.items:
-                return False
-            return bump_effect(state, -1, task.step.target) != _PROCESS[kind]
-        return False
-
-    def _ready(self, state: State, agent: int, task: Task) -> bool:
-        """Time to bump for this step? A chop or a wash once the bump would chop or wash
-        (``bump_effect``); at a pan once the steak may be taken (never raw) or plated
-        (cooked); any other step as soon as the hand holds what the step needs and, for a
-        step that takes something, something lies there: a bump that then changes nothing
-        tells the executive that the plan and the world disagree (``action_failed``)."""
-        if not task.deps <= self.done_steps:
-            return False
-        s = task.step
-        held, here = state.agent_hand[agent], state.cell_item[s.target]
-        if s.kind in _PROCESS:
-            return bump_effect(state, held, s.target) == _PROCESS[s.kind]
-        code = state.geo.terrains[state.layout_index][s.target]
-        if code == _PAN and here >= 0 and s.kind != "putdown":
-            # never take a raw steak off the pan; only a cooked one goes on a plate
-            if s.kind == "plate" or held >= 0:
-                return is_plateable(state, here)
-            return state.item_state[here] != _RAW
-        if s.kind == "pickup":
-            return held < 0 and here >= 0
-        if s.kind in ("putdown", "deliver", "trash"):
-            return held >= 0
-        if s.kind == "plate":
-            return held >= 0 and here >= 0
-        return True
-
-    def _snapshot(self, state: State, task: Task, agent: int) -> _Bump:
-        held, here = state.agent_hand[agent], state.cell_item[task.step.target]
-        here_state = (state.item_state[here], state.item_progress[here]) if here >= 0 else (-1, -1)
-        sizes = (len(state.plate_contents(held)) if held >= 0 else -1,
-                 len(state.plate_contents(here)) if here >= 0 else -1)
-        return _Bump(task, held, here, here_state, sizes)
-
-    def _settle(self, state: State, agent: int, bump: _Bump, out: list[str]) -> None:
+    def _settle(self, state: State, agent: int, bump: BumpRecord, out: list[str]) -> None:
         task = bump.task
         if self._current(agent) is not task:
             return
-        now = self._snapshot(state, task, agent)
+        now = snapshot(state, task, agent)
         if task.step.kind in ("chop", "wash"):
             if bump.here >= 0 and state.item_state[bump.here] in (_CHOPPED, _CLEAN) \
                     and state.item_state[bump.here] != bump.here_state[0]:
@@ -467,37 +388,9 @@ class Executive:
                 self._trigger(state, "burn_risk", out)
 
     def _eta(self, state: State, pan: int) -> int | None:
-        """Estimated steps until a queued task bumps ``pan`` to take its steak (None: no task).
-        With a plan scheduled over the switches, walks are timed over them too."""
-        best = None
-        layout = state.layout_index
-        timed = switching_walks(state.geo, state.rules.map_switch_step) \
-            if self.plan_over_switches and len(state.geo.walkables) == 2 else None
-        due = max(0, state.next_switch - state.t)
-        for a in self.agent_ids:
-            pos, total = state.agent_pos[a], 0
-            for task in self.queues[a]:
-                if timed is not None:
-                    found = timed.arrival(pos, task.step.target,
-                                          *timed.phase(layout, due, total))
-                    if found is None:
-                        break
-                    d, spot = found
-                else:
-                    d = self.oracle.to_station(layout, task.step.target)[pos]
-                    if d < 0:
-                        break
-                    spots = self._spots(state, task.step.target)
-                    spot = min(spots, key=lambda c: self.oracle.to_goals(layout, [pos])[c]) \
-                        if spots else pos
-                total += d + 1
-                if task.step.target == pan and task.step.kind != "putdown":
-                    best = total if best is None else min(best, total)
-                    break
-                if task.step.kind in _PROCESS:
-                    total += bumps_needed(state.rules, _PROCESS[task.step.kind]) - 1
-                pos = spot
-        return best
+        """Estimated steps until a queued task bumps ``pan`` to take its steak (:func:`pan_eta`)."""
+        return pan_eta(state, pan, {a: self.queues[a] for a in self.agent_ids}, self.oracle,
+                       self.plan_over_switches)
 
     # ------------------------------------------------------------------ actions
     def _actions(self, state: State) -> dict[int, int]:
@@ -506,7 +399,7 @@ class Executive:
         requests: list[tuple[tuple[int, int, int], PathRequest]] = []
         for a in self.agent_ids:
             pos = state.agent_pos[a]
-            while (task := self._current(a)) is not None and self._already_done(state, task):
+            while (task := self._current(a)) is not None and already_done(state, task, self.done_steps):
                 self._finish(a)
             task = self._current(a)
             if task is None:
@@ -530,9 +423,9 @@ class Executive:
                 # waiting on its own spot for someone who needs that very spot: step aside
                 requests.append(((3, 0, a), PathRequest(a, pos, frozenset())))
                 continue
-            if pos in spots and self._ready(state, a, task):
+            if pos in spots and ready(state, a, task, self.done_steps):
                 actions[a] = direction(geo, pos, task.step.target)
-                self.pending[a] = self._snapshot(state, task, a)
+                self.pending[a] = snapshot(state, task, a)
                 task.bumps += 1
                 task.waited = 0
                 continue
