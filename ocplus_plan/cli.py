@@ -37,6 +37,7 @@ COMMANDS: dict[str, str] = {
     "pddl": "pddl",
     "export-suite": "export_suite",
     "check-plan": "check_plan",
+    "generate": "generate",
 }
 
 #: Printed by --help and replayed by tests/test_cli.py (each must exit 0, quickly) in a
@@ -45,6 +46,8 @@ EXAMPLES: list[str] = [
     "ocplus check-map mapC",
     "ocplus check-map maps/hard_switch.yaml",
     "ocplus check-map mapC --json",
+    "ocplus check-map gen:split:test:0",
+    "ocplus generate --family corridor --split test --n 2 --no-prove --out runs/kitchens",
     "ocplus rollout --preset hard --n-agents 2 --horizon 200 --seed 0 --json",
     "ocplus solve --list",
     "ocplus pddl --preset medium --seed 0 --step 20 --encoding temporal --out runs/pddl",

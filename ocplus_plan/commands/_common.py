@@ -1,6 +1,7 @@
 """Options the subcommands share: one definition, one help text, one meaning everywhere.
 
-- kitchen (:func:`add_kitchen_args`): ``--preset --map --n-agents --seed --horizon``;
+- kitchen (:func:`add_kitchen_args`): ``--preset --map --n-agents --seed --horizon``
+  and ``--rules KEY=VALUE ...`` (rule overrides, :func:`parse_rule_overrides`);
   commands that run many kitchens (``eval``, ``demo``) take a comma-separated
   ``--preset`` list and ``--seeds`` besides ``--seed``.
 - output (:func:`add_output_args`): ``--json`` prints the result as one JSON object on
@@ -16,6 +17,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from dataclasses import fields
 from typing import Any
 
 from ..errors import ConfigError
@@ -66,6 +68,9 @@ def add_kitchen_args(p: argparse.ArgumentParser, *, sweep: bool = False, step: b
     if step:
         g.add_argument("--step", type=int, default=0,
                        help="random joint actions to take before compiling")
+    g.add_argument("--rules", nargs="+", action="extend", default=None, metavar="KEY=VALUE",
+                   help="rule overrides, e.g. dynamic=false cook_time=8 "
+                        f"(keys: {', '.join(RULE_KEYS)})")
 
 
 def parse_int_list(text: str, option: str) -> list[int]:
@@ -81,11 +86,63 @@ def parse_int_list(text: str, option: str) -> list[int]:
 
 
 def rules_from_args(args: argparse.Namespace, **overrides: Any) -> Rules:
-    """The rules the kitchen options name (``--preset --map --n-agents --horizon``)."""
+    """The rules the kitchen options name (``--preset --map --n-agents --horizon --rules``).
+    A ``--rules`` key the caller also sets is refused (the command needs its own value)."""
     for name in ("n_agents", "horizon"):
         if getattr(args, name, None) is not None:
             overrides.setdefault(name, getattr(args, name))
-    return make_rules(args.preset, map=args.map, **overrides)
+    given = parse_rule_overrides(getattr(args, "rules", None))
+    clash = sorted(k for k in set(given) & set(overrides) if given[k] != overrides[k])
+    if clash:
+        raise ConfigError(f"--rules sets {', '.join(clash)}, which another option of this "
+                          "command also sets; give it once")
+    return make_rules(args.preset, map=args.map, **{**overrides, **given})
+
+
+def _rule_types() -> dict[str, str]:
+    """Rules field -> its type as written (``int``, ``bool``, ``int | None``, ``str``)."""
+    skip = {"preset", "layout", "n_agents", "recipes", "rewards", "fixed_orders"}
+    return {f.name: str(f.type) for f in fields(Rules) if f.name not in skip}
+
+
+#: the keys ``--rules`` takes (``n_agents`` is ``--n-agents``)
+RULE_KEYS: tuple[str, ...] = tuple(sorted(_rule_types()))
+_TRUE, _FALSE = ("true", "yes", "on", "1"), ("false", "no", "off", "0")
+
+
+def parse_rule_overrides(items: list[str] | None) -> dict[str, Any]:
+    """``["dynamic=false", "cook_time=8"]`` -> ``{"dynamic": False, "cook_time": 8}``, each
+    value read as its Rules field's type (``none`` for an optional one). An unknown key,
+    a repeated key or a value of the wrong type is a :class:`ConfigError`."""
+    types = _rule_types()
+    out: dict[str, Any] = {}
+    for item in items or ():
+        key, sep, text = item.partition("=")
+        key, text = key.strip(), text.strip()
+        if not sep or key not in types:
+            raise ConfigError(f"--rules {item!r}: write KEY=VALUE with KEY one of "
+                              f"{', '.join(RULE_KEYS)}")
+        if key in out:
+            raise ConfigError(f"--rules gives {key} twice; give it once")
+        out[key] = _rule_value(key, types[key], text)
+    return out
+
+
+def _rule_value(key: str, kind: str, text: str) -> Any:
+    low = text.lower()
+    if kind.endswith("| None") and low == "none":
+        return None
+    if kind.startswith("bool"):
+        if low in _TRUE or low in _FALSE:
+            return low in _TRUE
+        raise ConfigError(f"--rules {key}={text!r}: {key} is true or false")
+    if kind.startswith("int"):
+        try:
+            return int(text)
+        except ValueError:
+            none = " (or none)" if kind.endswith("| None") else ""
+            raise ConfigError(f"--rules {key}={text!r}: {key} is a whole number{none}") from None
+    return text
 
 
 def add_output_args(p: argparse.ArgumentParser, *, out: str | None = None,

@@ -119,6 +119,10 @@ def load_map(spec: str | os.PathLike[str] | dict[str, Any], *, source: str | Non
     if isinstance(spec, dict):
         return _parse(spec, source or "<dict>")
     text_spec = os.fspath(spec)
+    if text_spec.startswith("gen:"):  # a generated kitchen: gen:FAMILY:SPLIT:INDEX[:PRESET]
+        from .generate import map_from_name
+
+        return _parse(map_from_name(text_spec), source or text_spec)
     path: Traversable = Path(text_spec)
     if not path.is_file():
         registry = available_maps()

@@ -1,0 +1,153 @@
+"""``ocplus generate``: write generated kitchens as YAML map files, with a manifest.
+
+``--family F --n N --seed S`` writes the kitchens of seeds S .. S+N-1; with ``--split
+train|test`` the kitchens of indices S .. S+N-1 of that split instead (the ones
+``gen:F:SPLIT:INDEX`` names, with the same bytes). Sizes and cooks are drawn from each
+seed unless ``--rows``, ``--cols`` or ``--cooks`` fix them. With ``--prove`` (on by
+default when Fast Downward is installed) every kitchen must get a validated plan for one
+order with all its cooks, which the simulator follows (``ocplus_plan.planning.prove``);
+a kitchen that fails is replaced by the next candidate of its seed, and ``manifest.json``
+lists what was replaced and why. The YAML files are the same bytes for the same arguments.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Any
+
+from ..errors import ConfigError, DependencyNotInstalled
+from ..sim.generate import (
+    FAMILIES,
+    PRESET_STATIONS,
+    SPLITS,
+    generate_map,
+    map_to_yaml,
+    split_seed,
+)
+from ..sim.maps import load_map
+from ._common import HelpFormatter, add_output_args, emit, say
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("generate", help="write generated kitchens (YAML maps and a manifest)",
+                       description=__doc__, formatter_class=HelpFormatter)
+    p.add_argument("--family", required=True, choices=FAMILIES, help="kitchen family")
+    p.add_argument("--n", type=int, default=1, help="how many kitchens")
+    p.add_argument("--seed", type=int, default=0,
+                   help="first seed (with --split: first index of the split)")
+    p.add_argument("--split", choices=tuple(SPLITS), default=None,
+                   help="take the kitchens of this split (train: seed = index; "
+                        "test: seed = 1000000 + index)")
+    p.add_argument("--stations", choices=tuple(PRESET_STATIONS), default="hard",
+                   help="the preset whose stations the kitchens carry")
+    p.add_argument("--rows", type=int, default=None, help="rows (None: drawn per seed)")
+    p.add_argument("--cols", type=int, default=None, help="columns (None: drawn per seed)")
+    p.add_argument("--cooks", type=int, default=None,
+                   help="cooks = spawn points (None: 3 or 4, drawn per seed)")
+    proof = p.add_mutually_exclusive_group()
+    proof.add_argument("--prove", dest="prove", action="store_true", default=None,
+                       help="prove each kitchen solvable (default: when Fast Downward is here)")
+    proof.add_argument("--no-prove", dest="prove", action="store_false",
+                       help="write the kitchens without proving them")
+    p.add_argument("--candidates", type=int, default=5,
+                   help="candidates tried per kitchen before it is given up")
+    p.add_argument("--timeout", type=float, default=60.0, help="planner seconds per proof try")
+    add_output_args(p, out="required", writes="one YAML map per kitchen, manifest.json")
+    p.set_defaults(func=run)
+
+
+def _should_prove(flag: bool | None) -> tuple[bool, str]:
+    """(prove?, why not) from ``--prove`` / ``--no-prove`` / the default."""
+    if flag is False:
+        return False, "--no-prove"
+    try:
+        from ..planning.prove import proof_available
+        why = proof_available()
+    except ImportError as exc:
+        why = f"the planning layer cannot be imported ({exc})"
+    if why and flag:
+        raise DependencyNotInstalled(
+            f"--prove needs Fast Downward: {why}; install the planners extra: "
+            "pip install -e '.[planners]'")
+    return not why, why
+
+
+def _check(args: argparse.Namespace) -> None:
+    if args.n < 1:
+        raise ConfigError(f"--n must be at least 1, got {args.n}")
+    if args.seed < 0:
+        raise ConfigError(f"--seed must be >= 0, got {args.seed}")
+    if args.candidates < 1:
+        raise ConfigError(f"--candidates must be at least 1, got {args.candidates}")
+    if args.timeout <= 0:
+        raise ConfigError(f"--timeout must be positive, got {args.timeout}")
+
+
+def _one_kitchen(args: argparse.Namespace, seed: int, stem: str, name: str, prove: bool,
+                 out: Path) -> dict[str, Any]:
+    """Draw (and prove) one kitchen; write its file; its manifest entry."""
+    entry: dict[str, Any] = {"file": f"{stem}.yaml", "seed": seed, "replaced": []}
+    for candidate in range(args.candidates):
+        spec = generate_map(args.family, seed, rows=args.rows, cols=args.cols,
+                            cooks=args.cooks, preset=args.stations, candidate=candidate,
+                            name=name if not candidate else f"{name} (candidate {candidate})")
+        layout = load_map(spec, source=stem)
+        entry.update(candidate=candidate, rows=layout.rows, cols=layout.cols,
+                     cooks=layout.max_agents, dynamic=layout.is_dynamic)
+        if not prove:
+            entry["proof"] = None
+            break
+        from ..planning.prove import prove_kitchen
+
+        proof = prove_kitchen(layout, args.stations, timeout=args.timeout)
+        entry["proof"] = proof.to_dict()
+        if proof.ok:
+            break
+        entry["replaced"].append({"candidate": candidate, "reason": proof.reason})
+    else:
+        entry["failed"] = True
+        return entry
+    (out / entry["file"]).write_text(map_to_yaml(spec), encoding="utf-8")
+    return entry
+
+
+def run(args: argparse.Namespace) -> int:
+    _check(args)
+    prove, why_not = _should_prove(args.prove)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    kitchens = []
+    for k in range(args.n):
+        index = args.seed + k
+        if args.split is not None:
+            seed, stem = split_seed(args.split, index), f"{args.family}-{args.split}-{index:04d}"
+            name = f"gen:{args.family}:{args.split}:{index}" + (
+                f":{args.stations}" if args.stations != "hard" else "")
+        else:
+            seed, stem = index, f"{args.family}-seed{index:06d}"
+            name = f"gen-{args.family}-{index}"
+        entry = _one_kitchen(args, seed, stem, name, prove, out)
+        if args.split is not None:
+            entry.update(split=args.split, index=index)
+        kitchens.append(entry)
+        status = ("given up" if entry.get("failed") else
+                  "proven" if prove else "written, not proven")
+        say(args, f"{entry['file']}: {entry['rows']}x{entry['cols']}, {entry['cooks']} cooks, "
+                  f"{status}" + (f" (candidate {entry['candidate']})" if entry['candidate']
+                                 else ""))
+    manifest = {
+        "generator": {"family": args.family, "split": args.split, "first": args.seed,
+                      "n": args.n, "stations": args.stations, "rows": args.rows,
+                      "cols": args.cols, "cooks": args.cooks},
+        "proved": prove, "not_proved_because": why_not if not prove else "",
+        "kitchens": kitchens,
+    }
+    (out / "manifest.json").write_text(json.dumps(manifest, indent=1) + "\n", encoding="utf-8")
+    failed = [e["file"] for e in kitchens if e.get("failed")]
+    result = {"out": str(out), "kitchens": len(kitchens) - len(failed), "given_up": failed,
+              "replaced": sum(bool(e["replaced"]) for e in kitchens), "proved": prove,
+              "manifest": str(out / "manifest.json")}
+    emit(result, args)
+    return 0

@@ -1,0 +1,203 @@
+"""Structure checks of generated kitchens: what each family of :mod:`.generate` promises.
+
+The checks read a map dict (as :func:`.generate.generate_map` returns it) or a loaded
+:class:`.maps.Layout`: both give the grids, the spawn points and the station cells. This
+module does not import :mod:`.maps` (which resolves ``gen:`` names through
+:mod:`.generate`), so the two never import each other.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .codes import STATIONS, WALKABLE, Cell
+from .generate_families import REQUIRED
+from .queries import distances, grid_neighbors
+
+if TYPE_CHECKING:
+    from .maps import Layout
+
+_BOARD, _DELIVERY = int(Cell.BOARD), int(Cell.DELIVERY)
+_STEPS = ((0, 1), (1, 0), (0, -1), (-1, 0))
+
+
+@dataclass(frozen=True)
+class Kitchen:
+    """The parts of a map the checks read (a :class:`.maps.Layout` has the same ones)."""
+
+    grid: np.ndarray
+    switch_grid: np.ndarray | None
+    spawn_points: tuple[tuple[int, int], ...]
+    is_dynamic: bool
+
+    @classmethod
+    def of(cls, kitchen: dict[str, Any] | Layout) -> Kitchen:
+        if not isinstance(kitchen, dict):
+            return cls(kitchen.grid, kitchen.switch_grid, tuple(kitchen.spawn_points),
+                       kitchen.is_dynamic)
+        switch = kitchen.get("switch_map")
+        return cls(np.array(kitchen["game_map"], dtype=np.int8),
+                   None if switch is None else np.array(switch, dtype=np.int8),
+                   tuple((int(r), int(c)) for r, c in kitchen["agent_spawn_points"]),
+                   bool(kitchen.get("is_dynamic_map", switch is not None)))
+
+    @property
+    def rows(self) -> int:
+        return int(self.grid.shape[0])
+
+    @property
+    def cols(self) -> int:
+        return int(self.grid.shape[1])
+
+    def grids(self) -> tuple[np.ndarray, ...]:
+        return (self.grid,) if self.switch_grid is None else (self.grid, self.switch_grid)
+
+    def cells_of(self, code: int) -> list[tuple[int, int]]:
+        return [(int(r), int(c)) for r, c in zip(*np.nonzero(self.grid == code))]
+
+
+def _walkable(grid: np.ndarray) -> list[bool]:
+    return [int(v) in WALKABLE for v in grid.ravel()]
+
+
+def floor_components(grid: np.ndarray, skip: frozenset[int] = frozenset()) -> list[set[int]]:
+    """The 4-connected components of the walkable cells of ``grid`` (flat indices), cells
+    in ``skip`` left out, in order of their first cell."""
+    rows, cols = grid.shape
+    walk = [w and i not in skip for i, w in enumerate(_walkable(grid))]
+    nbrs = grid_neighbors(rows, cols)
+    seen: set[int] = set()
+    out = []
+    for cell, ok in enumerate(walk):
+        if ok and cell not in seen:
+            dist = distances(nbrs, walk, [cell])
+            comp = {i for i, d in enumerate(dist) if d >= 0}
+            seen |= comp
+            out.append(comp)
+    return out
+
+
+def lane_cells(grid: np.ndarray) -> list[tuple[int, int]]:
+    """Walkable cells in a one-cell-wide passage: walkable neighbours on exactly two opposite
+    sides and walls on the other two (two cooks cannot pass each other there)."""
+    rows, cols = grid.shape
+    walk = np.isin(grid, [int(c) for c in WALKABLE])
+    out = []
+    for r in range(1, rows - 1):
+        for c in range(1, cols - 1):
+            if not walk[r, c]:
+                continue
+            across, along = walk[r, c - 1] and walk[r, c + 1], walk[r - 1, c] and walk[r + 1, c]
+            horizontal = across and not (walk[r - 1, c] or walk[r + 1, c])
+            vertical = along and not (walk[r, c - 1] or walk[r, c + 1])
+            if horizontal or vertical:
+                out.append((r, c))
+    return out
+
+
+def _touches(layout: Kitchen, code: int, comp: set[int]) -> bool:
+    return any(_touches_cell(layout, cell, comp) for cell in layout.cells_of(code))
+
+
+def station_reach(layout: Kitchen, index: int) -> list[tuple[int, tuple[int, int], set[int]]]:
+    """(station code, cell, the spawn points whose floor touches it) in layout ``index``."""
+    grid = layout.grids()[index]
+    comps = floor_components(grid)
+    cols = layout.cols
+    spawn_of = [next((k for k, comp in enumerate(comps) if r * cols + c in comp), -1)
+                for r, c in layout.spawn_points]
+    out = []
+    for code in sorted(int(s) for s in STATIONS):
+        for cell in layout.cells_of(code):
+            near = {k for k, comp in enumerate(comps) if _touches_cell(layout, cell, comp)}
+            out.append((code, cell, {i for i, k in enumerate(spawn_of) if k in near}))
+    return out
+
+
+def structure_problems(kitchen: dict[str, Any] | Layout, family: str,
+                       preset: str = "hard") -> list[str]:
+    """What keeps a kitchen (a map dict or a loaded Layout) from being a sound kitchen of
+    ``family`` (empty: nothing).
+
+    Every kitchen: the preset's stations are there and, in the main layout, reachable
+    from the first cook (from the first two for ``split``). Then per family: ``open`` one
+    connected floor; ``split`` two floors, the first two cooks on different ones, window
+    and boards on different sides, and counters touching both; ``corridor`` one connected
+    floor with one-lane cells; ``switching`` a station kind reachable in the main layout and
+    cut off from every cook in the switch layout; ``multiroom`` one floor of two rooms or
+    more joined by one-cell doors."""
+    layout = Kitchen.of(kitchen)
+    problems = [f"no {Cell(c).name.lower()}" for c in sorted(REQUIRED[preset])
+                if not layout.cells_of(c)]
+    cols = layout.cols
+    comps = floor_components(layout.grid)
+    spawn_comp = [next(i for i, comp in enumerate(comps) if r * cols + c in comp)
+                  for r, c in layout.spawn_points]
+    first = {0, 1} if family == "split" else {0}
+    problems += [f"{Cell(code).name.lower()} at {cell} unreachable from the first cooks"
+                 for code, cell, by in station_reach(layout, 0) if not by & first]
+    problems += _FAMILY_CHECKS[family](layout, comps, spawn_comp)
+    return problems
+
+
+def _check_open(layout: Kitchen, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
+    return [] if len(comps) == 1 else [f"{len(comps)} separate floors; an open kitchen has one"]
+
+
+def _check_split(layout: Kitchen, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
+    if len(comps) != 2:
+        return [f"{len(comps)} separate floors; a split kitchen has two"]
+    out = []
+    if len(spawn_comp) < 2 or spawn_comp[0] == spawn_comp[1]:
+        out.append("the first two cooks are not on different halves")
+    window = [i for i, comp in enumerate(comps) if _touches(layout, _DELIVERY, comp)]
+    boards = [i for i, comp in enumerate(comps) if _touches(layout, _BOARD, comp)]
+    if set(window) & set(boards):
+        out.append("a half has both the window and a board: no hand-over is needed")
+    passes = [(r, c) for r in range(layout.rows) for c in range(layout.cols)
+              if int(layout.grid[r, c]) == Cell.COUNTER
+              and all(_touches_cell(layout, (r, c), comp) for comp in comps)]
+    if not passes:
+        out.append("no pass-through counter touches both halves")
+    return out
+
+
+def _touches_cell(layout: Kitchen, cell: tuple[int, int], comp: set[int]) -> bool:
+    r, c = cell
+    return any(0 <= r + dr < layout.rows and 0 <= c + dc < layout.cols
+               and (r + dr) * layout.cols + c + dc in comp for dr, dc in _STEPS)
+
+
+def _check_corridor(layout: Kitchen, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
+    out = [] if len(comps) == 1 else [f"{len(comps)} separate floors; a corridor kitchen has one"]
+    if not lane_cells(layout.grid):
+        out.append("no one-lane cell")
+    return out
+
+
+def _check_switching(layout: Kitchen, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
+    if layout.switch_grid is None or not layout.is_dynamic:
+        return ["no switch layout"]
+    entries = station_reach(layout, 1)
+    cut = {code for code, _, _ in entries} - {code for code, _, by in entries if by}
+    return [] if cut else ["the switch layout cuts no station kind off"]
+
+
+def _check_multiroom(layout: Kitchen, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
+    if len(comps) != 1:
+        return [f"{len(comps)} separate floors; the rooms must be joined by doors"]
+    doors = frozenset(r * layout.cols + c for r, c in lane_cells(layout.grid))
+    rooms = [comp for comp in floor_components(layout.grid, doors) if len(comp) >= 2]
+    return [] if len(rooms) >= 2 else ["fewer than two rooms"]
+
+
+_FAMILY_CHECKS = {
+    "open": _check_open,
+    "split": _check_split,
+    "corridor": _check_corridor,
+    "switching": _check_switching,
+    "multiroom": _check_multiroom,
+}

@@ -1,0 +1,117 @@
+"""``ocplus generate``, ``--map gen:...`` and ``--rules KEY=VALUE`` from the command line."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from ocplus_plan.cli import main
+from ocplus_plan.commands._common import RULE_KEYS, parse_rule_overrides
+from ocplus_plan.errors import ConfigError
+from ocplus_plan.sim.generate import map_from_name, map_to_yaml
+
+
+def _generate(tmp_path, name, *extra):
+    out = tmp_path / name
+    code = main(["generate", "--family", "split", "--n", "2", "--seed", "3", "--no-prove",
+                 "--out", str(out), "--quiet", *extra])
+    return code, out
+
+
+def test_generate_writes_one_yaml_per_kitchen_and_a_manifest(tmp_path):
+    code, out = _generate(tmp_path, "a")
+    assert code == 0
+    assert sorted(p.name for p in out.iterdir()) == [
+        "manifest.json", "split-seed000003.yaml", "split-seed000004.yaml"]
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert [k["seed"] for k in manifest["kitchens"]] == [3, 4]
+    assert manifest["proved"] is False and manifest["not_proved_because"] == "--no-prove"
+
+
+def test_generate_twice_gives_the_same_bytes(tmp_path):
+    _, a = _generate(tmp_path, "a")
+    _, b = _generate(tmp_path, "b")
+    for name in ("split-seed000003.yaml", "split-seed000004.yaml"):
+        assert (a / name).read_bytes() == (b / name).read_bytes()
+
+
+def test_generate_with_a_split_writes_what_the_gen_name_loads(tmp_path):
+    out = tmp_path / "s"
+    assert main(["generate", "--family", "multiroom", "--split", "test", "--seed", "7",
+                 "--n", "1", "--no-prove", "--quiet", "--out", str(out)]) == 0
+    written = (out / "multiroom-test-0007.yaml").read_text()
+    assert written == map_to_yaml(map_from_name("gen:multiroom:test:7"))
+
+
+def test_a_generated_file_passes_check_map(tmp_path, capsys):
+    _, out = _generate(tmp_path, "a")
+    capsys.readouterr()
+    assert main(["check-map", str(out / "split-seed000003.yaml")]) == 0
+    assert "every station reachable" in capsys.readouterr().out
+
+
+def test_generate_refuses_one_cook_for_a_split_kitchen(tmp_path, capsys):
+    code, _ = _generate(tmp_path, "a", "--cooks", "1")
+    assert code == 2 and "2 to 4 cooks" in capsys.readouterr().err
+
+
+def test_generate_refuses_zero_kitchens(tmp_path, capsys):
+    assert main(["generate", "--family", "open", "--n", "0", "--no-prove",
+                 "--out", str(tmp_path / "z")]) == 2
+    assert "--n must be at least 1" in capsys.readouterr().err
+
+
+def test_map_gen_name_is_accepted_by_rollout(capsys):
+    assert main(["rollout", "--map", "gen:corridor:test:1", "--preset", "medium",
+                 "--n-agents", "2", "--horizon", "20", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["map"] == "gen:corridor:test:1" and out["n_agents"] == 2
+
+
+def test_rules_override_gives_a_static_map_the_hard_preset(capsys):
+    assert main(["rollout", "--map", "gen:open:test:0", "--preset", "hard", "--n-agents", "2",
+                 "--horizon", "5", "--json"]) == 2
+    assert "dynamic=False" in capsys.readouterr().err
+    assert main(["rollout", "--map", "gen:open:test:0", "--preset", "hard", "--n-agents", "2",
+                 "--horizon", "5", "--rules", "dynamic=false", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["preset"] == "hard"
+
+
+def test_rules_values_take_their_field_type():
+    assert parse_rule_overrides(["dynamic=false", "cook_time=8", "order_time_limit=none",
+                                 "reward_mode=shared"]) == {
+        "dynamic": False, "cook_time": 8, "order_time_limit": None, "reward_mode": "shared"}
+
+
+def test_rules_reach_the_simulator(capsys):
+    assert main(["rollout", "--preset", "easy", "--rules", "horizon=7", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["steps"] == 7
+
+
+@pytest.mark.parametrize("item, match", [
+    ("cooking=3", "KEY one of"),
+    ("dynamic", "KEY=VALUE"),
+    ("dynamic=maybe", "true or false"),
+    ("cook_time=fast", "whole number"),
+    ("n_agents=2", "KEY one of"),
+])
+def test_a_bad_rule_names_the_allowed_keys_or_type(item, match):
+    with pytest.raises(ConfigError, match=match):
+        parse_rule_overrides([item])
+
+
+def test_an_unknown_rule_key_exits_2_and_lists_the_keys(capsys):
+    assert main(["rollout", "--preset", "easy", "--rules", "speed=3"]) == 2
+    err = capsys.readouterr().err
+    assert all(key in err for key in RULE_KEYS)
+
+
+def test_a_rule_given_twice_is_refused():
+    with pytest.raises(ConfigError, match="twice"):
+        parse_rule_overrides(["cook_time=8", "cook_time=9"])
+
+
+def test_rules_and_horizon_that_disagree_are_refused(capsys):
+    assert main(["rollout", "--preset", "easy", "--horizon", "9", "--rules", "horizon=7"]) == 2
+    assert "give it once" in capsys.readouterr().err
