@@ -75,8 +75,10 @@ class PlannerAgent(Controller):
         self.executive.observe(state, events)
 
     def info(self) -> dict[str, object]:
+        cpu = getattr(self.executive.planner, "cpu_seconds", None)
         return {"planner": self.planner_name, "encoding": self.encoding,
-                "granularity": self.granularity, **self.executive.info()}
+                "granularity": self.granularity, **self.executive.info(),
+                **({"planning_cpu_s": round(cpu[0], 4)} if cpu else {})}
 
 
 def parse_planner_options(text: str, spec: str) -> dict[str, Any]:

@@ -183,10 +183,22 @@ class _Deprecated(argparse.Action):
 
 
 def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False,
-                     many: bool = False, switches: bool = True) -> None:
+                     many: bool = False, switches: bool = True,
+                     limits: float | None | bool = False) -> None:
     """``--encoding --granularity --orders --anticipate-switches`` of the planning compiler
     (``many``: ``--encoding`` takes a comma-separated list; ``switches``: offer
-    ``--anticipate-switches``)."""
+    ``--anticipate-switches``). ``limits`` (a number, or None for the planner's own
+    limit; False: none) adds the planner limits ``--timeout`` (CPU seconds of the
+    planner's process group, as the IPC counts them) and ``--wall-limit`` (a wall-clock
+    safety); check them with :func:`check_limits`."""
+    if limits is not False:
+        p.add_argument("--timeout", type=float, default=limits,
+                       help="planner CPU seconds (user + system of the planner's processes), "
+                            "per planner call" + (" (None: the planner's configured limit)"
+                                                  if limits is None else ""))
+        p.add_argument("--wall-limit", type=float, default=None,
+                       help="wall-clock safety per planner call, in seconds (None: 5 x "
+                            "--timeout + 30)")
     if many:
         p.add_argument("--encoding", "--encodings", dest="encoding", default=",".join(ENCODINGS),
                        help=f"comma-separated encodings ({' | '.join(ENCODINGS)})")
@@ -201,6 +213,17 @@ def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False,
     if switches:
         p.add_argument("--anticipate-switches", action="store_true",
                        help="temporal only: the coming layout switches as timed initial literals")
+
+
+def check_limits(args: argparse.Namespace) -> None:
+    """Refuse a ``--timeout`` or ``--wall-limit`` that is not a positive finite number."""
+    import math
+
+    for option in ("timeout", "wall_limit"):
+        value = getattr(args, option, None)
+        if value is not None and not (value > 0 and math.isfinite(value)):
+            raise ConfigError(f"--{option.replace('_', '-')} must be a positive number of "
+                              f"seconds, got {value}")
 
 
 def emit(result: Any, args: argparse.Namespace, width: int = 16) -> None:

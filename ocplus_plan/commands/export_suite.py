@@ -3,7 +3,9 @@
 For every preset x map x number of cooks, ``--states`` reachable states are sampled
 (seeded random rollouts of up to ``--max-steps`` steps, the fidelity harness's sampler)
 and each is written, per encoding, as a PDDL problem with its English version, its
-reference plan (the best validated plan of the reference planners within ``--timeout``),
+reference plan (from a portfolio: lama-first, then BJOLP and weighted A*, each with
+``--timeout`` CPU seconds, then any other registered planner when none solves it; the
+best validated plan that the simulator replays faithfully),
 the lower bound on plan quality and a manifest saying how the state was reached.
 Layout and formats: OUT/README.txt and ``ocplus_plan/eval/suite.py``. Same arguments,
 same bytes (planning times are printed, never written into the set). Check a plan
@@ -19,6 +21,7 @@ from ._common import (
     add_compile_args,
     add_kitchen_args,
     add_output_args,
+    check_limits,
     emit,
     parse_int_list,
     say,
@@ -34,12 +37,14 @@ def register(sub: argparse._SubParsersAction) -> None:
                    "and number of cooks")
     p.add_argument("--max-steps", type=int, default=120,
                    help="a sampled state is reached by 0..MAX_STEPS random joint actions")
-    add_compile_args(p, many=True, switches=False)
+    add_compile_args(p, many=True, switches=False, limits=60.0)
     p.add_argument("--planners", default=None,
                    help="comma-separated reference planners, each used for the encoding it "
-                        "is registered for (default: fast-downward-bjolp,fast-downward-wastar "
-                        "for classical, kairos for temporal)")
-    p.add_argument("--timeout", type=float, default=60.0, help="seconds per planner and problem")
+                        "is registered for (default: fast-downward,fast-downward-bjolp,"
+                        "fast-downward-wastar for classical, kairos for temporal)")
+    p.add_argument("--no-fallback", action="store_true",
+                   help="when the reference planners solve nothing, leave the instance "
+                        "without a reference instead of trying every registered planner")
     add_output_args(p, out="required", writes="the instance set (a new or empty folder)")
     p.set_defaults(func=run)
 
@@ -57,19 +62,18 @@ def _planners(text: str | None) -> dict[str, tuple[str, ...]] | None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..errors import ConfigError
     from ..eval.runner import parse_list
     from ..eval.suite import SuiteSpec, export_suite
 
-    if args.timeout <= 0:
-        raise ConfigError(f"--timeout must be positive, got {args.timeout}")
+    check_limits(args)
     spec = SuiteSpec(
         presets=tuple(parse_list(args.presets, "presets")),
         maps=tuple(parse_list(args.map, "maps")) if args.map else (None,),
         cooks=tuple(parse_int_list(args.n_agents, "--cooks")) if args.n_agents else (None,),
         states=args.states, encodings=tuple(parse_list(args.encoding, "encoding")),
         seed=args.seed, granularity=args.granularity, orders=args.orders,
-        max_steps=args.max_steps, timeout=args.timeout,
+        max_steps=args.max_steps, timeout=args.timeout, wall_limit=args.wall_limit,
+        fallback=not args.no_fallback,
         **({"planners": p} if (p := _planners(args.planners)) is not None else {}))
     rows = export_suite(spec, args.out, progress=lambda m: say(args, m))
     if args.json:
@@ -78,8 +82,9 @@ def run(args: argparse.Namespace) -> int:
         for r in rows:
             value = r["cost"] if r["encoding"] == "classical" else r["makespan"]
             bound = r["bound"]["cost" if r["encoding"] == "classical" else "makespan"]
-            times = ", ".join(f"{t['planner']} {t['status']} {t['planning_time']:.1f}s"
-                              for t in r["tried"])
+            times = ", ".join(f"{t['planner']} {t['status']} {t['cpu_time'] or 0:.1f} CPU s "
+                              f"({t['planning_time']:.1f} s)" for t in r["tried"])
             print(f"{r['instance']} {r['encoding']:9s} reference {r['planner']} value {value} "
-                  f"(bound {bound}, faithful {r['faithful']}); tried: {times}")
+                  f"(bound {bound}, faithful {r['faithful']}, optimal {r['optimal']}); "
+                  f"tried: {times}")
     return 0

@@ -175,6 +175,7 @@ def controller_metrics(info: dict[str, Any]) -> dict[str, Any]:
 
     Read keys (all optional): ``replans`` (int), ``replans_by_reason`` (reason -> count),
     ``planning_time_s`` or ``planning_time`` (total seconds spent planning),
+    ``planning_cpu_s`` (CPU seconds of the planner processes; only when given),
     ``planner_calls`` (int), ``plan_failures`` (int) or ``statuses`` (planner status ->
     count; every status but ``solved*`` counts as a failure), and from a language-model
     controller (``agents.llm``) ``model_calls`` and ``reply_errors`` (replies that could
@@ -198,6 +199,8 @@ def controller_metrics(info: dict[str, Any]) -> dict[str, Any]:
         "plan_failures": int(failures or 0),
         "model_calls": int(info.get("model_calls", 0) or 0),
         "reply_errors": int(info.get("reply_errors", 0) or 0),
+        **({"planning_cpu_s": float(info["planning_cpu_s"] or 0.0)}
+           if "planning_cpu_s" in info else {}),
     }
 
 

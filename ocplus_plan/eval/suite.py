@@ -22,16 +22,22 @@ reference planners, and writes::
                                    of more than three ingredients)
 
 Same arguments, same bytes: nothing time-dependent (no timings, dates or absolute
-paths) is written, and JSON keys are sorted. The one caveat: a reference planner that
-solves an instance near its time limit may time out on another run (then the reference
-changes); the command's own output (not the set) reports planning times.
+paths) is written, and JSON keys are sorted. Planner limits are CPU seconds, so a
+loaded machine does not change which planners solve an instance; the one caveat is a
+planner that solves an instance within a few percent of its CPU limit (then the
+reference may change). The command's own output (not the set) reports CPU and wall times.
 
-The reference plan of an encoding is the best plan (lowest cost, classical; shortest
-makespan, temporal) among the planners of :data:`REFERENCE_PLANNERS` that solved it
-within the time limit and whose plan UP's validator and VAL accepted; ties go to the
-planner listed first. It is also replayed in the simulator
-(:mod:`~ocplus_plan.planning.fidelity`): ``faithful`` says whether the simulator did
-what the plan says.
+The reference plan of an encoding comes from a portfolio (:data:`REFERENCE_PLANNERS`,
+:func:`reference_plan`): Fast Downward's lama-first (satisficing, fast), then BJOLP
+(optimal) and weighted A* (cost-aware), each with ``--timeout`` CPU seconds; when none
+of them solves an instance, every other registered planner of the encoding installed
+here is tried, so an instance has no reference only when no registered engine solves
+it. Every validated plan (UP's validator and VAL) is replayed in the simulator
+(:mod:`~ocplus_plan.planning.fidelity`); the reference is the best faithful plan (the
+best unfaithful one when none is faithful). Its manifest entry names the ``planner`` and
+``engine``, says whether it is ``faithful`` (with the first ``divergence`` when not) and
+``optimal`` (an optimal planner found a plan of the same value), and lists each planner
+of the ``portfolio`` with its status, value, faithfulness and optimality.
 """
 
 from __future__ import annotations
@@ -46,9 +52,11 @@ from ..errors import ConfigError
 from ..sim.rules import make_rules
 from ..sim.state import State, state_from_dict
 
-#: reference planners per encoding, best first on ties (see the module docstring)
+#: the reference portfolio per encoding, in the order run (and best first on ties): a
+#: satisficing search first (lama-first), then an optimal one (BJOLP) and a cost-aware
+#: one (weighted A*); see :func:`reference_plan`
 REFERENCE_PLANNERS: dict[str, tuple[str, ...]] = {
-    "classical": ("fast-downward-bjolp", "fast-downward-wastar"),
+    "classical": ("fast-downward", "fast-downward-bjolp", "fast-downward-wastar"),
     "temporal": ("kairos",),
 }
 FORMAT = "ocplus-suite/1"
@@ -67,15 +75,21 @@ class SuiteSpec:
     granularity: str = "stations"
     orders: int | None = None
     max_steps: int = 120
+    #: CPU seconds per planner and problem (see :func:`~ocplus_plan.planning.engines.solve`)
     timeout: float = 60.0
     planners: dict[str, tuple[str, ...]] = field(default_factory=lambda: dict(REFERENCE_PLANNERS))
+    #: wall-clock safety per planner call (None: the default multiple of ``timeout``)
+    wall_limit: float | None = None
+    #: try the other registered planners of an encoding when the portfolio solves nothing
+    fallback: bool = True
 
     def arguments(self) -> dict[str, Any]:
         return {"presets": list(self.presets), "maps": list(self.maps), "cooks": list(self.cooks),
                 "states": self.states, "encodings": list(self.encodings), "seed": self.seed,
                 "granularity": self.granularity, "orders": self.orders,
                 "max_steps": self.max_steps, "timeout": self.timeout,
-                "planners": {k: list(v) for k, v in sorted(self.planners.items())}}
+                "planners": {k: list(v) for k, v in sorted(self.planners.items())},
+                "fallback": self.fallback}
 
 
 README = """\
@@ -118,36 +132,88 @@ def _bound(state: State, orders: int | None) -> dict[str, float | None]:
             for k, v in (("cost", b.cost), ("makespan", b.makespan))}
 
 
-def reference_plan(compiled: Any, state: State, planners: tuple[str, ...],
-                   timeout: float) -> tuple[Any, dict[str, Any], list[dict[str, Any]]]:
-    """(best plan or None, what the manifest says about it, one row per planner tried with
-    its planning time for the command's output)."""
-    from ..planning.engines import solve
+def reference_plan(compiled: Any, state: State, planners: tuple[str, ...], timeout: float,
+                   wall_limit: float | None = None, fallback: bool = True,
+                   ) -> tuple[Any, dict[str, Any], list[dict[str, Any]]]:
+    """The reference plan of a portfolio: (best plan or None, what the manifest says about
+    it, one row per planner tried with its CPU and wall seconds for the command's output).
 
-    best: tuple[float, int, Any] | None = None
-    tried: dict[str, str] = {}
-    rows = []
-    for rank, name in enumerate(planners):
-        result = solve(compiled.problem, name, timeout=timeout)
-        ok = result.solved and result.validated is True
-        tried[name] = result.status if ok or not result.solved else "not validated"
-        rows.append({"planner": name, "status": result.status,
-                     "planning_time": result.planning_time, "reason": result.reason[:200]})
-        if not ok:
+    Every planner of ``planners`` runs in order with ``timeout`` CPU seconds; each plan
+    that UP's validator and VAL accept is replayed in the simulator. The reference is the
+    best faithful plan (lowest cost, classical; shortest makespan, temporal; ties to the
+    planner listed first), else the best unfaithful one, flagged ``faithful: false``.
+    With ``fallback``, when none of them solves the problem, every other registered
+    planner of the encoding that is installed here is tried (the default portfolio first,
+    then the others in name order) until one does:
+    an instance gets no reference only when no registered engine solves it. ``optimal``
+    says whether the reference's value is proven optimal (an optimal planner found a plan
+    of the same value)."""
+    from ..planning.engines import available_planners
+
+    found: list[tuple[bool, float, int, Any, Any]] = []
+    portfolio: dict[str, dict[str, Any]] = {}
+    rows: list[dict[str, Any]] = []
+    optimum: float | None = None
+    names = list(planners)
+    # the fallback: the default portfolio first, then every other installed planner by name
+    default = list(REFERENCE_PLANNERS.get(compiled.encoding, ()))
+    installed = available_planners(compiled.encoding)
+    extra = [n for n in default + installed if n not in names and n in installed] \
+        if fallback else []
+    extra = list(dict.fromkeys(extra))
+    for rank, name in enumerate(names + extra):
+        if rank >= len(names) and found:
+            break
+        result, replay, row = _try_planner(compiled, state, name, timeout, wall_limit)
+        rows.append(row)
+        portfolio[row["planner"]] = {k: row[k] for k in ("status", "value", "faithful",
+                                                         "optimal")}
+        if replay is None:
             continue
-        value = result.cost if compiled.encoding == "classical" else result.makespan
-        if value is not None and (best is None or (value, rank) < best[:2]):
-            best = (value, rank, result)
-    info: dict[str, Any] = {"tried": tried}
-    if best is None:
+        value = row["value"]
+        if row["optimal"]:
+            optimum = value if optimum is None else min(optimum, value)
+        found.append((not replay.ok, value, rank, result, replay))
+    info: dict[str, Any] = {"tried": {n: e["status"] for n, e in portfolio.items()},
+                            "portfolio": portfolio}
+    if not found:
         return None, info, rows
-    result = best[2]
-    replay = replay_plan(compiled, result.plan, state)
+    _, value, _, result, replay = min(found, key=lambda f: f[:3])
     info.update(planner=result.planner, engine=result.engine, cost=result.cost,
                 makespan=result.makespan, plan_length=result.plan_length,
                 validated=result.validation_detail, faithful=replay.ok,
-                divergence=replay.mismatch or None)
+                divergence=replay.mismatch or None,
+                optimal=optimum is not None and value <= optimum + 1e-9)
     return result.plan, info, rows
+
+
+#: planners whose plans are cost-optimal (UP reports bjolp's custom configuration as
+#: satisficing, so the registry name says it)
+OPTIMAL_PLANNERS = frozenset({"fast-downward-bjolp", "fast-downward-opt", "symk"})
+
+
+def _try_planner(compiled: Any, state: State, name: str, timeout: float,
+                 wall_limit: float | None) -> tuple[Any, Any, dict[str, Any]]:
+    """Solve with one planner; replay a validated plan: (result, replay or None, row)."""
+    from ..planning.engines import solve
+
+    result = solve(compiled.problem, name, timeout=timeout, wall_limit=wall_limit)
+    ok = result.solved and result.validated is True
+    row: dict[str, Any] = {
+        "planner": result.planner, "status": result.status if ok or not result.solved
+        else "not validated", "planning_time": result.planning_time,
+        "cpu_time": result.cpu_time, "reason": result.reason[:200], "value": None,
+        "faithful": None, "optimal": False}
+    if not ok:
+        return result, None, row
+    value = result.cost if compiled.encoding == "classical" else result.makespan
+    if value is None:
+        row["status"] = "no value"
+        return result, None, row
+    replay = replay_plan(compiled, result.plan, state)
+    row.update(value=float(value), faithful=bool(replay.ok),
+               optimal=bool(result.optimal or name in OPTIMAL_PLANNERS))
+    return result, replay, row
 
 
 def replay_plan(compiled: Any, plan: Any, state: State) -> Any:
@@ -247,7 +313,8 @@ def export_suite(spec: SuiteSpec, out: str | Path,
                 _write(folder / f"{enc}.pddl", problem)
                 _write(folder / f"{enc}.txt", describe_problem(compiled))
                 plan, info, tried = reference_plan(compiled, state, spec.planners.get(enc, ()),
-                                                   spec.timeout)
+                                                   spec.timeout, spec.wall_limit,
+                                                   spec.fallback)
                 entry["reference"] = info
                 if plan is not None:
                     entry["plan"] = f"{enc}.plan"
@@ -257,7 +324,7 @@ def export_suite(spec: SuiteSpec, out: str | Path,
                 rows.append({"instance": name, "encoding": enc, "preset": preset,
                              "n_agents": cooks, "step": state.t, "bound": instance["bound"],
                              **{k: info.get(k) for k in ("planner", "cost", "makespan",
-                                                         "faithful")},
+                                                         "faithful", "optimal")},
                              "tried": tried})
             _write(folder / "manifest.json", _dump(instance))
             if progress is not None:
@@ -324,5 +391,5 @@ def load_instance(folder: str | Path) -> Instance:
     return Instance(path, manifest, state)
 
 
-__all__ = ["FORMAT", "REFERENCE_PLANNERS", "Instance", "SuiteSpec", "export_suite",
+__all__ = ["FORMAT", "OPTIMAL_PLANNERS", "REFERENCE_PLANNERS", "Instance", "SuiteSpec", "export_suite",
            "load_instance", "reference_plan", "replay_plan", "rules_of"]

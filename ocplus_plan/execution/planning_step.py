@@ -100,6 +100,8 @@ class _Pipeline:
         self.orders_per_plan, self.schedule_cooks = orders_per_plan, schedule_cooks
         self.plan_cooks, self.chain_orders = plan_cooks, chain_orders
         self.over_switches = bool(over_switches)
+        #: the CPU seconds of every planner call (``PlannerAgent.info``: ``planning_cpu_s``)
+        self.cpu_seconds = [0.0]
 
     def attempt(self, problem_state: State, agents: tuple[int, ...], max_orders: int | None,
                 gran: str) -> tuple[Any, Any]:
@@ -119,8 +121,10 @@ class _Pipeline:
                                      anticipate_switches=self.anticipate, agents=modelled)
         except CompileError as exc:
             return None, f"compile: {exc}"
-        return compiled, solve(compiled.problem, self.planner, timeout=self.timeout,
-                               validate=self.validate)
+        result = solve(compiled.problem, self.planner, timeout=self.timeout,
+                       validate=self.validate)
+        self.cpu_seconds[0] += getattr(result, "cpu_time", None) or 0.0
+        return compiled, result
 
     def chained(self, compiled: Any, plan: Any, state: State,
                 agents: tuple[int, ...]) -> list[tuple[list[Entry], tuple[int, ...]]]:

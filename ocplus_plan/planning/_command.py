@@ -11,16 +11,16 @@ these placeholders, replaced as whole values, never interpreted:
     writes improving plans as ``plan.1``, ``plan.2``... (Fast Downward's anytime
     style) is read from the highest-numbered one;
 ``{timeout}``
-    the time limit in whole seconds, for planners that take one;
+    the CPU limit in whole seconds, for planners that take one;
 ``{config_dir}``
     the folder of the YAML file (for scripts and data kept next to it).
 
 A relative program path (``./my_planner.sh``, ``bin/plan``) is taken relative to the
 YAML file's folder; a bare name (``optic``) is looked up on ``PATH``. The planner runs
 in a private working directory, as a grandchild of :func:`._proc.run_isolated`, in the
-same process group as every UP engine, so the same hard limit and group kill apply to
-it and to whatever it starts. Its plan file is read with :mod:`.plan_io` (parsed,
-never evaluated; size-limited).
+same process group as every UP engine, so the same CPU limit (the group's CPU seconds),
+wall-clock safety and group kill apply to it and to whatever it starts. Its plan file
+is read with :mod:`.plan_io` (parsed, never evaluated; size-limited).
 """
 
 from __future__ import annotations
@@ -40,6 +40,8 @@ from . import _proc
 PLACEHOLDERS = ("domain", "problem", "plan", "timeout", "config_dir")
 REQUIRED = ("domain", "problem", "plan")
 _FIELD = re.compile(r"\{([^{}]*)\}")
+#: wall seconds the isolated child gets past the command's own wall limit to report
+_GRACE = 2.0
 
 
 def parse_command(value: Any, source: str) -> tuple[str, ...]:
@@ -97,11 +99,12 @@ def render(command: tuple[str, ...], values: dict[str, str]) -> list[str]:
     return [_FIELD.sub(lambda m: values[m.group(1)], a) for a in command]
 
 
-def _run_in_child(argv: list[str], workdir: str, limit: float,
+def _run_in_child(argv: list[str], workdir: str, wall: float,
                   env: dict[str, str]) -> dict[str, Any]:
-    """In the isolated child: run the planner (same process group), report how it ended."""
+    """In the isolated child: run the planner (same process group), report how it ended.
+    ``wall`` is the wall-clock safety; the CPU limit is watched by the parent."""
     try:
-        run = subprocess.run(argv, cwd=workdir, stdin=subprocess.DEVNULL, timeout=limit,
+        run = subprocess.run(argv, cwd=workdir, stdin=subprocess.DEVNULL, timeout=wall,
                              check=False, shell=False, env={**os.environ, **env})
         code: int | None = run.returncode
     except subprocess.TimeoutExpired:
@@ -120,9 +123,11 @@ def plan_file(path: Path) -> Path | None:
 
 
 def run_command(problem: Any, command: tuple[str, ...], limit: float, workdir: str,
-                grace: float, env: dict[str, str] | None = None) -> _proc.Outcome:
+                wall: float, env: dict[str, str] | None = None) -> _proc.Outcome:
     """Write the problem's PDDL into ``workdir``, run the planner command on it in an
     isolated process group (with ``env`` added to its environment) and read its plan.
+    The group is stopped when it has used ``limit`` CPU seconds, or after ``wall`` seconds
+    of wall time (a safety).
 
     Returns an :class:`._proc.Outcome` whose value (when ``ok``) is the same report the
     UP engines give (``up_status``, ``steps``, ``temporal``, ``log``, ``cpu_time``, and
@@ -138,8 +143,8 @@ def run_command(problem: Any, command: tuple[str, ...], limit: float, workdir: s
     values = {"domain": str(work / "domain.pddl"), "problem": str(work / "problem.pddl"),
               "plan": str(work / "plan"), "timeout": str(max(1, int(limit)))}
     argv = render(command, values)
-    outcome = _proc.run_isolated(_run_in_child, (argv, workdir, limit, dict(env or {})),
-                                 hard_limit=limit + grace)
+    outcome = _proc.run_isolated(_run_in_child, (argv, workdir, wall, dict(env or {})),
+                                 hard_limit=wall + _GRACE, cpu_limit=limit)
     if outcome.kind != _proc.OK:
         return outcome
     code = outcome.value["returncode"]
@@ -149,7 +154,9 @@ def run_command(problem: Any, command: tuple[str, ...], limit: float, workdir: s
     outcome.value = report
     if code is None:
         report["up_status"] = "TIMEOUT"
-        report["reason"] = f"the planner command did not finish in {limit:g} s"
+        report["limit_hit"] = "wall"
+        report["reason"] = (f"the planner command did not finish within the wall-clock "
+                            f"safety limit of {wall:g} s")
         return outcome
     found = plan_file(work / "plan")
     if found is None:

@@ -12,6 +12,14 @@ unified-planning problem without pickling it; only the function's (small,
 picklable) return value travels back through a pipe. A watchdog thread in the
 child kills the group if the parent dies, so nothing is left behind when the
 caller itself is killed.
+
+Two limits stop a child. The *CPU limit* (``cpu_limit``) counts what the IPC counts:
+the user + system CPU seconds of the whole process group (each live process's own
+time plus the time of its children that it has reaped), sampled by the parent while it
+waits; the group is killed when the sum reaches the limit. CPU seconds do not stretch
+when the machine is loaded, so a planner gets the same search whatever runs beside it.
+The *wall-clock limit* (``hard_limit``) is a safety for a child that waits without
+computing (a sleeping script, a server that stopped answering).
 """
 
 from __future__ import annotations
@@ -41,7 +49,7 @@ class Outcome:
     """What happened to an isolated call.
 
     ``kind`` is ``ok`` (``value`` holds the return value), ``raised`` (``value``
-    holds ``"ExcType: message"``), ``timeout`` (killed at the hard limit) or
+    holds ``"ExcType: message"``), ``timeout`` (killed at the CPU or the wall-clock limit: ``limit`` says which) or
     ``crashed`` (died without reporting; ``value`` says how). ``log_tail`` is the
     end of what the child wrote to stdout/stderr, ``pgid`` its process group.
     """
@@ -51,6 +59,10 @@ class Outcome:
     wall_time: float
     pgid: int
     log_tail: str = ""
+    #: CPU seconds of the group at the parent's last sample (None: no CPU limit was set)
+    cpu_time: float | None = None
+    #: which limit stopped a ``timeout``: "cpu" or "wall" (None otherwise)
+    limit: str | None = None
 
 
 def _watch_parent(parent_pid: int, private: str) -> None:
@@ -144,6 +156,20 @@ def group_cpu_seconds(pgid: int, exclude: tuple[int, ...] = ()) -> float:
     return total
 
 
+def group_tree_cpu_seconds(pgid: int) -> float:
+    """CPU seconds (user + system) of group ``pgid`` as a whole: every member's own time
+    plus the time of the children it has reaped (which were members too, so nothing is
+    counted twice). This is the number :func:`run_isolated`'s CPU limit compares."""
+    total = 0.0
+    for proc in _group_processes(pgid):
+        try:
+            times = proc.cpu_times()
+        except psutil.Error:  # reaped in between: its time went to its parent's children
+            continue
+        total += times.user + times.system + times.children_user + times.children_system
+    return total
+
+
 def kill_group(pgid: int, wait: float = 2.0) -> bool:
     """SIGKILL every process in group ``pgid``; wait until gone. True if none is left."""
     deadline = time.monotonic() + wait
@@ -162,22 +188,24 @@ def kill_group(pgid: int, wait: float = 2.0) -> bool:
 
 
 def run_isolated(fn: Callable[..., Any], args: tuple[Any, ...],
-                 hard_limit: float | None) -> Outcome:
+                 hard_limit: float | None, cpu_limit: float | None = None) -> Outcome:
     """Call ``fn(*args)`` in a forked child that leads its own process group.
 
-    The child is killed (with its whole group) after ``hard_limit`` seconds of
-    wall time (None: no limit). Whatever happens, the group is killed before this returns, so no
-    planner process outlives the call.
+    The child is killed (with its whole group) once the group has used ``cpu_limit`` CPU
+    seconds (None: no CPU limit), or after ``hard_limit`` seconds of wall time (None: no
+    limit), whichever comes first. Whatever happens, the group is killed before this
+    returns, so no planner process outlives the call.
     """
     if sys.platform == "win32":  # pragma: no cover - the project targets Linux
         raise OSError("isolated planner runs need fork and process groups (Linux/macOS)")
     # one private folder for the child's log and temporary files, removed whatever happens
     with tempfile.TemporaryDirectory(prefix="ocplus-planner-") as private:
-        return _run_child(fn, args, hard_limit, os.path.join(private, "child.log"))
+        return _run_child(fn, args, hard_limit, cpu_limit,
+                          os.path.join(private, "child.log"))
 
 
 def _run_child(fn: Callable[..., Any], args: tuple[Any, ...], hard_limit: float | None,
-               log_path: str) -> Outcome:
+               cpu_limit: float | None, log_path: str) -> Outcome:
     ctx = multiprocessing.get_context("fork")
     recv, send = ctx.Pipe(duplex=False)
     proc = ctx.Process(target=_child_main, args=(send, log_path, os.getpid(), fn, args),
@@ -190,23 +218,47 @@ def _run_child(fn: Callable[..., Any], args: tuple[Any, ...], hard_limit: float 
         os.setpgid(pgid, pgid)  # also done by the child: whoever runs first wins the race
     except OSError:
         pass
-    kind: str
-    value: Any
     try:
-        if recv.poll(hard_limit):
-            try:
-                kind, value = recv.recv()
-            except EOFError:
-                proc.join(1.0)
-                kind, value = CRASHED, _death_reason(proc.exitcode)
-        else:
-            kind, value = TIMEOUT, f"killed after the hard limit of {hard_limit:g} s"
+        kind, value, used, limit = _wait(recv, proc, pgid, start, hard_limit, cpu_limit)
         wall = time.perf_counter() - start
     finally:
         kill_group(pgid)
         proc.join(2.0)
         recv.close()
-    return Outcome(kind, value, wall, pgid, _read_tail(log_path))
+    return Outcome(kind, value, wall, pgid, _read_tail(log_path), used, limit)
+
+
+def _wait(recv: Any, proc: Any, pgid: int, start: float, hard_limit: float | None,
+          cpu_limit: float | None) -> tuple[str, Any, float | None, str | None]:
+    """Wait for the child's report, sampling the group's CPU seconds when a CPU limit is
+    set: (kind, value, CPU seconds at the last sample, the limit that stopped it)."""
+    deadline = float("inf") if hard_limit is None else start + hard_limit
+    used: float | None = None if cpu_limit is None else 0.0
+    cores = max(1, os.cpu_count() or 1)
+    while True:
+        left = deadline - time.perf_counter()
+        wait: float | None = None if left == float("inf") else max(0.0, left)
+        if cpu_limit is not None and used is not None:
+            # the group cannot use more than `cores` CPU seconds per second: sample no later
+            # than the earliest moment it could reach the limit (at least every 0.25 s)
+            step = min(0.25, max(0.02, (cpu_limit - used) / cores))
+            wait = step if wait is None else min(wait, step)
+        if recv.poll(wait):
+            try:
+                kind, value = recv.recv()
+            except EOFError:
+                proc.join(1.0)
+                kind, value = CRASHED, _death_reason(proc.exitcode)
+            return kind, value, used, None
+        if cpu_limit is not None:
+            used = group_tree_cpu_seconds(pgid)
+            if used >= cpu_limit:
+                return (TIMEOUT, f"stopped at the CPU limit of {cpu_limit:g} s "
+                        f"({used:.2f} CPU s used in {time.perf_counter() - start:.2f} s)",
+                        used, "cpu")
+        if time.perf_counter() >= deadline:
+            return (TIMEOUT, f"killed at the wall-clock safety limit of {hard_limit:g} s"
+                    + ("" if used is None else f" ({used:.2f} CPU s used)"), used, "wall")
 
 
 def _death_reason(exitcode: int | None) -> str:

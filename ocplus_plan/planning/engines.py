@@ -4,7 +4,9 @@ Each planner is one YAML file in ``planners/`` (the UP engine name, its
 parameters, a default time limit, the encoding it is meant for, what must be
 installed, notes), or a planner binary's ``command:`` (see :mod:`._command`; a
 user's YAML may also be named by its path). :func:`solve` runs the engine in a forked child that leads
-its own process group (see :mod:`._proc`), kills the group at a hard limit,
+its own process group (see :mod:`._proc`), kills the group when it has used its CPU
+seconds (``timeout``: CPU seconds of the whole group, as the IPC counts them) or at a
+wall-clock safety limit, whichever comes first,
 rebuilds the plan against the caller's problem, and validates it with UP's
 validator and, where installed, VAL. Outcomes are data: a missing planner, a
 timeout, an unsolvable problem, a crash or an invalid plan is a
@@ -52,6 +54,18 @@ STATUSES = ("solved", "unsolvable", "timeout", "memout", "error", "crashed", "un
 
 #: Seconds a planner gets past its own time limit to report before its group is killed.
 GRACE_SECONDS = 2.0
+
+#: The default wall-clock safety limit of a call with CPU limit ``c``:
+#: ``WALL_FACTOR * c + WALL_SLACK`` seconds. A planner beside six busy processes on two
+#: cores gets about a quarter of a core; the safety only stops a planner that waits
+#: without computing, never one that is merely slowed down.
+WALL_FACTOR = 5.0
+WALL_SLACK = 30.0
+
+
+def wall_safety(cpu_limit: float) -> float:
+    """The default wall-clock safety limit for a CPU limit (see :data:`WALL_FACTOR`)."""
+    return WALL_FACTOR * cpu_limit + WALL_SLACK
 
 _UP_STATUS = {
     "SOLVED_SATISFICING": "solved",
@@ -131,9 +145,12 @@ class PlanResult:
     caller's problem, ``steps`` the same plan as JSON-friendly dicts. ``cost`` is
     the value of the problem's action-cost metric (or the plan length),
     ``makespan`` the end of the last action of a temporal plan. ``planning_time``
-    is wall time (process start included); ``cpu_time`` the CPU seconds of the
-    planner process and every process of its group (None when it was killed),
-    a steadier number on a loaded machine. ``validated`` is
+    (also ``wall_time``) is wall time (process start included); ``cpu_time`` the CPU
+    seconds of the planner process and every process of its group (at the last sample
+    when it was stopped), the number the CPU limit ``cpu_limit`` is compared with and a
+    steady one on a loaded machine. ``wall_limit`` is the wall-clock safety limit of the
+    call; ``limit_hit`` says which limit stopped a ``timeout``: "cpu", "wall", or "engine"
+    (the engine stopped itself at the time limit it was given; "" when none was hit). ``validated`` is
     None when validation was skipped, else whether every validator accepted.
     """
 
@@ -144,6 +161,9 @@ class PlanResult:
     steps: list[dict[str, Any]] = field(default_factory=list)
     planning_time: float = 0.0
     cpu_time: float | None = None
+    cpu_limit: float | None = None
+    wall_limit: float | None = None
+    limit_hit: str = ""
     cost: float | None = None
     makespan: float | None = None
     plan_length: int | None = None
@@ -158,10 +178,16 @@ class PlanResult:
     def solved(self) -> bool:
         return self.status == "solved"
 
+    @property
+    def wall_time(self) -> float:
+        """Wall seconds of the call (the same as ``planning_time``)."""
+        return self.planning_time
+
     def to_dict(self) -> dict[str, Any]:
         """Everything but the UP plan object, ready for ``json.dumps``."""
         out = asdict(self)
         out.pop("plan")
+        out["wall_time"] = self.planning_time
         return out
 
 
@@ -309,40 +335,58 @@ def _register(config: PlannerConfig) -> None:
 # ------------------------------------------------------------------ solving
 
 def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = None,
-          validate: bool = True, use_val: bool = True) -> PlanResult:
-    """Solve a UP problem with a named planner in an isolated, time-limited process.
+          validate: bool = True, use_val: bool = True,
+          wall_limit: float | None = None) -> PlanResult:
+    """Solve a UP problem with a named planner in an isolated, CPU-limited process.
 
-    ``timeout`` (seconds, default: the planner's) is passed to the engine, and the
-    process group is killed ``GRACE_SECONDS`` later whatever the engine does.
+    ``timeout`` is the CPU limit (default: the planner's): the CPU seconds (user + system)
+    of the planner's whole process group, as the IPC counts them; the group is killed
+    when it has used them, so a loaded machine slows a planner down without cutting its
+    search short. ``wall_limit`` (default :func:`wall_safety` of the CPU limit) is a
+    wall-clock safety for a planner that waits without computing. The engine itself is
+    given the wall limit as its own time limit (it would otherwise stop early on a loaded
+    machine), except an anytime engine (``anytime: true`` in its params), which uses its
+    time limit as its improvement budget and gets the CPU limit (its budget is then wall
+    time: how far it improves depends on the load, not whether it finds a plan).
     With ``validate``, the plan is checked by UP's validator and by VAL (unless
     ``use_val`` is False or VAL is missing); a rejected plan gets status ``invalid``.
     """
     config = get_planner(planner)
     limit = float(timeout if timeout is not None else config.timeout)
-    if limit <= 0:
-        raise PlannerError(f"timeout must be positive, got {timeout!r}")
-    result = PlanResult(status="unavailable", engine=config.engine, planner=config.name)
+    if not limit > 0 or limit == float("inf"):
+        raise PlannerError(f"timeout must be a positive number of CPU seconds, got {timeout!r}")
+    wall = float(wall_limit) if wall_limit is not None else wall_safety(limit)
+    if not wall > 0 or wall == float("inf"):
+        raise PlannerError(f"wall_limit must be a positive number of seconds, got {wall_limit!r}")
+    result = PlanResult(status="unavailable", engine=config.engine, planner=config.name,
+                        cpu_limit=limit, wall_limit=wall)
     avail = availability(config)
     if not avail.ok:
         result.reason = avail.reason
         return result
 
+    anytime = config.params.get("anytime") is True
+    own_limit = min(limit, wall) if anytime else wall
     # A private working directory: Fast Downward and SymK write output.sas into the current
     # directory, so two solves in one directory (two test runs) corrupt each other's files.
     workdir = tempfile.mkdtemp(prefix="ocplus-solve-")
     try:
         if config.command:
             outcome = _command.run_command(problem, config.command, limit, workdir,
-                                           GRACE_SECONDS, config.env)
+                                           wall, config.env)
         else:
-            outcome = _proc.run_isolated(_solve_in_child, (problem, config, limit, workdir),
-                                         hard_limit=limit + GRACE_SECONDS)
+            outcome = _proc.run_isolated(_solve_in_child, (problem, config, own_limit, workdir),
+                                         hard_limit=wall + GRACE_SECONDS,
+                                         cpu_limit=limit + (GRACE_SECONDS if anytime else 0.0))
     finally:
         shutil.rmtree(workdir, ignore_errors=True)
     result.planning_time = round(outcome.wall_time, 4)
     result.pgid = outcome.pgid
+    if outcome.cpu_time is not None:
+        result.cpu_time = round(outcome.cpu_time, 4)
     if outcome.kind == _proc.TIMEOUT:
         result.status, result.reason = "timeout", outcome.value
+        result.limit_hit = outcome.limit or ""
         return result
     if outcome.kind in (_proc.CRASHED, _proc.RAISED):
         result.status = "crashed" if outcome.kind == _proc.CRASHED else "error"
@@ -351,8 +395,11 @@ def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = No
 
     report: dict[str, Any] = outcome.value
     result.notes = report["notes"]
-    result.cpu_time = report.get("cpu_time")
+    if report.get("cpu_time") is not None:
+        result.cpu_time = report["cpu_time"]
     result.status = report.get("status") or _UP_STATUS.get(report["up_status"], "error")
+    if result.status == "timeout":
+        result.limit_hit = report.get("limit_hit", "engine")
     result.optimal = report["up_status"] == "SOLVED_OPTIMALLY"
     result.reason = report.get("reason", "")
     if result.status == "unsolvable" and "Traceback (most recent call last)" in report["log"]:
@@ -470,6 +517,8 @@ def _solve_in_child(problem: Any, config: PlannerConfig, limit: float,
 __all__ = [
     "ENCODINGS",
     "GRACE_SECONDS",
+    "WALL_FACTOR",
+    "WALL_SLACK",
     "STATUSES",
     "Availability",
     "PlanResult",
@@ -477,6 +526,7 @@ __all__ = [
     "availability",
     "available_planners",
     "get_planner",
+    "wall_safety",
     "load_config",
     "load_registry",
     "planner_names",

@@ -8,7 +8,8 @@ outside planner would; MODE says what it does next:
 * ``copy``: writes the text of file ARG as its plan (a fixed plan, valid or not);
 * ``numbered``: writes garbage to ``PLAN.1`` and the text of ARG to ``PLAN.2``, as an
   anytime planner writes improving plans (only the last is read);
-* ``sleep``: starts a child ``sleep 60`` and sleeps (for the time limit and the group kill);
+* ``sleep``: starts a child ``sleep 60`` and sleeps (for the wall safety and the group kill);
+* ``spin``: computes forever (for the CPU limit);
 * ``argv``: writes its own arguments, one per line, to ARG (how the command reached it),
   then the value of the environment variable ``TOY_PLANNER_ENV``;
 * ``none``: exits with code ARG (default 0) without a plan.
@@ -38,6 +39,9 @@ def main() -> int:
     elif mode == "sleep":
         subprocess.Popen(["sleep", "60"])
         time.sleep(60)
+    elif mode == "spin":
+        while True:
+            pass
     elif mode == "argv":
         lines = [*sys.argv[1:], os.environ.get("TOY_PLANNER_ENV", "")]
         Path(extra).write_text("\n".join(lines), encoding="utf-8")
@@ -61,7 +65,7 @@ def solve(domain: str, problem: str, plan: str) -> int:
         up_kairos.register()
     name = "kairos" if temporal else "fast-downward"
     with OneshotPlanner(name=name, params={"anytime": False} if temporal else None) as engine:
-        result = engine.solve(parsed, timeout=30)
+        result = engine.solve(parsed, timeout=300)
     if result.plan is None:
         return 1
     Path(plan).write_text(PDDLWriter(parsed).get_plan(result.plan), encoding="utf-8")
