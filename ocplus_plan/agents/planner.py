@@ -76,9 +76,11 @@ class PlannerAgent(Controller):
 
     def info(self) -> dict[str, object]:
         cpu = getattr(self.executive.planner, "cpu_seconds", None)
+        proven = getattr(self.executive.planner, "proven", None)
         return {"planner": self.planner_name, "encoding": self.encoding,
                 "granularity": self.granularity, **self.executive.info(),
-                **({"planning_cpu_s": round(cpu[0], 4)} if cpu else {})}
+                **({"planning_cpu_s": round(cpu[0], 4)} if cpu else {}),
+                **(proven.info() if proven is not None else {})}
 
 
 def parse_planner_options(text: str, spec: str) -> dict[str, Any]:

@@ -16,6 +16,7 @@ from typing import Any
 from ..errors import ConfigError
 from ..sim.state import State
 from .plans import PlanFunction, PlanOutcome, PlanStep
+from .proven import PROVEN_STATUSES, ProvenOutcomes, problem_key, reach_key
 from .schedule import KEEP, RELEASE, TAKE, schedule
 
 #: map-back kinds (``planning.names.MappedAction.kind``) -> the executive's step kinds
@@ -88,6 +89,10 @@ def orders_to_plan(state: State, orders_per_plan: int | str | None) -> int | Non
 
 
 
+#: the compiled problem of a question answered from the record of proven answers
+NOT_COMPILED = object()
+
+
 class _Pipeline:
     """The planner calls behind one :func:`compile_and_solve` plan function."""
 
@@ -102,19 +107,55 @@ class _Pipeline:
         self.over_switches = bool(over_switches)
         #: the CPU seconds of every planner call (``PlannerAgent.info``: ``planning_cpu_s``)
         self.cpu_seconds = [0.0]
+        self.proven = ProvenOutcomes()
+
+    def modelled_cooks(self, state: State, agents: tuple[int, ...], gran: str,
+                       every_driven: bool = False) -> list[int] | None:
+        """The cooks the problem models (None: all of them). Cooks the executive does not
+        drive (partners) are left out, unless they hold an item (the compiler needs the
+        item's place); ``one-cook`` models the driven cooks that hold an item, or the first
+        one, unless ``every_driven``."""
+        holders = {a for a in range(state.n_agents) if state.agent_hand[a] >= 0}
+        partners_holding = holders - set(agents)
+        if self.plan_cooks == "one" and gran == "stations" and not every_driven:
+            return sorted(set(sorted(holders & set(agents)) or [agents[0]]) | partners_holding)
+        if set(agents) >= set(range(state.n_agents)):
+            return None
+        return sorted(set(agents) | partners_holding)
 
     def attempt(self, problem_state: State, agents: tuple[int, ...], max_orders: int | None,
                 gran: str) -> tuple[Any, Any]:
-        """Compile and solve one problem: (compiled, PlanResult), or (None, why not)."""
+        """Compile and solve one problem: (compiled, PlanResult), or (None, why not).
+
+        A problem that models fewer cooks than are driven and is proven unsolvable is asked
+        again at once with every driven cook, and that reach is remembered
+        (:mod:`.proven`); a question whose answer was proven is answered from the record
+        (the compiled problem is then :data:`NOT_COMPILED`)."""
+        modelled = self.modelled_cooks(problem_state, agents, gran)
+        full = self.modelled_cooks(problem_state, agents, gran, every_driven=True)
+        fewer = modelled != full
+        if fewer and reach_key(problem_state, modelled or (), max_orders) \
+                in self.proven.too_few_cooks:
+            modelled, fewer = full, False
+        compiled, result = self.solve_once(problem_state, modelled, max_orders, gran)
+        if fewer and getattr(result, "status", None) in PROVEN_STATUSES:
+            self.proven.too_few_cooks.add(reach_key(problem_state, modelled or (), max_orders))
+            self.proven.fallbacks += 1
+            compiled, result = self.solve_once(problem_state, full, max_orders, gran)
+        return compiled, result
+
+    def solve_once(self, problem_state: State, modelled: list[int] | None,
+                   max_orders: int | None, gran: str) -> tuple[Any, Any]:
+        """One question to the planner (or to the record of proven answers)."""
         from ..errors import CompileError
         from ..planning.compile import compile as compile_state  # optional layer: lazy
         from ..planning.engines import solve
 
-        modelled = None
-        if self.plan_cooks == "one" and gran == "stations":
-            holders = [a for a in range(problem_state.n_agents)
-                       if problem_state.agent_hand[a] >= 0]
-            modelled = holders or [agents[0]]
+        key = problem_key(problem_state, modelled, max_orders, gran,
+                          temporal=self.encoding == "temporal")
+        known = self.proven.get(key)
+        if known is not None:
+            return NOT_COMPILED, known
         try:
             compiled = compile_state(problem_state, None, encoding=self.encoding,
                                      granularity=gran, max_orders=max_orders,
@@ -124,6 +165,7 @@ class _Pipeline:
         result = solve(compiled.problem, self.planner, timeout=self.timeout,
                        validate=self.validate)
         self.cpu_seconds[0] += getattr(result, "cpu_time", None) or 0.0
+        self.proven.put(key, result)
         return compiled, result
 
     def chained(self, compiled: Any, plan: Any, state: State,

@@ -1,0 +1,77 @@
+"""The planning pipeline on kitchens unlike the presets: hand-overs, one-lane corridors and
+cooks it does not control (hand-drawn maps; the generated families are measured by
+experiments/bench_unseen.py)."""
+
+from __future__ import annotations
+
+import warnings
+
+import pytest
+
+from ocplus_plan.agents import StayAgent, run_episode
+from ocplus_plan.agents.planner import PlannerAgent
+from ocplus_plan.sim import make_rules, new_state
+
+warnings.simplefilter("ignore", UserWarning)
+
+
+def _fd_ok() -> bool:
+    try:
+        from ocplus_plan.planning.engines import availability
+    except ImportError:  # pragma: no cover
+        return False
+    return availability("fast-downward").ok
+
+
+needs_fd = pytest.mark.skipif(not _fd_ok(), reason="fast-downward unavailable")
+
+#: two halves meeting only at the counters of column 2: tomato and plates on the left,
+#: board and window on the right, so every dish is handed over
+SPLIT = [[1, 3, 1, 1, 1, 1],
+         [1, 0, 1, 0, 0, 7],
+         [5, 0, 1, 0, 0, 1],
+         [1, 0, 1, 0, 0, 6],
+         [1, 1, 1, 1, 1, 1]]
+
+
+def split_kitchen(n_agents: int = 2):
+    spec = {"name": "split", "game_map": SPLIT, "agent_spawn_points": [[1, 1], [2, 3]]}
+    return make_rules("easy", map=spec, n_agents=n_agents, recipes=["tomato"], horizon=80)
+
+
+@needs_fd
+def test_one_cook_unsolvable_falls_back_to_every_cook_and_is_not_asked_again():
+    state = new_state(split_kitchen(), 0)
+    agent = PlannerAgent("fast-downward", plan_cooks="one")
+    stats = run_episode(state, agent)
+    info = agent.info()
+    assert stats["dishes_served"] >= 1, info
+    # proven once per half a modelled cook stands in, then every cook at once
+    assert 1 <= info["all_cooks_fallbacks"] <= 2 < info["planner_calls"], info
+    assert info["statuses"].get("unsolvable", 0) == 0, info  # the fallback answered each call
+
+
+def test_a_proven_answer_is_reused_for_the_same_question():
+    from ocplus_plan.execution.proven import ProvenOutcomes, problem_key
+
+    class Result:
+        status = "unsolvable"
+
+    state = new_state(split_kitchen(), 0)
+    record = ProvenOutcomes()
+    key = problem_key(state, [0], None, "stations")
+    record.put(key, Result())
+    assert record.get(problem_key(state.copy(), [0], None, "stations")).status == "unsolvable"
+    assert record.get(problem_key(state, [0, 1], None, "stations")) is None
+    assert record.hits == 1
+
+
+def test_a_timeout_is_not_a_proof():
+    from ocplus_plan.execution.proven import ProvenOutcomes
+
+    class Result:
+        status = "timeout"
+
+    record = ProvenOutcomes()
+    record.put("k", Result())
+    assert record.get("k") is None
