@@ -12,7 +12,8 @@ previous step (the effect is checked on the state, so it works with or without
 :meth:`observe`), looks for surprises, asks for a new plan when the policy says so,
 and returns one action per driven agent. Surprises are recorded as triggers with
 their reason and time: ``layout_switch``, ``burnt``, ``burn_risk``, ``new_order``,
-``action_failed``, ``blocked``, ``deadlock``, ``stalled``, ``unreachable``, ``plan_finished``,
+``action_failed``, ``blocked``, ``deadlock``, ``livelock`` (blocked again and again with no step
+done: one cook gives way, :mod:`.livelock`), ``stalled``, ``unreachable``, ``plan_finished``,
 ``planner_failed`` (the planner timed out or failed: the last valid plan is kept
 and agents without work step out of the way; nothing raises).
 """
@@ -49,6 +50,7 @@ from .plans import (
     Policy,
     causal_dependencies,
 )
+from .livelock import LivelockWatch
 from .tasks import BumpRecord, Task, already_done, pan_eta, ready, snapshot
 
 _PAN = int(Cell.PAN)
@@ -123,6 +125,11 @@ class Executive:
         self.messages_lost = 0
         self.blocked_moves = 0
         self.plan_id = 0
+        self.now = state.t
+        self.livelock = LivelockWatch(2 * self.block_patience)
+        #: cooks giving way after a livelock: left out of the plans until that step
+        self.yielding: dict[int, int] = {}
+        self.gave_way = 0
 
     def observe(self, state: State, events: Sequence[object]) -> None:
         """Optional: count blocked moves of the driven agents (everything else is read
@@ -135,6 +142,7 @@ class Executive:
     def act(self, state: State) -> list[int]:
         """One action per driven agent, in ``agent_ids`` order."""
         t0 = time.perf_counter()
+        self.now = state.t
         reasons = self._monitor(state)
         reason = self._decide(state, reasons)
         if reason is not None:
@@ -194,6 +202,7 @@ class Executive:
                 self.boosted[a] = state.t  # right of way until it gets there
             if self.stuck[a] and self.stuck[a] % self.block_patience == 0:
                 self._trigger(state, "blocked", out)
+                self.livelock.on_blocked()
             if task is not None and task.waited == self.patience:
                 self._trigger(state, "stalled", out)
             if task is not None and not task.unreachable and \
@@ -206,6 +215,10 @@ class Executive:
                 self._trigger(state, "deadlock", out)  # nobody finished a step for a long time
         if self.last_plan_t is not None and state.orders and not any(self.queues.values()):
             self._trigger(state, "plan_finished", out)
+        if not any(self.queues.values()):
+            self.livelock.progress(state.t)  # nobody has work: nothing to livelock over
+        elif self.livelock.check(state.t):
+            self._trigger(state, "livelock", out)
         return out
 
     def _decide(self, state: State, reasons: list[str]) -> str | None:
@@ -216,7 +229,7 @@ class Executive:
         empty = not any(self.queues.values()) and bool(state.orders)
         kind = self.policy.kind
         if kind == "on_event" and self.unhandled:
-            return self.unhandled[0]
+            return "livelock" if "livelock" in self.unhandled else self.unhandled[0]
         if kind == "periodic" and state.t - self.last_plan_t >= self.policy.period:
             return "periodic"
         if empty:
@@ -226,8 +239,11 @@ class Executive:
     def _replan(self, state: State, reason: str) -> None:
         self.planner_calls += 1
         t0 = time.perf_counter()
+        if reason == "livelock":
+            self._give_way(state)
+        planned = tuple(a for a in self.agent_ids if self.yielding.get(a, -1) <= state.t)
         try:
-            outcome = self.planner(state.copy(), self.agent_ids, reason)
+            outcome = self.planner(state.copy(), planned or self.agent_ids, reason)
         except Exception as exc:  # noqa: BLE001 - a planner must never crash the episode
             outcome = PlanOutcome("error", [], time.perf_counter() - t0, repr(exc))
         spent = outcome.planning_time or (time.perf_counter() - t0)
@@ -264,6 +280,19 @@ class Executive:
             period = state.rules.map_switch_step
             first = max(state.t + 1, state.next_switch)
             self.expected_switches = frozenset(range(first, state.rules.horizon + 1, period))
+
+    def _give_way(self, state: State) -> None:
+        """After a livelock one cook gives way: it is left out of the plans for a while (it
+        steps aside with nothing to do) and the others get the work. Cooks with a free hand
+        give way first (nothing they carry is held up); a livelock that comes back makes
+        the next cook give way instead."""
+        busy = [a for a in self.agent_ids if self.queues[a] and self.yielding.get(a, -1) <= state.t]
+        if len(busy) < 2:
+            return
+        order = sorted(busy, key=lambda a: (state.agent_hand[a] >= 0, -a))
+        cook = order[self.gave_way % len(order)]
+        self.gave_way += 1
+        self.yielding[cook] = state.t + 4 * self.block_patience
 
     def _waits_for_switches(self) -> bool:
         """Does the current plan expect the layout to switch (anticipated switches, a plan
@@ -330,6 +359,7 @@ class Executive:
         self.done_steps.add(task.step.index)
         self.steps_done += 1
         self.no_progress = 0
+        self.livelock.progress(self.now)
         self.stuck[agent] = 0
         self.boosted.pop(agent, None)
 
@@ -466,6 +496,7 @@ class Executive:
 
     # ------------------------------------------------------------------ reporting
     def info(self) -> dict[str, object]:
+        self.livelock.close(self.now)
         return {
             "policy": str(self.policy),
             "planner_calls": self.planner_calls,
@@ -481,6 +512,8 @@ class Executive:
             "failed_bumps": self.failed_bumps,
             "blocked_moves": self.blocked_moves,
             "messages_lost": self.messages_lost,
+            "gave_way": self.gave_way,
+            **self.livelock.info(),
         }
 
 

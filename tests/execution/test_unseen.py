@@ -75,3 +75,41 @@ def test_a_timeout_is_not_a_proof():
     record = ProvenOutcomes()
     record.put("k", Result())
     assert record.get("k") is None
+
+
+#: two rooms joined by the one-lane corridor of row 1: tomato and plates on the left, board
+#: and window on the right; three cooks cannot pass each other in the lane
+CORRIDOR = [[1, 3, 1, 1, 1, 1, 1, 6, 1],
+            [5, 0, 0, 0, 0, 0, 0, 0, 7],
+            [1, 0, 1, 1, 1, 1, 1, 0, 1],
+            [1, 1, 1, 1, 1, 1, 1, 1, 1]]
+
+
+def corridor_kitchen():
+    spec = {"name": "corridor", "game_map": CORRIDOR,
+            "agent_spawn_points": [[1, 1], [2, 1], [2, 7]]}
+    return make_rules("easy", map=spec, n_agents=3, recipes=["tomato"], horizon=120)
+
+
+def test_livelock_needs_blocked_triggers_and_no_progress():
+    from ocplus_plan.execution.livelock import LivelockWatch
+
+    watch = LivelockWatch(patience=12, stretch=30)
+    watch.on_blocked()
+    assert not watch.check(20)  # one blocked trigger is a collision, not a livelock
+    watch.on_blocked()
+    assert not watch.check(11) and watch.check(12)
+    assert not watch.check(13) and watch.check(24)  # declared again while it lasts
+    watch.progress(40)
+    assert watch.stretches == [(0, 40)] and not watch.check(60)
+
+
+@needs_fd
+def test_corridor_livelock_is_detected_and_a_cook_gives_way():
+    state = new_state(corridor_kitchen(), 0)
+    agent = PlannerAgent("fast-downward")
+    stats = run_episode(state, agent)
+    info = agent.info()
+    assert info["livelocks_detected"] >= 1 and info["gave_way"] >= 1, info
+    assert info["livelock_stretches"] == [], info
+    assert stats["dishes_served"] >= 2, info
