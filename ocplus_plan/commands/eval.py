@@ -39,6 +39,9 @@ def add_sweep_args(p: argparse.ArgumentParser, *, agents: str | None, seeds: str
     add_kitchen_args(p, sweep=True, seeds=seeds, default_horizon=200)
     p.add_argument("--agents", default=agents,
                    help="comma-separated agents, e.g. greedy,planner:fast-downward,ppo,random")
+    p.add_argument("--partner", default=None, metavar="AGENT",
+                   help="the last cook is played by AGENT (idle, random, greedy, ppo:PATH), "
+                        "which the evaluated agent does not control (ad-hoc teamwork)")
     h = p.add_argument_group("how to run")
     h.add_argument("--resume", action="store_true",
                    help="continue an interrupted run in --out (only missing episodes run)")
@@ -75,6 +78,7 @@ def run_sweep(args: argparse.Namespace, *, agents: str, out: Path, plots: bool) 
         jobs=args.jobs, backend=args.backend, address=args.address, retries=args.retries,
         resume=args.resume, episode_timeout=args.episode_timeout, plots=plots,
         quiet=args.quiet, replay_seeds=_replay_seeds(args.save_replays),
+        partner=getattr(args, "partner", None),
     )
     say(args, f"ocplus {args.command}: presets {', '.join(cfg.presets)}; agents "
               f"{', '.join(cfg.agents)}; {len(seeds)} seed(s); {cfg.horizon} steps; "

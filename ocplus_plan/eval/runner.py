@@ -67,10 +67,14 @@ class EpisodeSpec:
     seed: int
     horizon: int
     replay_path: str | None = None  # where to save this episode's recording, if chosen
+    partner: str | None = None  # the agent that plays the last cook (--partner)
 
     def row_base(self) -> dict[str, Any]:
+        agent = self.agent if self.partner is None else f"{self.agent} +{self.partner}"
         d = {"preset": self.preset, "map": self.map, "n_agents": self.n_agents,
-             "agent": self.agent, "seed": self.seed, "horizon": self.horizon}
+             "agent": agent, "seed": self.seed, "horizon": self.horizon}
+        if self.partner is not None:
+            d["partner"] = self.partner
         d["key"] = episode_key(d)
         if self.map_spec is not None:
             d["map_source"] = str(self.map_spec)
@@ -97,6 +101,7 @@ class EvalConfig:
     plots: bool = False
     quiet: bool = False
     replay_seeds: list[int] = field(default_factory=list)  # episodes to save as replays
+    partner: str | None = None  # the agent that plays the last cook (--partner)
     extra: dict[str, Any] = field(default_factory=dict)
 
 
@@ -177,6 +182,20 @@ def check_agent(spec: str) -> str | None:
     return None
 
 
+def check_partner(partner: str | None, cooks: list[int]) -> None:
+    """``--partner``: a known agent that runs here, and kitchens with a cook to spare."""
+    if partner is None:
+        return
+    from ..agents.base import PARTNER_ALIASES
+
+    reason = check_agent(PARTNER_ALIASES.get(partner, partner))
+    if reason:
+        raise ConfigError(f"--partner {partner}: {reason}")
+    if min(cooks) < 2:
+        raise ConfigError(f"--partner plays the last cook beside the agent's: every kitchen "
+                          f"needs at least 2 cooks, one has {min(cooks)} (raise --n-agents)")
+
+
 def _kitchen_unavailable(spec: str, preset: str, n_agents: int) -> str | None:
     """The reason an agent that runs here cannot play this kitchen (a bare ``ppo`` with no
     shipped checkpoint for the preset and cook count), or None."""
@@ -202,6 +221,7 @@ def _planner_unavailable(name: str) -> str | None:
 def evaluate_episode(spec: EpisodeSpec) -> dict[str, Any]:
     """Run one episode and return its results row (never raises for controller failures)."""
     from ..agents import Episode, make_controller
+    from ..agents.base import with_partner
 
     row = spec.row_base()
     row["worker"] = {"node": platform.node(), "pid": os.getpid()}
@@ -230,7 +250,8 @@ def evaluate_episode(spec: EpisodeSpec) -> dict[str, Any]:
 
     try:
         controller = make_controller(spec.agent, spec.seed)
-        Episode(state, controller).run(on_step=record)
+        Episode(state, with_partner(controller, spec.partner, state.n_agents, spec.seed)
+                ).run(on_step=record)
     except DependencyNotInstalled as exc:
         status, reason = "skipped", str(exc)
     except Exception as exc:  # the controller (or its planner process) failed: keep going
@@ -302,19 +323,22 @@ def plan_episodes(cfg: EvalConfig) -> tuple[list[EpisodeSpec], list[dict[str, An
         rules = make_rules(preset, map=cfg.map, **kw)
         kitchens.append((preset, rules.layout.name, rules.n_agents))
     skip_reason = {agent: check_agent(agent) for agent in cfg.agents}
+    check_partner(cfg.partner, [n for _, _, n in kitchens])
     episodes, skipped = [], []
     for preset, map_name, n_agents in kitchens:
         for agent in cfg.agents:
             reason = skip_reason[agent] or _kitchen_unavailable(agent, preset, n_agents)
             if reason:
-                base = EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, -1, cfg.horizon)
+                base = EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, -1, cfg.horizon,
+                                   partner=cfg.partner)
                 row = base.row_base()
                 row.update(seed=None, status="skipped", reason=reason)
                 row["key"] = episode_key(row)
                 skipped.append(row)
                 continue
             for seed in cfg.seeds:
-                spec = EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, seed, cfg.horizon)
+                spec = EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, seed, cfg.horizon,
+                                   partner=cfg.partner)
                 if seed in cfg.replay_seeds:
                     name = re.sub(r"[^A-Za-z0-9_.-]+", "_", spec.row_base()["key"])
                     path = cfg.out / "replays" / f"{name}.jsonl.gz"
