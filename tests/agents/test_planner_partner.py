@@ -94,7 +94,7 @@ def test_an_idle_partner_is_planned_around_not_given_work():
 def test_a_partner_holding_an_item_is_modelled_but_not_driven():
     from ocplus_plan.execution.planning_step import compile_and_solve
 
-    state = new_state(make_rules("easy", n_agents=3), 0)
+    state = new_state(make_rules("easy", map="gen:open:train:0:easy", n_agents=3), 0)
     pipeline = compile_and_solve("fast-downward")
     assert pipeline.modelled_cooks(state, (0, 1), "stations") == [0, 1]
     assert pipeline.modelled_cooks(state, (0, 1, 2), "stations") is None
