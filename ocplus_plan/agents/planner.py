@@ -93,10 +93,12 @@ def planner_name(arg: str | None) -> str:
     return PlannerSpec.parse(arg).name
 
 
-def make_planner_agent(arg: str | None | PlannerSpec, seed: int = 0) -> PlannerAgent:
+def make_planner_agent(arg: str | None | PlannerSpec, seed: int = 0,
+                       **options: Any) -> PlannerAgent:
     """Factory for ``planner:NAME[:GRANULARITY[:POLICY[:OPTIONS]]]`` (the encoding follows the
     planner; OPTIONS joined by '+': ``anticipate`` plans around the coming layout switches,
-    temporal only; ``one-cook``, ``chainK``, ``no-schedule``: see :func:`compile_and_solve`)."""
+    temporal only; ``one-cook``, ``chainK``, ``no-schedule``: see :func:`compile_and_solve`).
+    ``options`` go to :class:`PlannerAgent` (e.g. ``timeout``, CPU seconds per call)."""
     spec = arg if isinstance(arg, PlannerSpec) else PlannerSpec.parse(arg)
     encoding = "classical"
     try:
@@ -109,7 +111,7 @@ def make_planner_agent(arg: str | None | PlannerSpec, seed: int = 0) -> PlannerA
         raise ConfigError(f"planner:{spec.text}: anticipating layout switches needs a temporal "
                           f"planner (timed initial literals); {spec.name} is {encoding}")
     return PlannerAgent(spec.name, encoding, spec.granularity, spec.policy,
-                        **spec.agent_keywords())
+                        **spec.agent_keywords(), **options)
 
 
 __all__ = ["PLANNER_OPTIONS", "PlannerAgent", "PlannerSpec", "compile_and_solve", "hand_effects",
