@@ -158,6 +158,8 @@ def main(argv: list[str] | None = None) -> int:
                    help="the planner configuration (default: the default configuration)")
     p.add_argument("--partners", nargs="*", default=["idle", "greedy"],
                    help="agents that play the last cook beside the planner (2 cooks or more)")
+    p.add_argument("--partners-only", action="store_true",
+                   help="play only the partner variants (the solo rows come from another run)")
     p.add_argument("--timeout", type=float, default=10.0, help="CPU seconds per planner call")
     p.add_argument("--out", type=Path, default=None, help="also append the JSON lines here")
     p.add_argument("--table", type=Path, nargs="+", default=None,
@@ -178,7 +180,7 @@ def main(argv: list[str] | None = None) -> int:
         for index in range(args.first_kitchen, args.first_kitchen + args.kitchens_per_family):
             for family in args.families:
                 for cooks in args.cooks:
-                    runs = [("greedy", None), (args.planner, None)]
+                    runs = [] if args.partners_only else [("greedy", None), (args.planner, None)]
                     runs += [(args.planner, q) for q in args.partners if cooks >= 2]
                     for agent, partner in runs:
                         row = run_one(family, index, cooks, seed, agent, partner, args)

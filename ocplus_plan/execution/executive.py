@@ -12,7 +12,7 @@ previous step (the effect is checked on the state, so it works with or without
 :meth:`observe`), looks for surprises, asks for a new plan when the policy says so,
 and returns one action per driven agent. Surprises are recorded as triggers with
 their reason and time: ``layout_switch``, ``burnt``, ``burn_risk``, ``new_order``,
-``action_failed``, ``blocked``, ``deadlock``, ``livelock`` (blocked again and again with no step
+``action_failed``, ``taken`` (a cook we do not drive took an item of a step), ``blocked``, ``deadlock``, ``livelock`` (blocked again and again with no step
 done: one cook gives way, :mod:`.livelock`), ``stalled``, ``unreachable``, ``plan_finished``,
 ``planner_failed`` (the planner timed out or failed: the last valid plan is kept
 and agents without work step out of the way; nothing raises).
@@ -25,7 +25,7 @@ from collections import Counter, deque
 from collections.abc import Callable, Sequence
 
 from ..errors import ConfigError
-from ..sim.codes import Action, Cell, ItemState
+from ..sim.codes import Action, Cell, ItemState, Where
 from ..sim.queries import (
     direction,
     distances,
@@ -54,6 +54,7 @@ from .livelock import LivelockWatch
 from .tasks import BumpRecord, Task, already_done, pan_eta, ready, snapshot
 
 _PAN = int(Cell.PAN)
+_HAND = int(Where.HAND)
 _RAW, _CHOPPED, _CLEAN = int(ItemState.FRESH), int(ItemState.CHOPPED), int(ItemState.CLEAN)
 
 
@@ -205,6 +206,8 @@ class Executive:
                 self.livelock.on_blocked()
             if task is not None and task.waited == self.patience:
                 self._trigger(state, "stalled", out)
+            if task is not None and self._taken_by_partner(state, task):
+                self._trigger(state, "taken", out)
             if task is not None and not task.unreachable and \
                     self._out_of_reach(state, pos, task.step.target):
                 task.unreachable = True  # once per task: the planner is told by a replan
@@ -217,8 +220,8 @@ class Executive:
             self._trigger(state, "plan_finished", out)
         if not any(self.queues.values()):
             self.livelock.progress(state.t)  # nobody has work: nothing to livelock over
-        elif self.livelock.check(state.t):
-            self._trigger(state, "livelock", out)
+        elif sum(1 for q in self.queues.values() if q) >= 2 and self.livelock.check(state.t):
+            self._trigger(state, "livelock", out)  # (a lone cook has nobody to give way)
         return out
 
     def _decide(self, state: State, reasons: list[str]) -> str | None:
@@ -280,6 +283,18 @@ class Executive:
             period = state.rules.map_switch_step
             first = max(state.t + 1, state.next_switch)
             self.expected_switches = frozenset(range(first, state.rules.horizon + 1, period))
+
+    def _taken_by_partner(self, state: State, task: Task) -> bool:
+        """Is an item of the step in the hand of a cook we do not drive (a partner took
+        it)? Said once per step: the plan then needs another item or another route."""
+        key = ("taken", task.step.index)
+        if key in self.warned:
+            return False
+        for i in task.step.items:
+            if state.item_where[i] == _HAND and state.item_loc[i] not in self.queues:
+                self.warned.add(key)
+                return True
+        return False
 
     def _give_way(self, state: State) -> None:
         """After a livelock one cook gives way: it is left out of the plans for a while (it

@@ -28,11 +28,12 @@ PROVEN_STATUSES = frozenset({"unsolvable"})
 def problem_key(state: State, modelled: Sequence[int] | None, max_orders: int | None,
                 granularity: str, temporal: bool = False) -> Hashable:
     """The key of one planner question: the cooks modelled, their places and hands, every
-    item's place and state, the layout, the orders asked for (and, for a temporal problem,
+    item's place and state, the kitchen's walkable cells (a relaxed kitchen, with every
+    switching cell open, is another question) and layout, the orders asked for (and, for a temporal problem,
     cooking progress and the time to the next switch)."""
     cooks = tuple(range(state.n_agents)) if modelled is None else tuple(sorted(modelled))
     orders = state.orders if max_orders is None else state.orders[:max_orders]
-    return (granularity, cooks, max_orders, state.layout_index,
+    return (granularity, cooks, max_orders, state.geo.walkables, state.layout_index,
             tuple(state.agent_pos[a] for a in cooks), tuple(state.agent_hand),
             tuple(state.item_where), tuple(state.item_loc), tuple(state.item_state),
             tuple(o.recipe for o in orders),

@@ -66,6 +66,15 @@ def test_a_proven_answer_is_reused_for_the_same_question():
     assert record.hits == 1
 
 
+def test_the_relaxed_kitchen_is_another_question():
+    from ocplus_plan.execution.proven import problem_key
+    from ocplus_plan.planning.spots import relaxed_state
+
+    state = new_state(make_rules("hard", n_agents=2), 1)
+    relaxed = relaxed_state(state)
+    assert problem_key(state, None, 1, "stations") != problem_key(relaxed, None, 1, "stations")
+
+
 def test_a_timeout_is_not_a_proof():
     from ocplus_plan.execution.proven import ProvenOutcomes
 
