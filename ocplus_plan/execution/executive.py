@@ -220,8 +220,9 @@ class Executive:
             self._trigger(state, "plan_finished", out)
         if not any(self.queues.values()):
             self.livelock.progress(state.t)  # nobody has work: nothing to livelock over
-        elif sum(1 for q in self.queues.values() if q) >= 2 and self.livelock.check(state.t):
-            self._trigger(state, "livelock", out)  # (a lone cook has nobody to give way)
+        elif (sum(1 for q in self.queues.values() if q) >= 2
+              or state.n_agents > len(self.agent_ids)) and self.livelock.check(state.t):
+            self._trigger(state, "livelock", out)
         return out
 
     def _decide(self, state: State, reasons: list[str]) -> str | None:
@@ -240,10 +241,17 @@ class Executive:
         return None
 
     def _replan(self, state: State, reason: str) -> None:
+        if reason == "livelock" and not self._give_way(state):
+            # a lone cook blocked by cooks it does not drive: it drops its plan, steps
+            # aside and waits before it plans again (nobody of ours can give way)
+            self.replans.append((state.t, reason))
+            self.unhandled.clear()
+            for a in self.agent_ids:
+                self.queues[a].clear()
+            self.next_retry = state.t + 2 * self.block_patience
+            return
         self.planner_calls += 1
         t0 = time.perf_counter()
-        if reason == "livelock":
-            self._give_way(state)
         planned = tuple(a for a in self.agent_ids if self.yielding.get(a, -1) <= state.t)
         try:
             outcome = self.planner(state.copy(), planned or self.agent_ids, reason)
@@ -296,18 +304,19 @@ class Executive:
                 return True
         return False
 
-    def _give_way(self, state: State) -> None:
+    def _give_way(self, state: State) -> bool:
         """After a livelock one cook gives way: it is left out of the plans for a while (it
         steps aside with nothing to do) and the others get the work. Cooks with a free hand
         give way first (nothing they carry is held up); a livelock that comes back makes
-        the next cook give way instead."""
+        the next cook give way instead. False when fewer than two of ours have work."""
         busy = [a for a in self.agent_ids if self.queues[a] and self.yielding.get(a, -1) <= state.t]
         if len(busy) < 2:
-            return
+            return False
         order = sorted(busy, key=lambda a: (state.agent_hand[a] >= 0, -a))
         cook = order[self.gave_way % len(order)]
         self.gave_way += 1
         self.yielding[cook] = state.t + 4 * self.block_patience
+        return True
 
     def _waits_for_switches(self) -> bool:
         """Does the current plan expect the layout to switch (anticipated switches, a plan
