@@ -38,6 +38,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ocplus_plan.agents import run_episode
+from ocplus_plan.agents.base import with_partner
 from ocplus_plan.agents.planner import PlannerAgent
 from ocplus_plan.eval.bounds import dish_bound
 from ocplus_plan.execution.faults import FaultSchedule
@@ -46,7 +47,8 @@ from ocplus_plan.sim import make_rules, new_state
 
 
 def run_one(spec: PlannerSpec, preset: str, n_agents: int, seed: int, steps: int | None,
-            faults: str, timeout: float, orders_per_plan: int | str | None = "auto") -> dict:
+            faults: str, timeout: float, orders_per_plan: int | str | None = "auto",
+            partner: str | None = None) -> dict:
     rules = make_rules(preset, n_agents=n_agents)
     state = new_state(rules, seed)
     from ocplus_plan.planning.engines import get_planner
@@ -60,13 +62,13 @@ def run_one(spec: PlannerSpec, preset: str, n_agents: int, seed: int, steps: int
     elif faults == "switches":
         schedule = FaultSchedule(switches=[10, 50, 90, 130])
     t0 = time.perf_counter()
-    stats = run_episode(state, [(agent, list(range(n_agents)))], schedule, steps)
+    stats = run_episode(state, with_partner(agent, partner, n_agents, seed), schedule, steps)
     wall = time.perf_counter() - t0
     info = agent.info()
     bound = dish_bound(rules, stats["t"], seed=seed)
     return {
         "planner": spec.name, "encoding": encoding, "preset": preset, "agents": n_agents,
-        "seed": seed, "policy": spec.policy, "faults": faults,
+        "seed": seed, "policy": spec.policy, "faults": faults, "partner": partner,
         "anticipate": spec.anticipate_switches, "schedule": spec.schedule_cooks,
         "orders_per_plan": orders_per_plan, "plan_cooks": spec.plan_cooks,
         "chain_orders": spec.chain_orders, "over_switches": spec.over_switches,
@@ -92,7 +94,7 @@ def summarise(rows: list[dict]) -> dict:
         "summary": True, **{k: rows[0][k] for k in ("planner", "preset", "agents", "policy",
                                                      "faults", "anticipate", "schedule",
                                                      "orders_per_plan", "plan_cooks",
-                                                     "chain_orders", "options")},
+                                                     "chain_orders", "options", "partner")},
         "episodes": n,
         "dishes_mean": round(statistics.mean(r["dishes"] for r in rows), 2),
         "dishes_min": min(r["dishes"] for r in rows),
@@ -176,6 +178,9 @@ def main(argv: list[str] | None = None) -> int:
                         "switches and expect every switch instead of replanning on it")
     p.add_argument("--orders-per-plan", default="auto",
                    help="'auto', 'all' or K: open orders one planner call covers (default: auto)")
+    p.add_argument("--partner", default=None,
+                   help="the last cook is played by this agent (idle, greedy, ...), the planner "
+                        "drives the others")
     p.add_argument("--table", type=Path, nargs="+", default=None,
                    help="print the README table rows of these --out files and stop")
     p.add_argument("--out", type=Path, default=None, help="also append the JSON lines here")
@@ -196,7 +201,7 @@ def main(argv: list[str] | None = None) -> int:
         rows = []
         for seed in range(args.seeds):
             row = run_one(spec, preset, int(n or 1), seed, args.steps, args.faults,
-                          args.timeout, orders)
+                          args.timeout, orders, args.partner)
             rows.append(row)
             for line in (json.dumps(row),):
                 print(line, flush=True)
