@@ -92,8 +92,12 @@ def summarise(rows: list[dict], planner: str) -> list[dict]:
     def mean(xs: list[float]) -> float | None:
         return round(statistics.mean(xs), 3) if xs else None
 
-    solo = [r for r in rows if r["partner"] is None]
+    # one row per episode (the last one run), and per family only the cells both played
     cell = {(r["kitchen"], r["cooks"], r["seed"], r["agent"], r["partner"]): r for r in rows}
+    rows = list(cell.values())
+    solo = [r for r in rows if r["partner"] is None
+            and (r["kitchen"], r["cooks"], r["seed"], planner, None) in cell
+            and (r["kitchen"], r["cooks"], r["seed"], "greedy", None) in cell]
     out = []
     by_family: dict[str, dict[str, list[int]]] = defaultdict(lambda: defaultdict(list))
     for r in solo:
