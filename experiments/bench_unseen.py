@@ -120,7 +120,8 @@ def summarise(rows: list[dict], planner: str) -> list[dict]:
                  for r in rows if r.get("livelock_stretches")]
     out.append({"summary": "livelock", "episodes_with_stretches": len(stretches),
                 "stretches": stretches})
-    for partner, versus in (("idle", "alone with one cook fewer"), ("greedy", "greedy, every cook")):
+    for partner, versus in (("idle", "alone with one cook fewer"),
+                            ("greedy", "greedy, every cook")):
         pairs = []
         for r in rows:
             if r["partner"] != partner:

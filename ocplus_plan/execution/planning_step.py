@@ -85,7 +85,8 @@ def orders_to_plan(state: State, orders_per_plan: int | str | None) -> int | Non
         return None
     if isinstance(orders_per_plan, int) and orders_per_plan >= 1:
         return orders_per_plan
-    raise ConfigError(f"orders_per_plan must be 'auto', None or a positive int, got {orders_per_plan!r}")
+    raise ConfigError(f"orders_per_plan must be 'auto', None or a positive int, "
+                      f"got {orders_per_plan!r}")
 
 
 

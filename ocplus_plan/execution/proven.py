@@ -29,8 +29,8 @@ def problem_key(state: State, modelled: Sequence[int] | None, max_orders: int | 
                 granularity: str, temporal: bool = False) -> Hashable:
     """The key of one planner question: the cooks modelled, their places and hands, every
     item's place and state, the kitchen's walkable cells (a relaxed kitchen, with every
-    switching cell open, is another question) and layout, the orders asked for (and, for a temporal problem,
-    cooking progress and the time to the next switch)."""
+    switching cell open, is another question) and layout, the orders asked for (and, for a
+    temporal problem, cooking progress and the time to the next switch)."""
     cooks = tuple(range(state.n_agents)) if modelled is None else tuple(sorted(modelled))
     orders = state.orders if max_orders is None else state.orders[:max_orders]
     return (granularity, cooks, max_orders, state.geo.walkables, state.layout_index,
