@@ -47,7 +47,7 @@ class PlannerAgent(Controller):
         granularity: str = "stations", policy: str | Policy = "on_event", *,
         anticipate_switches: bool = False, timeout: float = 10.0,
         orders_per_plan: int | str | None = "auto", schedule_cooks: bool = True,
-        plan_cooks: str = "all", chain_orders: int = 1, over_switches: bool | None = False,
+        plan_cooks: str = "all", chain_orders: int = 1, over_switches: bool | None = None,
         **executive_options: Any,
     ) -> None:
         from ..planning.model import ENCODINGS, GRANULARITIES

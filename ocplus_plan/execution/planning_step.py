@@ -18,6 +18,7 @@ from ..sim.state import State
 from .plans import PlanFunction, PlanOutcome, PlanStep
 from .proven import PROVEN_STATUSES, ProvenOutcomes, problem_key, reach_key
 from .schedule import KEEP, RELEASE, TAKE, schedule
+from .spec import walks_over_switches
 
 #: map-back kinds (``planning.names.MappedAction.kind``) -> the executive's step kinds
 _KINDS = {
@@ -105,7 +106,7 @@ class _Pipeline:
         self.anticipate, self.timeout, self.validate = anticipate_switches, timeout, validate
         self.orders_per_plan, self.schedule_cooks = orders_per_plan, schedule_cooks
         self.plan_cooks, self.chain_orders = plan_cooks, chain_orders
-        self.over_switches = bool(over_switches)
+        self.over_switches = over_switches  # None: on for a chained plan (spec.py)
         #: the CPU seconds of every planner call (``PlannerAgent.info``: ``planning_cpu_s``)
         self.cpu_seconds = [0.0]
         self.proven = ProvenOutcomes()
@@ -231,7 +232,8 @@ class _Pipeline:
                 parts.append(more)
                 served.append(goals)
         scheduled = self.schedule_cooks and gran == "stations"
-        timed = scheduled and self.over_switches and state.rules.dynamic
+        timed = scheduled and walks_over_switches(self.over_switches, self.chain_orders,
+                                                  state.rules.dynamic)
         steps = None if scheduled else renumber([s for part in parts for s, _, _ in part])
         while steps is None:
             # chained plans whose work cannot be scheduled together (a plate trip
@@ -254,7 +256,7 @@ def compile_and_solve(
     planner: str, encoding: str = "classical", granularity: str = "stations",
     anticipate_switches: bool = False, timeout: float = 10.0, validate: bool = False,
     orders_per_plan: int | str | None = "auto", schedule_cooks: bool = True,
-    plan_cooks: str = "all", chain_orders: int = 1, over_switches: bool | None = False,
+    plan_cooks: str = "all", chain_orders: int = 1, over_switches: bool | None = None,
 ) -> PlanFunction:
     """A :data:`PlanFunction` that compiles the state and solves it with a named planner.
 
@@ -278,7 +280,9 @@ def compile_and_solve(
     ``over_switches`` (stations, switching maps): the plan's work is scheduled with walks
     timed over the coming layout switches (:func:`~ocplus_plan.execution.schedule.schedule`
     with ``switches``), and the executive then expects every switch instead of replanning
-    on it (cut-off cooks walk on, waiting where the next layout opens their way)."""
+    on it (cut-off cooks walk on, waiting where the next layout opens their way). None
+    (the default): on for a chained plan, off for one order
+    (:func:`~ocplus_plan.execution.spec.walks_over_switches`)."""
     if not isinstance(chain_orders, int) or chain_orders < 1:
         raise ConfigError(f"chain_orders must be a positive int, got {chain_orders!r}")
     if plan_cooks not in ("all", "one"):

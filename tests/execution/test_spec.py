@@ -50,3 +50,14 @@ def test_the_runner_checks_a_spec_by_its_name_and_its_options(tmp_path):
 
     with pytest.raises(ConfigError, match="unknown option"):
         check_agent("planner:fast-downward:stations:on_event:sometimes")
+
+
+def test_walks_over_switches_by_default_only_for_chained_plans_on_switching_maps():
+    from ocplus_plan.execution.spec import walks_over_switches
+
+    assert walks_over_switches(None, 2, dynamic=True)
+    assert not walks_over_switches(None, 1, dynamic=True)
+    assert not walks_over_switches(None, 2, dynamic=False)
+    assert not walks_over_switches(False, 2, dynamic=True)
+    assert walks_over_switches(True, 1, dynamic=True)
+    assert PlannerSpec.parse("fast-downward:::chain2").over_switches_for(True)
