@@ -38,46 +38,41 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ocplus_plan.agents import run_episode
+from ocplus_plan.agents.base import with_partner
 from ocplus_plan.agents.planner import PlannerAgent
 from ocplus_plan.eval.bounds import dish_bound
 from ocplus_plan.execution.faults import FaultSchedule
+from ocplus_plan.execution.spec import PlannerSpec
 from ocplus_plan.sim import make_rules, new_state
 
 
-def run_one(planner: str, preset: str, n_agents: int, seed: int, steps: int | None,
-            policy: str, faults: str, granularity: str, timeout: float,
-            anticipate: bool = False, schedule_cooks: bool = True,
-            orders_per_plan: int | str | None = "auto", plan_cooks: str = "all",
-            chain_orders: int = 1, over_switches: bool = False) -> dict:
+def run_one(spec: PlannerSpec, preset: str, n_agents: int, seed: int, steps: int | None,
+            faults: str, timeout: float, orders_per_plan: int | str | None = "auto",
+            partner: str | None = None) -> dict:
     rules = make_rules(preset, n_agents=n_agents)
     state = new_state(rules, seed)
     from ocplus_plan.planning.engines import get_planner
 
-    encoding = get_planner(planner).encoding
-    agent = PlannerAgent(planner, encoding, granularity, policy, timeout=timeout,
-                         anticipate_switches=anticipate, schedule_cooks=schedule_cooks,
-                         orders_per_plan=orders_per_plan, plan_cooks=plan_cooks,
-                         chain_orders=chain_orders, over_switches=over_switches)
+    encoding = get_planner(spec.name).encoding
+    agent = PlannerAgent(spec.name, encoding, spec.granularity, spec.policy, timeout=timeout,
+                         orders_per_plan=orders_per_plan, **spec.agent_keywords())
     schedule = None
     if faults == "burns":
         schedule = FaultSchedule(burns=[20, 80, 140])
     elif faults == "switches":
         schedule = FaultSchedule(switches=[10, 50, 90, 130])
     t0 = time.perf_counter()
-    stats = run_episode(state, [(agent, list(range(n_agents)))], schedule, steps)
+    stats = run_episode(state, with_partner(agent, partner, n_agents, seed), schedule, steps)
     wall = time.perf_counter() - t0
     info = agent.info()
     bound = dish_bound(rules, stats["t"], seed=seed)
     return {
-        "planner": planner, "encoding": encoding, "preset": preset, "agents": n_agents,
-        "seed": seed, "policy": policy, "faults": faults, "anticipate": anticipate,
-        "schedule": schedule_cooks, "orders_per_plan": orders_per_plan, "plan_cooks": plan_cooks,
-        "chain_orders": chain_orders, "over_switches": over_switches,
-        "options": "+".join(o for o, on in (("anticipate", anticipate),
-                                            ("one-cook", plan_cooks == "one"),
-                                            (f"chain{chain_orders}", chain_orders > 1),
-                                            ("over-switches", over_switches),
-                                            ("no-schedule", not schedule_cooks)) if on),
+        "planner": spec.name, "encoding": encoding, "preset": preset, "agents": n_agents,
+        "seed": seed, "policy": spec.policy, "faults": faults, "partner": partner,
+        "anticipate": spec.anticipate_switches, "schedule": spec.schedule_cooks,
+        "orders_per_plan": orders_per_plan, "plan_cooks": spec.plan_cooks,
+        "chain_orders": spec.chain_orders, "over_switches": spec.over_switches,
+        "options": spec.options_text(),
         "steps": stats["t"],
         "dishes": stats["dishes_served"], "burns": stats["burns"],
         "wrong_deliveries": stats["wrong_deliveries"], "blocked_moves": stats["blocked_moves"],
@@ -99,7 +94,7 @@ def summarise(rows: list[dict]) -> dict:
         "summary": True, **{k: rows[0][k] for k in ("planner", "preset", "agents", "policy",
                                                      "faults", "anticipate", "schedule",
                                                      "orders_per_plan", "plan_cooks",
-                                                     "chain_orders", "options")},
+                                                     "chain_orders", "options", "partner")},
         "episodes": n,
         "dishes_mean": round(statistics.mean(r["dishes"] for r in rows), 2),
         "dishes_min": min(r["dishes"] for r in rows),
@@ -133,16 +128,37 @@ def table(paths: list[Path]) -> list[str]:
     return rows
 
 
+def with_flags(spec: PlannerSpec, args: argparse.Namespace, policy: str | None) -> PlannerSpec:
+    """The spec named in ``--planners`` with the options the flags add."""
+    changes: dict = {} if policy is None else {"policy": policy}
+    if args.granularity != "stations":
+        changes["granularity"] = args.granularity
+    if args.anticipate:
+        changes["anticipate_switches"] = True
+    if args.no_schedule:
+        changes["schedule_cooks"] = False
+    if args.plan_cooks != "all":
+        changes["plan_cooks"] = args.plan_cooks
+    if args.chain_orders != 1:
+        changes["chain_orders"] = args.chain_orders
+    if args.over_switches:
+        changes["over_switches"] = True
+    return spec.with_options(**changes)
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--planners", nargs="+", default=["fast-downward"])
+    p.add_argument("--planners", nargs="+", default=["fast-downward"],
+                   help="planner specs NAME[:GRANULARITY[:POLICY[:OPTIONS]]] as after planner: "
+                        "(the flags below add options)")
     p.add_argument("--configs", nargs="+", default=["easy:1", "easy:2", "medium:1", "medium:2",
                                                     "hard:1", "hard:2"],
                    help="PRESET:AGENTS pairs (default: %(default)s)")
     p.add_argument("--seeds", type=int, default=10, help="seeds 0..N-1 (default: %(default)s)")
     p.add_argument("--steps", type=int, default=None, help="steps per episode (default: horizon)")
-    p.add_argument("--policies", nargs="+", default=["on_event"])
+    p.add_argument("--policies", nargs="+", default=[None],
+                   help="replanning policies (default: the spec's, on_event)")
     p.add_argument("--faults", choices=["none", "burns", "switches"], default="none")
     p.add_argument("--granularity", choices=["stations", "cells"], default="stations")
     p.add_argument("--timeout", type=float, default=10.0, help="seconds per planner call")
@@ -162,6 +178,9 @@ def main(argv: list[str] | None = None) -> int:
                         "switches and expect every switch instead of replanning on it")
     p.add_argument("--orders-per-plan", default="auto",
                    help="'auto', 'all' or K: open orders one planner call covers (default: auto)")
+    p.add_argument("--partner", default=None,
+                   help="the last cook is played by this agent (idle, greedy, ...), the planner "
+                        "drives the others")
     p.add_argument("--table", type=Path, nargs="+", default=None,
                    help="print the README table rows of these --out files and stop")
     p.add_argument("--out", type=Path, default=None, help="also append the JSON lines here")
@@ -178,12 +197,11 @@ def main(argv: list[str] | None = None) -> int:
         orders = int(orders)
     for planner, config, policy in itertools.product(args.planners, args.configs, args.policies):
         preset, _, n = config.partition(":")
+        spec = with_flags(PlannerSpec.parse(planner), args, policy)
         rows = []
         for seed in range(args.seeds):
-            row = run_one(planner, preset, int(n or 1), seed, args.steps, policy, args.faults,
-                          args.granularity, args.timeout, args.anticipate,
-                          not args.no_schedule, orders, args.plan_cooks, args.chain_orders,
-                          args.over_switches)
+            row = run_one(spec, preset, int(n or 1), seed, args.steps, args.faults,
+                          args.timeout, orders, args.partner)
             rows.append(row)
             for line in (json.dumps(row),):
                 print(line, flush=True)

@@ -9,7 +9,9 @@ the driven cooks (:mod:`ocplus_plan.execution.schedule`) and hands the plan to a
 monitors the world and replans. A planner failure is never an exception here: the
 executive keeps the last valid plan and agents without work keep out of the way.
 
-Registered as ``planner`` in :data:`ocplus_plan.agents.FACTORIES`: ``planner:fast-downward``,
+The plan function is :func:`~ocplus_plan.execution.planning_step.compile_and_solve`; the
+spec is parsed once by :class:`~ocplus_plan.execution.spec.PlannerSpec`. Registered as
+``planner`` in :data:`ocplus_plan.agents.FACTORIES`: ``planner:fast-downward``,
 ``planner:kairos`` (temporal), or ``planner:NAME:GRANULARITY:POLICY:OPTIONS`` for the rest
 (OPTIONS joined by ``+``: ``anticipate``, ``one-cook``, ``chainK``, ``no-schedule``,
 ``over-switches``).
@@ -17,265 +19,22 @@ Registered as ``planner`` in :data:`ocplus_plan.agents.FACTORIES`: ``planner:fas
 
 from __future__ import annotations
 
-import time
 from collections.abc import Sequence
 from typing import Any
 
 from ..errors import ConfigError
-from ..execution.executive import Executive, PlanFunction, PlanOutcome, PlanStep, Policy
-from ..execution.schedule import KEEP, RELEASE, TAKE, schedule
+from ..execution.executive import Executive, PlanFunction, Policy
+from ..execution.planning_step import (
+    compile_and_solve,
+    hand_effects,
+    orders_to_plan,
+    plan_entries,
+    renumber,
+    steps_from_record,
+)
+from ..execution.spec import PLANNER_OPTIONS, PlannerSpec, parse_options
 from ..sim.state import State
 from .base import Controller
-
-#: map-back kinds (``planning.names.MappedAction.kind``) -> the executive's step kinds
-_KINDS = {
-    "pick": "pickup", "rescue": "pickup", "take_off": "pickup",
-    "put": "putdown", "chop": "chop", "wash": "wash",
-    "plate_put": "plate", "plate_take": "plate", "deliver": "deliver", "trash": "trash",
-}
-#: kinds with nothing to do in the simulator (moves are routed by the executive itself)
-_SKIP = frozenset({"move", "abandon", "wait"})
-
-
-def _flat(state: State, rc: Any) -> int | None:
-    if rc is None:
-        return None
-    if isinstance(rc, int):
-        return rc
-    return state.geo.flat(int(rc[0]), int(rc[1]))
-
-
-def steps_from_record(record: Any, state: State, index: int,
-                      follow_moves: bool = False) -> list[PlanStep]:
-    """One map-back record (``planning.names.MappedAction``) -> executive steps (none for a move).
-
-    A classical ``cook`` (put the steak on the pan, wait, take it off) becomes two steps
-    of its agent; a temporal cook envelope becomes a put by ``agent`` at its start and a
-    take-off by ``other_agent`` at its end. Unknown kinds become a generic bump.
-    """
-    kind = str(getattr(record, "kind", "")).lower()
-    agent = getattr(record, "agent", None)
-    if kind == "move" and follow_moves and agent is not None:
-        # cell granularity: the plan's moves respect occupancy, so they are followed in order
-        dest = _flat(state, getattr(record, "spot", None))
-        if dest is not None:
-            return [PlanStep(index, int(agent), "goto", dest,
-                             via=_flat(state, getattr(record, "from_spot", None)))]
-    target = _flat(state, getattr(record, "place", None))
-    if kind in _SKIP or agent is None or target is None:
-        return []
-    items = tuple(int(i) for i in (getattr(record, "items", ()) or ()))
-    start = getattr(record, "start", None)
-    duration = getattr(record, "duration", None)
-    start = None if start is None else float(start)
-    if kind == "cook":
-        other = getattr(record, "other_agent", None)
-        end = None if start is None else start + float(duration or 0)
-        taker = agent if other is None else int(other)
-        return [PlanStep(index, int(agent), "putdown", target, items, start, None),
-                PlanStep(index + 1, taker, "pickup", target, items,
-                         end if other is not None else start, None)]
-    return [PlanStep(index, int(agent), _KINDS.get(kind, "bump"), target, items, start,
-                     None if duration is None else float(duration))]
-
-
-def orders_to_plan(state: State, orders_per_plan: int | str | None) -> int | None:
-    """How many open orders (oldest first) one planner call should cover.
-
-    ``"auto"``: all of them while they hold at most 4 ingredients in total (small
-    problems that classical planners solve in about a second), else only the oldest;
-    the executive asks again when that part of the work is done. An int is a fixed cap,
-    None means all."""
-    if orders_per_plan == "auto":
-        total = sum(len(o.recipe) for o in state.orders)
-        return None if total <= 4 else 1
-    if orders_per_plan is None:
-        return None
-    if isinstance(orders_per_plan, int) and orders_per_plan >= 1:
-        return orders_per_plan
-    raise ConfigError(f"orders_per_plan must be 'auto', None or a positive int, got {orders_per_plan!r}")
-
-
-def compile_and_solve(
-    planner: str, encoding: str = "classical", granularity: str = "stations",
-    anticipate_switches: bool = False, timeout: float = 10.0, validate: bool = False,
-    orders_per_plan: int | str | None = "auto", schedule_cooks: bool = True,
-    plan_cooks: str = "all", chain_orders: int = 1, over_switches: bool = False,
-) -> PlanFunction:
-    """A :data:`PlanFunction` that compiles the state and solves it with a named planner.
-
-    When a plan for several orders is not found in time, the oldest order alone is tried
-    (decomposition by order). A compile error (a state the model cannot express) is
-    reported as status ``error``; nothing raises.
-
-    ``plan_cooks="one"`` (stations): the problem models only the cooks that hold an item,
-    or one cook when nobody does; the plan's work is then scheduled over every driven cook
-    (``schedule_cooks``). A classical planner minimising total cost gains nothing from a
-    second cook, and each modelled cook multiplies any planner's search space.
-
-    ``chain_orders=K`` (stations): after a plan for the oldest order, the
-    next open orders are planned one at a time from the state the previous plan leaves
-    (:func:`~ocplus_plan.planning.fidelity.advance` runs it in a copy of the simulator; a
-    temporal plan is replayed at its planned times; on a switching map the copy keeps the
-    current layout, as the plan's model does), up to K orders; the chained plans are
-    scheduled together, so a cook can prepare the next dish while another serves this one.
-    K small problems are solved much faster than one problem with K orders.
-
-    ``over_switches`` (stations, switching maps): the plan's work is scheduled with walks
-    timed over the coming layout switches (:func:`~ocplus_plan.execution.schedule.schedule`
-    with ``switches``), and the executive then expects every switch instead of replanning
-    on it (cut-off cooks walk on, waiting where the next layout opens their way)."""
-    if not isinstance(chain_orders, int) or chain_orders < 1:
-        raise ConfigError(f"chain_orders must be a positive int, got {chain_orders!r}")
-    if plan_cooks not in ("all", "one"):
-        raise ConfigError(f"plan_cooks must be 'all' or 'one', got {plan_cooks!r}")
-    if not (orders_per_plan in ("auto", None) or
-            (isinstance(orders_per_plan, int) and orders_per_plan >= 1)):
-        raise ConfigError(f"orders_per_plan must be 'auto', None or a positive int, "
-                          f"got {orders_per_plan!r}")
-
-    def attempt(problem_state: State, agents: tuple[int, ...], max_orders: int | None,
-                gran: str) -> tuple[Any, Any]:
-        """Compile and solve one problem: (compiled, PlanResult), or (None, why not)."""
-        from ..errors import CompileError
-        from ..planning.compile import compile as compile_state  # optional layer: lazy
-        from ..planning.engines import solve
-
-        # cooks this controller does not drive (a blocking agent, another team) are
-        # obstacles, not cooks the plan may give work to
-        modelled = None if len(agents) == problem_state.n_agents else list(agents)
-        if plan_cooks == "one" and gran == "stations":
-            holders = [a for a in range(problem_state.n_agents)
-                       if problem_state.agent_hand[a] >= 0]
-            modelled = holders or [agents[0]]
-        try:
-            compiled = compile_state(problem_state, None, encoding=encoding, granularity=gran,
-                                     max_orders=max_orders,
-                                     anticipate_switches=anticipate_switches, agents=modelled)
-        except CompileError as exc:
-            return None, f"compile: {exc}"
-        result = solve(compiled.problem, planner, timeout=timeout, validate=validate)
-        cpu_seconds[0] += result.cpu_time or 0.0
-        return compiled, result
-
-    def chained(compiled: Any, plan: Any, state: State,
-                agents: tuple[int, ...]) -> list[tuple[list[Entry], tuple[int, ...]]]:
-        """Plans for the next open orders, each from the state the previous plan leaves:
-        (its entries, the orders it serves) per plan."""
-        from ..planning.fidelity import advance
-
-        out: list[tuple[list[Entry], tuple[int, ...]]] = []
-        for _ in range(chain_orders - 1):
-            after = advance(compiled, plan, state, freeze_layout=state.rules.dynamic)
-            if after is None or not after.orders:
-                break
-            compiled, result = attempt(after, agents, 1, granularity)
-            if compiled is None or result.status != "solved" or result.plan is None:
-                break
-            plan, state = result.plan, after
-            out.append((plan_entries(compiled, plan, state), compiled.goal_orders))
-        return out
-
-    def plan(state: State, agents: tuple[int, ...], reason: str = "") -> PlanOutcome:
-        t0 = time.perf_counter()
-        # a deadlock means the stations abstraction (agents jump past each other) failed
-        # here: plan this once with cells, whose moves respect occupancy, and follow them
-        gran = "cells" if reason == "deadlock" and not anticipate_switches else granularity
-        cap = orders_to_plan(state, orders_per_plan)
-        attempts = [(cap, state)] if cap == 1 or len(state.orders) <= 1 else [(cap, state),
-                                                                                 (1, state)]
-        outcome = PlanOutcome("error", [], 0.0, "no open order")
-        tried_relaxed = False
-        while attempts:
-            max_orders, problem_state = attempts.pop(0)
-            compiled, result = attempt(problem_state, agents, max_orders, gran)
-            if compiled is None:
-                outcome = PlanOutcome("error", [], time.perf_counter() - t0, result)
-                continue
-            if result.status == "unsolvable" and not tried_relaxed and not anticipate_switches \
-                    and state.rules.dynamic and len(state.geo.walkables) > 1:
-                # nothing is reachable enough in this layout alone (MapC never connects every
-                # station at once): plan as if every switching cell were open, and let the
-                # executive wait for the switch where the way is still closed
-                from ..planning.spots import relaxed_state
-
-                tried_relaxed = True
-                attempts = [(1, relaxed_state(state))]
-            if result.status == "solved" and result.plan is not None:
-                parts = [plan_entries(compiled, result.plan, state, gran == "cells")]
-                served = [compiled.goal_orders]
-                if max_orders == 1 and gran == "stations":
-                    # (a relaxed plan chains on in the relaxed kitchen)
-                    for more, goals in chained(compiled, result.plan, problem_state, agents):
-                        parts.append(more)
-                        served.append(goals)
-                scheduled = schedule_cooks and gran == "stations"
-                timed = scheduled and over_switches and state.rules.dynamic
-                steps = None if scheduled else renumber([s for part in parts for s, _, _ in part])
-                while steps is None:
-                    # chained plans whose work cannot be scheduled together (a plate trip
-                    # that must interleave with another cook's work) are left for later:
-                    # the executive plans the next order when a cook runs out of work
-                    steps = schedule([e for part in parts for e in part], state, agents,
-                                     switches=timed, fallback=len(parts) == 1)
-                    parts = parts if steps is not None else parts[:-1]
-                # a chain cut short says which orders it still serves (the executive plans
-                # the rest when a cook runs out of work); otherwise the plan stands for every
-                # open order until it is done (replanning a one-order plan whenever a cook
-                # runs out of work cost the default planner a dish on hard, seeds 1 and 9)
-                orders = None if len(parts) == len(served) else \
-                    tuple(o for goals in served[:len(parts)] for o in goals)
-                return PlanOutcome("solved", steps, time.perf_counter() - t0,
-                                   relaxed=problem_state is not state and tried_relaxed,
-                                   over_switches=timed, orders=orders)
-            outcome = PlanOutcome(result.status, [], time.perf_counter() - t0, result.reason)
-        return outcome
-
-    cpu_seconds = [0.0]  # the CPU seconds of every planner call (PlannerAgent.info)
-    plan.cpu_seconds = cpu_seconds  # type: ignore[attr-defined]
-    return plan
-
-
-def hand_effects(record: Any) -> list[tuple[str, int]]:
-    """What each executive step of one map-back record does to its cook's hand (the model's
-    ``MappedAction.hand``) and how many bumps it takes, aligned with :func:`steps_from_record`."""
-    kind = str(getattr(record, "kind", "")).lower()
-    if kind == "cook":  # put the steak on, (wait,) take it off: two steps
-        return [(RELEASE, 1), (TAKE, 1)]
-    bumps = max(1, int(getattr(record, "duration", 1) or 1)) if kind in ("chop", "wash") else 1
-    return [(str(getattr(record, "hand", KEEP)), bumps)]
-
-
-#: an executive step with its hand effect and bumps, as the scheduler takes them
-Entry = tuple[PlanStep, str, int]
-
-
-def plan_entries(compiled: Any, plan: Any, state: State, follow_moves: bool = False) -> list[Entry]:
-    """Map a UP sequential or time-triggered plan back to executive steps, each with its hand
-    effect and bumps (:func:`hand_effects`), in the order the plan does them."""
-    timed = hasattr(plan, "timed_actions")
-    if timed:
-        actions = [(ai, float(start), None if dur is None else float(dur))
-                   for start, ai, dur in plan.timed_actions]
-    else:
-        actions = [(ai, None, None) for ai in plan.actions]
-    entries: list[Entry] = []
-    for ai, start, dur in actions:
-        record = compiled.map_back(ai, start, dur)
-        steps = steps_from_record(record, state, len(entries), follow_moves)
-        effects = hand_effects(record)[:len(steps)]
-        effects += [(KEEP, 1)] * (len(steps) - len(effects))
-        entries += [(s, e, b) for s, (e, b) in zip(steps, effects)]
-    if timed:  # a time-triggered plan, read in the order its steps start
-        entries.sort(key=lambda x: (x[0].start or 0.0, x[0].index))
-    return entries
-
-
-def renumber(steps: Sequence[PlanStep]) -> list[PlanStep]:
-    """The steps with indices 0, 1, ... in their order (chained plans restart at 0)."""
-    from dataclasses import replace
-
-    return [replace(s, index=i) for i, s in enumerate(steps)]
 
 
 class PlannerAgent(Controller):
@@ -288,7 +47,7 @@ class PlannerAgent(Controller):
         granularity: str = "stations", policy: str | Policy = "on_event", *,
         anticipate_switches: bool = False, timeout: float = 10.0,
         orders_per_plan: int | str | None = "auto", schedule_cooks: bool = True,
-        plan_cooks: str = "all", chain_orders: int = 1, over_switches: bool = False,
+        plan_cooks: str = "all", chain_orders: int = 1, over_switches: bool | None = None,
         **executive_options: Any,
     ) -> None:
         from ..planning.model import ENCODINGS, GRANULARITIES
@@ -316,69 +75,45 @@ class PlannerAgent(Controller):
         self.executive.observe(state, events)
 
     def info(self) -> dict[str, object]:
+        cpu = getattr(self.executive.planner, "cpu_seconds", None)
+        proven = getattr(self.executive.planner, "proven", None)
         return {"planner": self.planner_name, "encoding": self.encoding,
                 "granularity": self.granularity, **self.executive.info(),
-                **({"planning_cpu_s": round(cpu[0], 4)} if (cpu := getattr(
-                    self.executive.planner, "cpu_seconds", None)) else {})}
-
-
-#: the fourth field of ``planner:NAME:GRANULARITY:POLICY:OPTIONS`` (options joined by '+')
-PLANNER_OPTIONS = ("anticipate", "one-cook", "chainK", "no-schedule", "over-switches")
+                **({"planning_cpu_s": round(cpu[0], 4)} if cpu else {}),
+                **(proven.info() if proven is not None else {})}
 
 
 def parse_planner_options(text: str, spec: str) -> dict[str, Any]:
     """``anticipate+one-cook+chain2`` -> PlannerAgent keywords (see :data:`PLANNER_OPTIONS`)."""
-    out: dict[str, Any] = {}
-    for token in filter(None, text.split("+")):
-        if token == "anticipate":
-            out["anticipate_switches"] = True
-        elif token == "one-cook":
-            out["plan_cooks"] = "one"
-        elif token == "no-schedule":
-            out["schedule_cooks"] = False
-        elif token == "over-switches":
-            out["over_switches"] = True
-        elif token.startswith("chain") and token[5:].isdigit() and int(token[5:]) >= 1:
-            out["chain_orders"] = int(token[5:])
-        else:
-            raise ConfigError(
-                f"planner:{spec}: unknown option {token!r} in the fourth field; options, joined "
-                f"by '+': anticipate (temporal: plan around the coming layout switches), one-cook "
-                f"(model one cook, schedule its plan over all), chainK (plan up to K orders one "
-                f"after the other), no-schedule (keep the cooks the planner chose), "
-                f"over-switches (schedule walks over the coming layout switches)")
-    return out
+    return parse_options(text, spec)
 
 
 def planner_name(arg: str | None) -> str:
     """The planner a ``planner:NAME[:GRANULARITY[:POLICY[:OPTIONS]]]`` argument names."""
-    return (arg or "").split(":")[0] or "fast-downward"
+    return PlannerSpec.parse(arg).name
 
 
-def make_planner_agent(arg: str | None, seed: int = 0) -> PlannerAgent:
+def make_planner_agent(arg: str | None | PlannerSpec, seed: int = 0,
+                       **options: Any) -> PlannerAgent:
     """Factory for ``planner:NAME[:GRANULARITY[:POLICY[:OPTIONS]]]`` (the encoding follows the
     planner; OPTIONS joined by '+': ``anticipate`` plans around the coming layout switches,
-    temporal only; ``one-cook``, ``chainK``, ``no-schedule``: see :func:`compile_and_solve`)."""
-    parts = (arg or "fast-downward").split(":")
-    name = planner_name(arg)
-    granularity = parts[1] if len(parts) > 1 and parts[1] else "stations"
-    policy = parts[2] if len(parts) > 2 and parts[2] else "on_event"
-    if len(parts) > 4:
-        raise ConfigError(f"planner:{arg}: at most four fields "
-                          "(planner:NAME:GRANULARITY:POLICY:OPTIONS)")
-    options = parse_planner_options(parts[3] if len(parts) > 3 else "", str(arg))
+    temporal only; ``one-cook``, ``chainK``, ``no-schedule``: see :func:`compile_and_solve`).
+    ``options`` go to :class:`PlannerAgent` (e.g. ``timeout``, CPU seconds per call)."""
+    spec = arg if isinstance(arg, PlannerSpec) else PlannerSpec.parse(arg)
     encoding = "classical"
     try:
         from ..planning.engines import get_planner
 
-        encoding = get_planner(name).encoding
+        encoding = get_planner(spec.name).encoding
     except ImportError:  # pragma: no cover - planning layer missing
         pass
-    if options.get("anticipate_switches") and encoding != "temporal":
-        raise ConfigError(f"planner:{arg}: anticipating layout switches needs a temporal planner "
-                          f"(timed initial literals); {name} is {encoding}")
-    return PlannerAgent(name, encoding, granularity, policy, **options)
+    if spec.anticipate_switches and encoding != "temporal":
+        raise ConfigError(f"planner:{spec.text}: anticipating layout switches needs a temporal "
+                          f"planner (timed initial literals); {spec.name} is {encoding}")
+    return PlannerAgent(spec.name, encoding, spec.granularity, spec.policy,
+                        **spec.agent_keywords(), **options)
 
 
-__all__ = ["PlannerAgent", "compile_and_solve", "make_planner_agent", "plan_entries",
-           "planner_name", "steps_from_record"]
+__all__ = ["PLANNER_OPTIONS", "PlannerAgent", "PlannerSpec", "compile_and_solve", "hand_effects",
+           "make_planner_agent", "orders_to_plan", "plan_entries", "planner_name", "renumber",
+           "steps_from_record"]

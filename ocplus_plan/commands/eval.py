@@ -52,6 +52,9 @@ def add_sweep_args(p: argparse.ArgumentParser, *, agents: str | None) -> None:
     add_kitchen_args(p, sweep=True)
     p.add_argument("--agents", type=_types.name, default=agents,
                    help="comma-separated agents, e.g. greedy,planner:fast-downward,ppo,random")
+    p.add_argument("--partner", default=None, metavar="AGENT",
+                   help="the last cook is played by AGENT (idle, random, greedy, ppo:PATH), "
+                        "which the evaluated agent does not control (ad-hoc teamwork)")
     h = p.add_argument_group("how to run")
     h.add_argument("--resume", action="store_true",
                    help="continue an interrupted run in --out (only missing episodes run)")
@@ -91,6 +94,7 @@ def run_sweep(args: argparse.Namespace, *, agents: str, out: Path, plots: bool) 
         quiet=args.quiet, replay_seeds=_replay_seeds(args.save_replays),
         rules=sweep_rules(args),
         faults=str(parse_faults(getattr(args, "faults", ""))),
+        partner=getattr(args, "partner", None),
     )
     say(args, f"ocplus {args.command}: presets {', '.join(cfg.presets)}; agents "
               f"{', '.join(cfg.agents)}; {len(seeds)} seed(s); {cfg.horizon} steps; "

@@ -70,10 +70,14 @@ class EpisodeSpec:
     replay_path: str | None = None  # where to save this episode's recording, if chosen
     faults: str = ""  # ``--faults`` text (execution.faults.parse_faults); empty: none
     rules: tuple[tuple[str, Any], ...] = ()  # rule overrides (``--rules``), sorted by key
+    partner: str | None = None  # the agent that plays the last cook (``--partner``)
 
     def row_base(self) -> dict[str, Any]:
+        agent = self.agent if self.partner is None else f"{self.agent} +{self.partner}"
         d: dict[str, Any] = {"preset": self.preset, "map": self.map, "n_agents": self.n_agents,
-                             "agent": self.agent, "seed": self.seed, "horizon": self.horizon}
+                             "agent": agent, "seed": self.seed, "horizon": self.horizon}
+        if self.partner is not None:
+            d["partner"] = self.partner
         if self.faults:
             d["faults"] = self.faults
         d["key"] = episode_key(d) + "".join(f"|{k}={v}" for k, v in self.rules)
@@ -107,6 +111,7 @@ class EvalConfig:
     faults: str = ""  # ``--faults`` (execution.faults.parse_faults); empty: none
     extra: dict[str, Any] = field(default_factory=dict)
     rules: dict[str, Any] = field(default_factory=dict)  # rule overrides (``--rules``)
+    partner: str | None = None  # the agent that plays the last cook (``--partner``)
 
 
 # ---------------------------------------------------------------- checking agents
@@ -122,9 +127,9 @@ def check_agent(spec: str) -> str | None:
         if not arg:
             raise ConfigError("agent 'planner' needs a planner name: planner:NAME "
                               "(e.g. planner:fast-downward)")
-        from ..agents.planner import planner_name
+        from ..execution.spec import PlannerSpec
 
-        reason = _planner_unavailable(planner_name(arg))
+        reason = _planner_unavailable(PlannerSpec.parse(arg).name)
         if reason:
             return reason
     if kind not in FACTORIES:
@@ -140,6 +145,20 @@ def check_agent(spec: str) -> str | None:
             raise
         return f"could not be created: {type(exc).__name__}: {exc}"
     return None
+
+
+def check_partner(partner: str | None, cooks: list[int]) -> None:
+    """``--partner``: a known agent that runs here, and kitchens with a cook to spare."""
+    if partner is None:
+        return
+    from ..agents.base import PARTNER_ALIASES
+
+    reason = check_agent(PARTNER_ALIASES.get(partner, partner))
+    if reason:
+        raise ConfigError(f"--partner {partner}: {reason}")
+    if min(cooks) < 2:
+        raise ConfigError(f"--partner plays the last cook beside the agent's: every kitchen "
+                          f"needs at least 2 cooks, one has {min(cooks)} (raise --n-agents)")
 
 
 def kitchen_unavailable(spec: str, preset: str, n_agents: int) -> str | None:
@@ -165,18 +184,23 @@ def _planner_unavailable(name: str) -> str | None:
 
 # ---------------------------------------------------------------- one episode
 def _drivers(spec: EpisodeSpec, controller: Any, fault: Any) -> Any:
-    """The team of an episode: the controller drives the cooks; a fault's blocker the
-    extra agent. Message loss is wired into a planner controller's executive."""
+    """The team of an episode: the controller drives the cooks (but the last, with a
+    partner: ``agents.base.with_partner``); a fault's blocker the extra agent. Message loss
+    is wired into a planner controller's executive."""
+    from ..agents.base import with_partner
+
     if fault.message_loss and hasattr(controller, "executive"):
         from ..execution.faults import MessageLoss
 
         controller.executive.deliver_plan = MessageLoss(fault.message_loss, spec.seed)
+    team = with_partner(controller, spec.partner, spec.n_agents, spec.seed)
     if not fault.blocker:
-        return controller
+        return team
     from ..execution.faults import BlockingAgent
 
     blocker = BlockingAgent(seed=spec.seed)
-    return [(controller, range(spec.n_agents)), (blocker, [spec.n_agents])]
+    drivers = team if isinstance(team, list) else [(controller, range(spec.n_agents))]
+    return [*drivers, (blocker, [spec.n_agents])]
 
 
 def _fault_report(fault: Any, schedule: Any, team: Any, info: dict[str, Any]) -> dict[str, Any]:

@@ -36,6 +36,7 @@ from .episode import (
     EpisodeSpec,
     EvalConfig,
     check_agent,
+    check_partner,
     error_row,
     evaluate_episode,
     kitchen_unavailable,
@@ -123,12 +124,14 @@ def plan_episodes(cfg: EvalConfig) -> tuple[list[EpisodeSpec], list[dict[str, An
             _check_room_for_blocker(preset, cfg.map, rules.n_agents, kw)
         kitchens.append((preset, rules.layout.name, rules.n_agents))
     skip_reason = {agent: check_agent(agent) for agent in cfg.agents}
+    check_partner(cfg.partner, [n for _, _, n in kitchens])
     episodes, skipped = [], []
     for preset, map_name, n_agents in kitchens:
         for agent in cfg.agents:
             reason = skip_reason[agent] or kitchen_unavailable(agent, preset, n_agents)
             base = EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, -1, cfg.horizon,
-                               faults=str(fault), rules=tuple(sorted(cfg.rules.items())))
+                               faults=str(fault), rules=tuple(sorted(cfg.rules.items())),
+                               partner=cfg.partner)
             if reason:
                 row = base.row_base()
                 row.update(seed=None, status="skipped", reason=reason)

@@ -12,7 +12,8 @@ previous step (the effect is checked on the state, so it works with or without
 :meth:`observe`), looks for surprises, asks for a new plan when the policy says so,
 and returns one action per driven agent. Surprises are recorded as triggers with
 their reason and time: ``layout_switch``, ``burnt``, ``burn_risk``, ``new_order``,
-``action_failed``, ``blocked``, ``deadlock``, ``stalled``, ``unreachable``, ``plan_finished``,
+``action_failed``, ``taken`` (a cook we do not drive took an item of a step), ``blocked``, ``deadlock``, ``livelock`` (blocked again and again with no step
+done: one cook gives way, :mod:`.livelock`), ``stalled``, ``unreachable``, ``plan_finished``,
 ``planner_failed`` (the planner timed out or failed: the last valid plan is kept
 and agents without work step out of the way; nothing raises).
 """
@@ -22,19 +23,13 @@ from __future__ import annotations
 import time
 from collections import Counter, deque
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 
 from ..errors import ConfigError
-from ..sim.codes import Action, Cell, ItemState
+from ..sim.codes import Action, Cell, ItemState, Where
 from ..sim.queries import (
-    Bump,
-    bump_effect,
-    bumps_needed,
     direction,
     distances,
     interaction_spots,
-    is_plateable,
-    switching_walks,
     ticks_until_burnt,
     walkable_in_any_layout,
 )
@@ -55,32 +50,12 @@ from .plans import (
     Policy,
     causal_dependencies,
 )
+from .livelock import LivelockWatch
+from .tasks import BumpRecord, Task, already_done, pan_eta, ready, snapshot
 
 _PAN = int(Cell.PAN)
+_HAND = int(Where.HAND)
 _RAW, _CHOPPED, _CLEAN = int(ItemState.FRESH), int(ItemState.CHOPPED), int(ItemState.CLEAN)
-#: the bump that processes the item of a chop / wash step (several of them finish it)
-_PROCESS = {"chop": Bump.CHOP, "wash": Bump.WASH}
-
-
-@dataclass
-class Task:
-    """A plan step in an agent's queue, with what the executive learned while doing it."""
-
-    step: PlanStep
-    deps: frozenset[int]
-    bumps: int = 0
-    failures: int = 0
-    waited: int = 0
-    unreachable: bool = False
-
-
-@dataclass
-class _Bump:
-    task: Task
-    hand: int
-    here: int
-    here_state: tuple[int, int]
-    plate_sizes: tuple[int, int]
 
 
 class Executive:
@@ -123,7 +98,7 @@ class Executive:
         #: the orders open when the current plan was made, and the cooks it gave no work
         self.seen_orders: set[int] = set()
         self.idle_in_plan: set[int] = set()
-        self.pending: dict[int, _Bump] = {}
+        self.pending: dict[int, BumpRecord] = {}
         self.last_pos: dict[int, int] = {a: state.agent_pos[a] for a in self.agent_ids}
         self.stuck: Counter[int] = Counter()
         self.boosted: dict[int, int] = {}
@@ -151,6 +126,11 @@ class Executive:
         self.messages_lost = 0
         self.blocked_moves = 0
         self.plan_id = 0
+        self.now = state.t
+        self.livelock = LivelockWatch(2 * self.block_patience)
+        #: cooks giving way after a livelock: left out of the plans until that step
+        self.yielding: dict[int, int] = {}
+        self.gave_way = 0
 
     def observe(self, state: State, events: Sequence[object]) -> None:
         """Optional: count blocked moves of the driven agents (everything else is read
@@ -163,6 +143,7 @@ class Executive:
     def act(self, state: State) -> list[int]:
         """One action per driven agent, in ``agent_ids`` order."""
         t0 = time.perf_counter()
+        self.now = state.t
         reasons = self._monitor(state)
         reason = self._decide(state, reasons)
         if reason is not None:
@@ -222,8 +203,11 @@ class Executive:
                 self.boosted[a] = state.t  # right of way until it gets there
             if self.stuck[a] and self.stuck[a] % self.block_patience == 0:
                 self._trigger(state, "blocked", out)
+                self.livelock.on_blocked()
             if task is not None and task.waited == self.patience:
                 self._trigger(state, "stalled", out)
+            if task is not None and self._taken_by_partner(state, task):
+                self._trigger(state, "taken", out)
             if task is not None and not task.unreachable and \
                     self._out_of_reach(state, pos, task.step.target):
                 task.unreachable = True  # once per task: the planner is told by a replan
@@ -234,6 +218,11 @@ class Executive:
                 self._trigger(state, "deadlock", out)  # nobody finished a step for a long time
         if self.last_plan_t is not None and state.orders and not any(self.queues.values()):
             self._trigger(state, "plan_finished", out)
+        if not any(self.queues.values()):
+            self.livelock.progress(state.t)  # nobody has work: nothing to livelock over
+        elif (sum(1 for q in self.queues.values() if q) >= 2
+              or state.n_agents > len(self.agent_ids)) and self.livelock.check(state.t):
+            self._trigger(state, "livelock", out)
         return out
 
     def _decide(self, state: State, reasons: list[str]) -> str | None:
@@ -244,7 +233,7 @@ class Executive:
         empty = not any(self.queues.values()) and bool(state.orders)
         kind = self.policy.kind
         if kind == "on_event" and self.unhandled:
-            return self.unhandled[0]
+            return "livelock" if "livelock" in self.unhandled else self.unhandled[0]
         if kind == "periodic" and state.t - self.last_plan_t >= self.policy.period:
             return "periodic"
         if empty:
@@ -252,10 +241,20 @@ class Executive:
         return None
 
     def _replan(self, state: State, reason: str) -> None:
+        if reason == "livelock" and not self._give_way(state):
+            # a lone cook blocked by cooks it does not drive: it drops its plan, steps
+            # aside and waits before it plans again (nobody of ours can give way)
+            self.replans.append((state.t, reason))
+            self.unhandled.clear()
+            for a in self.agent_ids:
+                self.queues[a].clear()
+            self.next_retry = state.t + 2 * self.block_patience
+            return
         self.planner_calls += 1
         t0 = time.perf_counter()
+        planned = tuple(a for a in self.agent_ids if self.yielding.get(a, -1) <= state.t)
         try:
-            outcome = self.planner(state.copy(), self.agent_ids, reason)
+            outcome = self.planner(state.copy(), planned or self.agent_ids, reason)
         except Exception as exc:  # noqa: BLE001 - a planner must never crash the episode
             outcome = PlanOutcome("error", [], time.perf_counter() - t0, repr(exc))
         spent = outcome.planning_time or (time.perf_counter() - t0)
@@ -292,6 +291,32 @@ class Executive:
             period = state.rules.map_switch_step
             first = max(state.t + 1, state.next_switch)
             self.expected_switches = frozenset(range(first, state.rules.horizon + 1, period))
+
+    def _taken_by_partner(self, state: State, task: Task) -> bool:
+        """Is an item of the step in the hand of a cook we do not drive (a partner took
+        it)? Said once per step: the plan then needs another item or another route."""
+        key = ("taken", task.step.index)
+        if key in self.warned:
+            return False
+        for i in task.step.items:
+            if state.item_where[i] == _HAND and state.item_loc[i] not in self.queues:
+                self.warned.add(key)
+                return True
+        return False
+
+    def _give_way(self, state: State) -> bool:
+        """After a livelock one cook gives way: it is left out of the plans for a while (it
+        steps aside with nothing to do) and the others get the work. Cooks with a free hand
+        give way first (nothing they carry is held up); a livelock that comes back makes
+        the next cook give way instead. False when fewer than two of ours have work."""
+        busy = [a for a in self.agent_ids if self.queues[a] and self.yielding.get(a, -1) <= state.t]
+        if len(busy) < 2:
+            return False
+        order = sorted(busy, key=lambda a: (state.agent_hand[a] >= 0, -a))
+        cook = order[self.gave_way % len(order)]
+        self.gave_way += 1
+        self.yielding[cook] = state.t + 4 * self.block_patience
+        return True
 
     def _waits_for_switches(self) -> bool:
         """Does the current plan expect the layout to switch (anticipated switches, a plan
@@ -358,65 +383,15 @@ class Executive:
         self.done_steps.add(task.step.index)
         self.steps_done += 1
         self.no_progress = 0
+        self.livelock.progress(self.now)
         self.stuck[agent] = 0
         self.boosted.pop(agent, None)
 
-    def _already_done(self, state: State, task: Task) -> bool:
-        """Chop/wash of an item that is already processed (e.g. per-level chop steps): an
-        empty hand's bump there would no longer chop or wash. Not before the other cooks'
-        steps it waits for are done and its item lies there: a cook that reaches the board
-        before another has put the vegetable on it finds nothing to chop, which does not
-        mean the chopping is done."""
-        kind = task.step.kind
-        if kind == "goto":
-            return state.agent_pos[task.step.agent] == task.step.target
-        if kind in _PROCESS:
-            here = state.cell_item[task.step.target]
-            if not task.deps <= self.done_steps:
-                return False
-            if task.step.items and here not in task.step.items:
-                return False
-            return bump_effect(state, -1, task.step.target) != _PROCESS[kind]
-        return False
-
-    def _ready(self, state: State, agent: int, task: Task) -> bool:
-        """Time to bump for this step? A chop or a wash once the bump would chop or wash
-        (``bump_effect``); at a pan once the steak may be taken (never raw) or plated
-        (cooked); any other step as soon as the hand holds what the step needs and, for a
-        step that takes something, something lies there: a bump that then changes nothing
-        tells the executive that the plan and the world disagree (``action_failed``)."""
-        if not task.deps <= self.done_steps:
-            return False
-        s = task.step
-        held, here = state.agent_hand[agent], state.cell_item[s.target]
-        if s.kind in _PROCESS:
-            return bump_effect(state, held, s.target) == _PROCESS[s.kind]
-        code = state.geo.terrains[state.layout_index][s.target]
-        if code == _PAN and here >= 0 and s.kind != "putdown":
-            # never take a raw steak off the pan; only a cooked one goes on a plate
-            if s.kind == "plate" or held >= 0:
-                return is_plateable(state, here)
-            return state.item_state[here] != _RAW
-        if s.kind == "pickup":
-            return held < 0 and here >= 0
-        if s.kind in ("putdown", "deliver", "trash"):
-            return held >= 0
-        if s.kind == "plate":
-            return held >= 0 and here >= 0
-        return True
-
-    def _snapshot(self, state: State, task: Task, agent: int) -> _Bump:
-        held, here = state.agent_hand[agent], state.cell_item[task.step.target]
-        here_state = (state.item_state[here], state.item_progress[here]) if here >= 0 else (-1, -1)
-        sizes = (len(state.plate_contents(held)) if held >= 0 else -1,
-                 len(state.plate_contents(here)) if here >= 0 else -1)
-        return _Bump(task, held, here, here_state, sizes)
-
-    def _settle(self, state: State, agent: int, bump: _Bump, out: list[str]) -> None:
+    def _settle(self, state: State, agent: int, bump: BumpRecord, out: list[str]) -> None:
         task = bump.task
         if self._current(agent) is not task:
             return
-        now = self._snapshot(state, task, agent)
+        now = snapshot(state, task, agent)
         if task.step.kind in ("chop", "wash"):
             if bump.here >= 0 and state.item_state[bump.here] in (_CHOPPED, _CLEAN) \
                     and state.item_state[bump.here] != bump.here_state[0]:
@@ -467,37 +442,9 @@ class Executive:
                 self._trigger(state, "burn_risk", out)
 
     def _eta(self, state: State, pan: int) -> int | None:
-        """Estimated steps until a queued task bumps ``pan`` to take its steak (None: no task).
-        With a plan scheduled over the switches, walks are timed over them too."""
-        best = None
-        layout = state.layout_index
-        timed = switching_walks(state.geo, state.rules.map_switch_step) \
-            if self.plan_over_switches and len(state.geo.walkables) == 2 else None
-        due = max(0, state.next_switch - state.t)
-        for a in self.agent_ids:
-            pos, total = state.agent_pos[a], 0
-            for task in self.queues[a]:
-                if timed is not None:
-                    found = timed.arrival(pos, task.step.target,
-                                          *timed.phase(layout, due, total))
-                    if found is None:
-                        break
-                    d, spot = found
-                else:
-                    d = self.oracle.to_station(layout, task.step.target)[pos]
-                    if d < 0:
-                        break
-                    spots = self._spots(state, task.step.target)
-                    spot = min(spots, key=lambda c: self.oracle.to_goals(layout, [pos])[c]) \
-                        if spots else pos
-                total += d + 1
-                if task.step.target == pan and task.step.kind != "putdown":
-                    best = total if best is None else min(best, total)
-                    break
-                if task.step.kind in _PROCESS:
-                    total += bumps_needed(state.rules, _PROCESS[task.step.kind]) - 1
-                pos = spot
-        return best
+        """Estimated steps until a queued task bumps ``pan`` to take its steak (:func:`pan_eta`)."""
+        return pan_eta(state, pan, {a: self.queues[a] for a in self.agent_ids}, self.oracle,
+                       self.plan_over_switches)
 
     # ------------------------------------------------------------------ actions
     def _actions(self, state: State) -> dict[int, int]:
@@ -506,7 +453,7 @@ class Executive:
         requests: list[tuple[tuple[int, int, int], PathRequest]] = []
         for a in self.agent_ids:
             pos = state.agent_pos[a]
-            while (task := self._current(a)) is not None and self._already_done(state, task):
+            while (task := self._current(a)) is not None and already_done(state, task, self.done_steps):
                 self._finish(a)
             task = self._current(a)
             if task is None:
@@ -530,9 +477,9 @@ class Executive:
                 # waiting on its own spot for someone who needs that very spot: step aside
                 requests.append(((3, 0, a), PathRequest(a, pos, frozenset())))
                 continue
-            if pos in spots and self._ready(state, a, task):
+            if pos in spots and ready(state, a, task, self.done_steps):
                 actions[a] = direction(geo, pos, task.step.target)
-                self.pending[a] = self._snapshot(state, task, a)
+                self.pending[a] = snapshot(state, task, a)
                 task.bumps += 1
                 task.waited = 0
                 continue
@@ -573,6 +520,7 @@ class Executive:
 
     # ------------------------------------------------------------------ reporting
     def info(self) -> dict[str, object]:
+        self.livelock.close(self.now)
         return {
             "policy": str(self.policy),
             "planner_calls": self.planner_calls,
@@ -588,6 +536,8 @@ class Executive:
             "failed_bumps": self.failed_bumps,
             "blocked_moves": self.blocked_moves,
             "messages_lost": self.messages_lost,
+            "gave_way": self.gave_way,
+            **self.livelock.info(),
         }
 
 

@@ -20,6 +20,7 @@ from ocplus_plan.execution.faults import (
     force_burn,
     force_switch,
 )
+from ocplus_plan.execution.tasks import already_done, ready
 from ocplus_plan.sim import make_rules, new_state
 from ocplus_plan.sim.codes import Action, ItemState
 
@@ -325,18 +326,19 @@ def test_ready_steps_are_what_the_step_then_does_on_sampled_states():
                                           ("wash", {"wash", "wash_done"})):
                         task = Task(PlanStep(0, a, kind, cell), frozenset())
                         effect = bump_effect(state, -1, cell)
-                        assert ex._already_done(state, task) == (effect != Bump[kind.upper()])
-                        if ex._already_done(state, task):
+                        assert already_done(state, task, ex.done_steps) == (effect != Bump[kind.upper()])
+                        if already_done(state, task, ex.done_steps):
                             continue
-                        ready = ex._ready(state, a, task)
+                        is_ready = ready(state, a, task, ex.done_steps)
                         done = bump(state, a, spots[0], cell)
-                        assert ready == bool(done & done_by), (preset, state.t, a, kind, done)
+                        assert is_ready == bool(done & done_by), (preset, state.t, a, kind, done)
                         checked += 1
                     if code != Cell.PAN or state.cell_item[cell] < 0:
                         continue
                     steak, held = state.cell_item[cell], state.agent_hand[a]
                     for kind in ("pickup", "plate"):
-                        if not ex._ready(state, a, Task(PlanStep(0, a, kind, cell), frozenset())):
+                        step = Task(PlanStep(0, a, kind, cell), frozenset())
+                        if not ready(state, a, step, ex.done_steps):
                             continue
                         assert state.item_state[steak] != ItemState.FRESH  # never a raw steak
                         if held >= 0 and bump_effect(state, held, cell) == Bump.TAKE_ONTO_PLATE:
@@ -356,14 +358,14 @@ def test_a_chop_is_not_done_before_its_vegetable_is_on_the_board():
     ex = Executive(toy_planner)
     ex.reset(state)
     chop = Task(PlanStep(1, 0, "chop", board, (tomato,)), frozenset({0}))
-    assert not ex._already_done(state, chop), "cook 1 has not put the tomato there yet"
+    assert not already_done(state, chop, ex.done_steps), "cook 1 has not put the tomato there yet"
     ex.done_steps.add(0)
-    assert not ex._already_done(state, chop), "the board is still empty"
+    assert not already_done(state, chop, ex.done_steps), "the board is still empty"
     state.cell_item[board], state.item_loc[tomato] = tomato, board
     state.cell_item[state.geo.flat(0, 2)] = -1
-    assert not ex._already_done(state, chop), "a fresh tomato waits to be chopped"
+    assert not already_done(state, chop, ex.done_steps), "a fresh tomato waits to be chopped"
     state.item_state[tomato] = int(ItemState.CHOPPED)
-    assert ex._already_done(state, chop)
+    assert already_done(state, chop, ex.done_steps)
 
 
 def _oldest_only(state, agents, reason=""):

@@ -1,0 +1,102 @@
+"""``--partner AGENT``: the last cook is played by an agent the evaluated one does not drive,
+and a planner-backed controller plans around it."""
+
+from __future__ import annotations
+
+import warnings
+
+import pytest
+
+from ocplus_plan.agents import Episode, StayAgent, make_controller
+from ocplus_plan.agents.base import with_partner
+from ocplus_plan.agents.planner import PlannerAgent
+from ocplus_plan.errors import ConfigError
+from ocplus_plan.eval.results import read_results
+from ocplus_plan.eval.runner import EvalConfig, run_eval
+from ocplus_plan.sim import make_rules, new_state
+
+warnings.simplefilter("ignore", UserWarning)
+
+
+def _cfg(out, **kw) -> EvalConfig:
+    base = dict(presets=["easy"], agents=["greedy"], seeds=[0], out=out, horizon=40,
+                n_agents=2, jobs=1, quiet=True)
+    base.update(kw)
+    return EvalConfig(**base)
+
+
+def test_an_idle_partner_plays_the_last_cook_and_never_moves():
+    state = new_state(make_rules("easy", n_agents=2), 0)
+    start = state.agent_pos[1]
+    episode = Episode(state, with_partner(make_controller("greedy"), "idle", 2))
+    for _ in range(40):
+        episode.step()
+        assert state.agent_pos[1] == start
+    assert episode.team.assignment == [(0,), (1,)]
+
+
+@pytest.mark.parametrize("partner", ["idle", "greedy"])
+def test_eval_partner_rows_name_the_partner(tmp_path, partner):
+    out = tmp_path / partner
+    run_eval(_cfg(out, partner=partner), echo=lambda *a: None)
+    (row,) = read_results(out)
+    assert row["status"] == "ok", row.get("reason")
+    assert row["partner"] == partner and row["agent"] == f"greedy +{partner}"
+
+
+def test_eval_partner_needs_a_second_cook(tmp_path):
+    with pytest.raises(ConfigError, match="at least 2 cooks"):
+        run_eval(_cfg(tmp_path / "one", n_agents=1, partner="idle"))
+
+
+def test_eval_partner_must_be_a_known_agent(tmp_path):
+    with pytest.raises(ConfigError, match="unknown agent"):
+        run_eval(_cfg(tmp_path / "bad", partner="nobody"))
+
+
+def test_the_cli_takes_partner(tmp_path):
+    from ocplus_plan.cli import main
+
+    out = tmp_path / "cli"
+    assert main(["eval", "--presets", "easy", "--agents", "greedy", "--seeds", "1",
+                 "--horizon", "30", "--n-agents", "2", "--partner", "idle", "--out", str(out),
+                 "--quiet"]) == 0
+    assert read_results(out)[0]["partner"] == "idle"
+
+
+def _fd_ok() -> bool:
+    try:
+        from ocplus_plan.planning.engines import availability
+    except ImportError:  # pragma: no cover
+        return False
+    return availability("fast-downward").ok
+
+
+@pytest.mark.skipif(not _fd_ok(), reason="fast-downward unavailable")
+def test_an_idle_partner_is_planned_around_not_given_work():
+    """The planner models only the cook it drives: no step goes to the partner's cook, and
+    the driven cook serves dishes with the idle cook in its kitchen."""
+    rules = make_rules("easy", n_agents=2, recipes=["tomato"], horizon=60)
+    state = new_state(rules, 0)
+    agent = PlannerAgent("fast-downward")
+    seen: set[int] = set()
+
+    def watch(episode, result):
+        seen.update(t.step.agent for q in agent.executive.queues.values() for t in q)
+
+    Episode(state, with_partner(agent, StayAgent(), 2)).run(on_step=watch)
+    assert agent.executive.agent_ids == (0,)
+    assert agent.executive.planner.modelled_cooks(state, (0,), "stations") == [0]
+    assert seen <= {0}
+    assert state.stats["dishes_served"] >= 1, agent.info()
+
+
+def test_a_partner_holding_an_item_is_modelled_but_not_driven():
+    from ocplus_plan.execution.planning_step import compile_and_solve
+
+    state = new_state(make_rules("easy", map="gen:open:train:0:easy", n_agents=3), 0)
+    pipeline = compile_and_solve("fast-downward")
+    assert pipeline.modelled_cooks(state, (0, 1), "stations") == [0, 1]
+    assert pipeline.modelled_cooks(state, (0, 1, 2), "stations") is None
+    state.agent_hand[2] = 0  # (only the hand is read)
+    assert pipeline.modelled_cooks(state, (0, 1), "stations") == [0, 1, 2]
