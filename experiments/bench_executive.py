@@ -38,7 +38,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ocplus_plan.agents import run_episode
-from ocplus_plan.agents.base import with_partner
+from ocplus_plan.agents import with_partner
 from ocplus_plan.agents.planner import PlannerAgent
 from ocplus_plan.eval.bounds import dish_bound
 from ocplus_plan.execution.faults import FaultSchedule

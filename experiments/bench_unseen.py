@@ -36,7 +36,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ocplus_plan.agents import make_controller, run_episode  # noqa: E402
-from ocplus_plan.agents.base import with_partner  # noqa: E402
+from ocplus_plan.agents import with_partner  # noqa: E402
 from ocplus_plan.agents.planner import make_planner_agent  # noqa: E402
 from ocplus_plan.sim import make_rules, new_state  # noqa: E402
 from ocplus_plan.sim.generate import FAMILIES  # noqa: E402

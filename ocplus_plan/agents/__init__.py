@@ -8,9 +8,18 @@ Names: ``random``, ``stay``, ``greedy``, ``planner:NAME``, ``ppo:PATH`` and
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 from ..errors import ConfigError
-from .base import Controller, Episode, RandomAgent, StayAgent, Team, run_episode
+from .base import (
+    PARTNER_ALIASES,
+    Controller,
+    Episode,
+    RandomAgent,
+    StayAgent,
+    Team,
+    run_episode,
+)
 
 #: agent kind -> factory(argument after ':' or None, seed) -> Controller
 FACTORIES: dict[str, Callable[[str | None, int], Controller]] = {
@@ -34,5 +43,21 @@ def make_controller(spec: str, seed: int = 0) -> Controller:
     return FACTORIES[kind](arg or None, seed)
 
 
+def with_partner(controller: Controller, partner: str | Controller | None, n_agents: int,
+                 seed: int = 0) -> Any:
+    """``controller`` drives every cook but the last, which ``partner`` plays (a controller or
+    an agent name: ``idle``, ``random``, ``greedy``, ``ppo:PATH``, ...); without a partner,
+    ``controller`` drives them all. The controller does not drive the partner's cook: a
+    planner-backed one plans around it as a moving obstacle (ad-hoc teamwork)."""
+    if partner is None:
+        return controller
+    if n_agents < 2:
+        raise ConfigError(f"a partner plays the last cook beside the agent's: the kitchen needs "
+                          f"at least 2 cooks, it has {n_agents} (raise --n-agents)")
+    if isinstance(partner, str):
+        partner = make_controller(PARTNER_ALIASES.get(partner, partner), seed)
+    return [(controller, list(range(n_agents - 1))), (partner, [n_agents - 1])]
+
+
 __all__ = ["FACTORIES", "Controller", "Episode", "RandomAgent", "StayAgent", "Team", "make_controller",
-           "run_episode"]
+           "run_episode", "with_partner"]

@@ -196,24 +196,6 @@ class Episode:
 PARTNER_ALIASES = {"idle": "stay"}
 
 
-def with_partner(controller: Controller, partner: str | Controller | None, n_agents: int,
-                 seed: int = 0) -> Drivers:
-    """``controller`` drives every cook but the last, which ``partner`` plays (a controller or
-    an agent name: ``idle``, ``random``, ``greedy``, ``ppo:PATH``, ...); without a partner,
-    ``controller`` drives them all. The controller does not drive the partner's cook: a
-    planner-backed one plans around it as a moving obstacle (ad-hoc teamwork)."""
-    if partner is None:
-        return controller
-    if n_agents < 2:
-        raise ConfigError(f"a partner plays the last cook beside the agent's: the kitchen needs "
-                          f"at least 2 cooks, it has {n_agents} (raise --n-agents)")
-    if isinstance(partner, str):
-        from . import make_controller
-
-        partner = make_controller(PARTNER_ALIASES.get(partner, partner), seed)
-    return [(controller, list(range(n_agents - 1))), (partner, [n_agents - 1])]
-
-
 def run_episode(state: State, drivers: Drivers, faults: Faults | None = None,
                 steps: int | None = None) -> dict[str, Any]:
     """Play ``state`` to its end (or until step ``steps``) and return :meth:`Episode.summary`."""

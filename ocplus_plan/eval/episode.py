@@ -187,7 +187,7 @@ def _drivers(spec: EpisodeSpec, controller: Any, fault: Any) -> Any:
     """The team of an episode: the controller drives the cooks (but the last, with a
     partner: ``agents.base.with_partner``); a fault's blocker the extra agent. Message loss
     is wired into a planner controller's executive."""
-    from ..agents.base import with_partner
+    from ..agents import with_partner
 
     if fault.message_loss and hasattr(controller, "executive"):
         from ..execution.faults import MessageLoss
@@ -307,6 +307,7 @@ __all__ = [
     "EvalConfig",
     "Progress",
     "check_agent",
+    "check_partner",
     "error_row",
     "evaluate_episode",
     "interrupt_requested",

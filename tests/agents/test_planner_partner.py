@@ -8,7 +8,7 @@ import warnings
 import pytest
 
 from ocplus_plan.agents import Episode, StayAgent, make_controller
-from ocplus_plan.agents.base import with_partner
+from ocplus_plan.agents import with_partner
 from ocplus_plan.agents.planner import PlannerAgent
 from ocplus_plan.errors import ConfigError
 from ocplus_plan.eval.results import read_results
