@@ -27,7 +27,10 @@ def shipped_recordings() -> list[Path]:
     """Every recording in the source tree: a ``*.jsonl[.gz]`` whose first line is a header."""
     found = []
     for path in sorted(ROOT.rglob("*.jsonl*")):
-        if SKIP_DIRS & set(path.relative_to(ROOT).parts) or not path.is_file():
+        parts = path.relative_to(ROOT).parts
+        # hidden folders (.venv, .git, tool scratch) hold no shipped file
+        if SKIP_DIRS & set(parts) or any(p.startswith(".") for p in parts) \
+                or not path.is_file():
             continue
         opener = gzip.open if path.suffix == ".gz" else open
         with opener(path, "rt", encoding="utf-8") as fh:
@@ -60,7 +63,7 @@ def header_with(lines: list[str], **changes) -> list[str]:
 
 
 def refused_by_the_cli(path: Path, capsys, match: str) -> None:
-    assert main(["replay", str(path), "--check"]) == 2
+    assert main(["replay", str(path), "--check", "--json"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"ocplus: error: not a readable recording: {path}: ")
     assert match in err and "\n" not in err and "Traceback" not in err
@@ -68,7 +71,7 @@ def refused_by_the_cli(path: Path, capsys, match: str) -> None:
 
 @pytest.mark.parametrize("path", shipped_recordings(), ids=lambda p: str(p.relative_to(ROOT)))
 def test_every_shipped_recording_replays(path, capsys):
-    assert main(["replay", str(path), "--check"]) == 0
+    assert main(["replay", str(path), "--check", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["matches_recording"] is True
 
 
@@ -182,7 +185,7 @@ def test_metadata_never_overrides_the_verdict(tmp_path, lines, capsys):
     actions = [json.loads(x) for x in lines[1:-1]]
     actions[3]["a"] = [(actions[3]["a"][0] + 1) % 4]
     path = write(tmp_path, [json.dumps(head), *map(json.dumps, actions), lines[-1]])
-    assert main(["replay", str(path), "--check"]) == 1
+    assert main(["replay", str(path), "--check", "--json"]) == 1
     assert json.loads(capsys.readouterr().out)["matches_recording"] is False
 
 
