@@ -24,9 +24,9 @@ needs_numba = pytest.mark.skipif(not numba_available(),
 QUICK = dict(chop_steps=2, cook_time=3, burn_time=6, wash_steps=2, map_switch_step=4)
 
 
-@st.composite
-def kitchens(draw, presets=("easy", "medium", "hard")):
-    preset = draw(st.sampled_from(presets))
+def draw_overrides(draw, preset: str) -> dict:
+    """Short processes, and a drawn horizon, expiry, reward mode, fixed orders and early stop:
+    the rule variations every differential test of a mirror draws from."""
     overrides = dict(QUICK, horizon=draw(st.integers(8, 40)))
     if draw(st.booleans()):
         overrides["order_time_limit"] = draw(st.integers(2, 12))
@@ -36,6 +36,13 @@ def kitchens(draw, presets=("easy", "medium", "hard")):
         overrides["fixed_orders"] = True
     if preset == "hard" and draw(st.booleans()):
         overrides["stop_after_orders"] = 1
+    return overrides
+
+
+@st.composite
+def kitchens(draw, presets=("easy", "medium", "hard")):
+    preset = draw(st.sampled_from(presets))
+    overrides = draw_overrides(draw, preset)
     n_agents = draw(st.integers(1, 2)) if preset != "hard" else 2
     radius = draw(st.sampled_from([0, 2]))
     return make_rules(preset, n_agents=n_agents, **overrides), radius, draw(st.integers(0, 99))

@@ -23,8 +23,9 @@ from ocplus_plan.sim.observe import VectorEncoder  # noqa: E402
 from ocplus_plan.sim.orders import draw_order  # noqa: E402
 from ocplus_plan.sim.state import geometry_for  # noqa: E402
 
-# short processes, switches and horizons so that a few dozen steps see every rule
-QUICK = dict(chop_steps=2, cook_time=3, burn_time=6, wash_steps=2, map_switch_step=4)
+# the numba engine's test draws the same rule variations (short processes and horizons)
+from tests.sim.fast.test_batch import QUICK, draw_overrides  # noqa: E402
+
 MAX_ITEMS, MAX_RECIPES = 8, 12  # one padded shape for every preset: few compilations
 BATCH = 4  # kitchens per compared batch (one batch size: one compilation per view)
 
@@ -169,15 +170,7 @@ def compare(rules_list, radius: int, seed: int, steps: int, noise: float = 0.25,
 @st.composite
 def kitchens(draw, presets=("easy", "medium", "hard")):
     preset = draw(st.sampled_from(presets))
-    overrides = dict(QUICK, horizon=draw(st.integers(8, 40)))
-    if draw(st.booleans()):
-        overrides["order_time_limit"] = draw(st.integers(2, 12))
-    if draw(st.booleans()):
-        overrides["reward_mode"] = "shared"
-    if draw(st.booleans()):
-        overrides["fixed_orders"] = True
-    if preset == "hard" and draw(st.booleans()):
-        overrides["stop_after_orders"] = 1
+    overrides = draw_overrides(draw, preset)
     radius = draw(st.sampled_from([0, 2]))
     # two cooks everywhere (one compilation per view; one cook: test_jax_env.py)
     return make_rules(preset, n_agents=2, **overrides), radius, draw(st.integers(0, 99))
