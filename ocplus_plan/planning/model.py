@@ -331,6 +331,7 @@ def parameter_names(signature: tuple[str, ...]) -> list[tuple[str, str]]:
     return out
 
 
+@lru_cache(maxsize=16)
 def build_domain(encoding: str = "classical", granularity: str = "stations",
                  k_max: int = 3, switches: bool = False) -> Domain:
     """The UP types, fluents and actions of one encoding and granularity (cached).

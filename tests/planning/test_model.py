@@ -27,6 +27,12 @@ def test_domain_has_every_kitchen_action(encoding: str, granularity: str) -> Non
         assert all(hasattr(a, "duration") for a in dom.actions.values())
 
 
+def test_domain_is_built_once_per_options() -> None:
+    # plan map-back looks the domain up once per plan action: it must not rebuild it
+    assert build_domain("classical", "stations", 3) is build_domain("classical", "stations", 3)
+    assert build_domain("temporal", "cells") is not build_domain("classical", "cells")
+
+
 def test_move_cost_is_distance_for_stations_and_one_for_cells() -> None:
     move = {g: next(s for s in schemas("classical", g) if s.name == "move")
             for g in GRANULARITIES}
