@@ -13,19 +13,26 @@ it stands still; ``greedy``). One JSON line per episode, then summary lines and 
   cook fewer (target 0.8 or more); with a greedy partner, against greedy with every cook.
 
 Planner calls are limited in CPU seconds (``--timeout``), so dishes do not depend on the
-machine's load; rows give each episode's planning wall and CPU seconds.
+machine's load; rows give each episode's planning wall and CPU seconds and the 1-minute load
+average when it started. ``--busy N`` runs N processes that spin on the CPU beside the whole
+run; ``--compare A B`` lists the cells whose dishes differ between two runs (the load check:
+the same grid once alone and once with ``--busy 2``).
 
 Examples::
 
     .venv/bin/python experiments/bench_unseen.py --kitchens-per-family 1 --seeds 1 \\
         --out experiments/results/unseen/grid.jsonl
     .venv/bin/python experiments/bench_unseen.py --table experiments/results/unseen/grid.jsonl
+    .venv/bin/python experiments/bench_unseen.py --kitchens-per-family 2 --cooks 2 --busy 2 \\
+        --out loaded.jsonl && .venv/bin/python experiments/bench_unseen.py --compare grid.jsonl loaded.jsonl
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import multiprocessing
+import os
 import statistics
 import sys
 import time
@@ -55,6 +62,7 @@ def run_one(family: str, index: int, cooks: int, seed: int, agent: str, partner:
         controller = make_planner_agent(agent.partition(":")[2], seed, timeout=args.timeout)
     else:
         controller = make_controller(agent, seed)
+    load = os.getloadavg()[0]
     t0 = time.perf_counter()
     stats = run_episode(state, with_partner(controller, partner, cooks, seed))
     wall = time.perf_counter() - t0
@@ -62,7 +70,8 @@ def run_one(family: str, index: int, cooks: int, seed: int, agent: str, partner:
     return {
         "family": family, "kitchen": name, "index": index, "cooks": cooks, "seed": seed,
         "agent": agent, "partner": partner, "steps": stats["t"],
-        "dishes": stats["dishes_served"], "wall_s": round(wall, 2),
+        "dishes": stats["dishes_served"], "wall_s": round(wall, 2), "load_1min": round(load, 2),
+        "busy": args.busy,
         **({k: info.get(k) for k in (
             "planner_calls", "statuses", "replans_by_reason", "planning_time", "planning_cpu_s",
             "livelocks_detected", "livelock_stretches", "gave_way", "all_cooks_fallbacks",
@@ -148,6 +157,30 @@ def table(summary: list[dict]) -> str:
     return "\n".join(lines)
 
 
+def compare(paths: list[Path]) -> dict:
+    """Cells (kitchen, cooks, seed, agent, partner) played in both files, and those whose
+    dishes differ, with the load each ran at."""
+    runs = []
+    for path in paths:
+        rows = [json.loads(line) for line in path.read_text().splitlines()]
+        runs.append({(r["kitchen"], r["cooks"], r["seed"], r["agent"], r["partner"]): r
+                     for r in rows if "summary" not in r})
+    both = sorted(set(runs[0]) & set(runs[1]), key=str)
+    differ = [{"cell": list(k), "dishes": [runs[0][k]["dishes"], runs[1][k]["dishes"]],
+               "load_1min": [runs[0][k].get("load_1min"), runs[1][k].get("load_1min")]}
+              for k in both if runs[0][k]["dishes"] != runs[1][k]["dishes"]]
+    loads = [[r.get("load_1min") for k, r in run.items() if k in set(both)] for run in runs]
+    return {"summary": "compare", "files": [str(p) for p in paths], "cells": len(both),
+            "same": len(both) - len(differ), "differ": differ,
+            "load_1min_median": [statistics.median([x for x in ls if x is not None] or [0])
+                                 for ls in loads]}
+
+
+def _spin() -> None:
+    while True:
+        pass
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -169,7 +202,14 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", type=Path, default=None, help="also append the JSON lines here")
     p.add_argument("--table", type=Path, nargs="+", default=None,
                    help="summarise these --out files and stop")
+    p.add_argument("--busy", type=int, default=0,
+                   help="processes spinning on the CPU beside the run (the load check)")
+    p.add_argument("--compare", type=Path, nargs=2, default=None, metavar=("A", "B"),
+                   help="the cells whose dishes differ between two --out files, and stop")
     args = p.parse_args(argv)
+    if args.compare:
+        print(json.dumps(compare(args.compare)))
+        return 0
     if args.table:
         rows = [json.loads(line) for path in args.table for line in path.read_text().splitlines()]
         rows = [r for r in rows if "summary" not in r]
@@ -179,6 +219,18 @@ def main(argv: list[str] | None = None) -> int:
         print(table(summary))
         return 0
     warnings.simplefilter("ignore")
+    spinners = [multiprocessing.get_context("fork").Process(target=_spin, daemon=True)
+                for _ in range(args.busy)]
+    for proc in spinners:
+        proc.start()
+    try:
+        return _run(args)
+    finally:
+        for proc in spinners:
+            proc.kill()
+
+
+def _run(args: argparse.Namespace) -> int:
     out = args.out.open("a") if args.out else None
     rows = []
     for seed in range(args.seeds):
