@@ -35,7 +35,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..errors import DependencyNotInstalled, PlannerError
-from . import _command, _proc
+from . import _command, _proc, portfolio
 from .adapt import adapt_for_engine, without_quality_metrics
 from .model import ENCODINGS
 from .validate import plan_from_steps, plan_quality, plan_to_steps, validate_plan
@@ -96,6 +96,8 @@ class PlannerConfig:
     notes: str = ""
     #: a planner binary instead of a UP engine: the argument list (see :mod:`._command`)
     command: tuple[str, ...] = ()
+    #: other entries run in turn, each with its share of the CPU limit (:mod:`.portfolio`)
+    portfolio: tuple[tuple[str, float | None], ...] = ()
 
     @classmethod
     def from_mapping(cls, data: dict[str, Any], source: str = "<dict>") -> PlannerConfig:
@@ -103,7 +105,7 @@ class PlannerConfig:
         if not isinstance(data, dict):
             raise PlannerError(f"{source}: a planner config must be a mapping, got {data!r}")
         known = {"name", "engine", "encoding", "timeout", "params", "requires", "register",
-                 "env", "notes", "command"}
+                 "env", "notes", "command", "portfolio"}
         bad = sorted(set(data) - known)
         if bad:
             raise PlannerError(f"{source}: unknown key(s) {bad}; known keys: {sorted(known)}")
@@ -115,6 +117,13 @@ class PlannerConfig:
                                    "and 'register'), not both")
             command = _command.parse_command(data["command"], source)
             data = {**data, "engine": "command"}
+        members: tuple[tuple[str, float | None], ...] = ()
+        if "portfolio" in data:
+            if set(data) & {"command", "engine", "register", "params"}:
+                raise PlannerError(f"{source}: a 'portfolio' runs other registry entries: "
+                                   "give it no 'engine', 'params', 'register' or 'command'")
+            members = portfolio.parse_members(data["portfolio"], source)
+            data = {**data, "engine": "portfolio"}
         for key in ("name", "engine", "encoding"):
             if not isinstance(data.get(key), str) or not data[key]:
                 raise PlannerError(f"{source}: '{key}' must be a non-empty string")
@@ -134,7 +143,7 @@ class PlannerConfig:
             modules=tuple(requires.get("modules") or ()),
             binaries=tuple(requires.get("binaries") or ()),
             register=data.get("register"), env={str(k): str(v) for k, v in env.items()},
-            notes=str(data.get("notes") or "").strip(), command=command,
+            notes=str(data.get("notes") or "").strip(), command=command, portfolio=members,
         )
 
 
@@ -279,6 +288,15 @@ def availability(name: str | PlannerConfig) -> Availability:
 
 @cache
 def _availability(config: PlannerConfig) -> Availability:
+    if config.portfolio:
+        for member, _ in config.portfolio:
+            sub = get_planner(member)
+            problem = portfolio.member_problem(config.name, config.encoding, sub)
+            if problem:
+                return Availability(False, problem)
+            if not availability(sub).ok:
+                return Availability(False, f"member {member}: {availability(sub).reason}")
+        return Availability(True)
     for module in config.modules:
         if importlib.util.find_spec(module) is None:
             return Availability(False, f"Python package {module!r} is not installed; "
@@ -365,6 +383,10 @@ def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = No
     if not avail.ok:
         result.reason = avail.reason
         return result
+    if config.portfolio:
+        result.status = "timeout"
+        return portfolio.run(config, limit, lambda member, budget: solve(
+            problem, member, budget, validate, use_val, wall_safety(budget)), result)
 
     anytime = config.params.get("anytime") is True
     own_limit = min(limit, wall) if anytime else wall
