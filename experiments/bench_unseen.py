@@ -192,7 +192,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--seeds", type=int, default=1, help="seeds 0..N-1")
     p.add_argument("--steps", type=int, default=200)
     p.add_argument("--preset", default="medium", help="stations and recipes (easy, medium, hard)")
-    p.add_argument("--planner", default="planner:fast-downward",
+    p.add_argument("--planner", default="planner:fast-downward-wastar",
                    help="the planner configuration (default: the default configuration)")
     p.add_argument("--partners", nargs="*", default=["idle", "greedy"],
                    help="agents that play the last cook beside the planner (2 cooks or more)")

@@ -29,7 +29,8 @@ README = HERE.parent / "README.md"
 BEGIN, END = "<!-- headline:begin -->", "<!-- headline:end -->"
 #: column label -> agent spec (what ``ocplus eval --agents`` takes)
 AGENTS = {
-    "default planner": "planner:fast-downward",
+    "default planner": "planner:fast-downward-wastar",
+    "fd lama-first": "planner:fast-downward",
     "fd-bjolp one-cook+chain2": "planner:fast-downward-bjolp:stations:on_event:one-cook+chain2",
     "greedy": "greedy",
     "PPO": "ppo",

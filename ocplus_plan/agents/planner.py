@@ -11,7 +11,8 @@ executive keeps the last valid plan and agents without work keep out of the way.
 
 The plan function is :func:`~ocplus_plan.execution.planning_step.compile_and_solve`; the
 spec is parsed once by :class:`~ocplus_plan.execution.spec.PlannerSpec`. Registered as
-``planner`` in :data:`ocplus_plan.agents.FACTORIES`: ``planner:fast-downward``,
+``planner`` in :data:`ocplus_plan.agents.FACTORIES`: ``planner:`` (the default planner,
+:data:`~ocplus_plan.execution.spec.DEFAULT_PLANNER`), ``planner:fast-downward``,
 ``planner:kairos`` (temporal), or ``planner:NAME:GRANULARITY:POLICY:OPTIONS`` for the rest
 (OPTIONS joined by ``+``: ``anticipate``, ``one-cook``, ``chainK``, ``no-schedule``,
 ``over-switches``).
@@ -32,7 +33,7 @@ from ..execution.planning_step import (
     renumber,
     steps_from_record,
 )
-from ..execution.spec import PLANNER_OPTIONS, PlannerSpec, parse_options
+from ..execution.spec import DEFAULT_PLANNER, PLANNER_OPTIONS, PlannerSpec, parse_options
 from ..sim.state import State
 from .base import Controller
 
@@ -43,7 +44,7 @@ class PlannerAgent(Controller):
     name = "planner"
 
     def __init__(
-        self, planner: str | PlanFunction = "fast-downward", encoding: str = "classical",
+        self, planner: str | PlanFunction = DEFAULT_PLANNER, encoding: str = "classical",
         granularity: str = "stations", policy: str | Policy = "on_event", *,
         anticipate_switches: bool = False, timeout: float = 10.0,
         orders_per_plan: int | str | None = "auto", schedule_cooks: bool = True,

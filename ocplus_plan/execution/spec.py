@@ -13,7 +13,7 @@ from typing import Any
 from ..errors import ConfigError
 
 #: the planner a spec with an empty NAME field names
-DEFAULT_PLANNER = "fast-downward"
+DEFAULT_PLANNER = "fast-downward-wastar"
 #: the fourth field of ``planner:NAME:GRANULARITY:POLICY:OPTIONS`` (options joined by '+')
 PLANNER_OPTIONS = ("anticipate", "one-cook", "chainK", "no-schedule", "over-switches",
                    "no-over-switches")

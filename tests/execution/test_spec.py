@@ -7,14 +7,27 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from ocplus_plan.errors import ConfigError
-from ocplus_plan.execution.spec import PlannerSpec
+from ocplus_plan.execution.spec import DEFAULT_PLANNER, PlannerSpec
 
 
 def test_empty_fields_take_the_defaults():
     spec = PlannerSpec.parse("fast-downward")
     assert (spec.name, spec.granularity, spec.policy) == ("fast-downward", "stations", "on_event")
-    assert PlannerSpec.parse(None).name == "fast-downward"
+    assert PlannerSpec.parse(None).name == DEFAULT_PLANNER
+    assert PlannerSpec.parse("").name == DEFAULT_PLANNER
     assert PlannerSpec.parse("::periodic(5)").policy == "periodic(5)"
+
+
+def test_the_default_planner_is_a_shipped_cost_aware_entry():
+    # the default searches on the compiled costs (walking distances, chop/cook/wash steps):
+    # lama-first searches on plan length, and its plans walked 1.8x the optimum on a
+    # generated corridor kitchen (docs/executive.md, "The default planner")
+    pytest.importorskip("unified_planning")
+    from ocplus_plan.planning.engines import get_planner
+
+    config = get_planner(DEFAULT_PLANNER)
+    assert config.encoding == "classical"
+    assert "lazy_wastar" in config.params["fast_downward_search_config"]
 
 
 def test_options_become_fields():
