@@ -46,7 +46,9 @@ from ocplus_plan.agents import make_controller, run_episode  # noqa: E402
 from ocplus_plan.agents import with_partner  # noqa: E402
 from ocplus_plan.agents.planner import make_planner_agent  # noqa: E402
 from ocplus_plan.sim import make_rules, new_state  # noqa: E402
+from ocplus_plan.sim.codes import Cell  # noqa: E402
 from ocplus_plan.sim.generate import FAMILIES  # noqa: E402
+from ocplus_plan.sim.queries import stations_cut_off  # noqa: E402
 
 #: the kitchens of these families switch layouts (the hard rules); the others are static
 DYNAMIC = frozenset({"switching"})
@@ -62,6 +64,7 @@ def run_one(family: str, index: int, cooks: int, seed: int, agent: str, partner:
         controller = make_planner_agent(agent.partition(":")[2], seed, timeout=args.timeout)
     else:
         controller = make_controller(agent, seed)
+    cuts = idle_cuts(state) if partner == "idle" else None
     load = os.getloadavg()[0]
     t0 = time.perf_counter()
     stats = run_episode(state, with_partner(controller, partner, cooks, seed))
@@ -71,13 +74,23 @@ def run_one(family: str, index: int, cooks: int, seed: int, agent: str, partner:
         "family": family, "kitchen": name, "index": index, "cooks": cooks, "seed": seed,
         "agent": agent, "partner": partner, "steps": stats["t"],
         "dishes": stats["dishes_served"], "wall_s": round(wall, 2), "load_1min": round(load, 2),
-        "busy": args.busy,
+        "busy": args.busy, **({"partner_cuts": cuts} if cuts is not None else {}),
         **({k: info.get(k) for k in (
             "planner_calls", "statuses", "replans_by_reason", "planning_time", "planning_cpu_s",
             "livelocks_detected", "livelock_stretches", "gave_way", "all_cooks_fallbacks",
             "proven_answers_reused", "steps_done", "failure_messages")}
            if "planner_calls" in info else {}),
     }
+
+
+def idle_cuts(state: object) -> list[str]:
+    """The stations an idle last cook, standing on its spawn cell all episode, cuts off from
+    every other cook (the kitchen then cannot serve what needs them, whoever plans)."""
+    geo = state.geo
+    last = state.n_agents - 1
+    cells = stations_cut_off(geo, state.layout_index, state.agent_pos[last],
+                             [state.agent_pos[a] for a in range(last)])
+    return sorted({Cell(geo.terrains[state.layout_index][c]).name.lower() for c in cells})
 
 
 def cause(row: dict) -> str:
@@ -104,6 +117,12 @@ def summarise(rows: list[dict], planner: str) -> list[dict]:
     # one row per episode (the last one run), and per family only the cells both played
     cell = {(r["kitchen"], r["cooks"], r["seed"], r["agent"], r["partner"]): r for r in rows}
     rows = list(cell.values())
+    for r in rows:  # files written before rows carried it
+        if r["partner"] == "idle" and "partner_cuts" not in r:
+            preset = r["kitchen"].rsplit(":", 1)[1]
+            rules = make_rules(preset, map=r["kitchen"], n_agents=r["cooks"],
+                               dynamic=r["family"] in DYNAMIC)
+            r["partner_cuts"] = idle_cuts(new_state(rules, r["seed"]))
     solo = [r for r in rows if r["partner"] is None
             and (r["kitchen"], r["cooks"], r["seed"], planner, None) in cell
             and (r["kitchen"], r["cooks"], r["seed"], "greedy", None) in cell]
@@ -139,12 +158,20 @@ def summarise(rows: list[dict], planner: str) -> list[dict]:
                 if partner == "idle" else cell.get((r["kitchen"], r["cooks"], r["seed"],
                                                     "greedy", None))
             if ref is not None:
-                pairs.append((r["dishes"], ref["dishes"]))
+                pairs.append((r["dishes"], ref["dishes"], r))
         if pairs:
-            a, b = mean([x for x, _ in pairs]), mean([y for _, y in pairs])
-            out.append({"summary": f"partner_{partner}", "versus": versus,
-                        "episodes": len(pairs), "with_partner": a, "reference": b,
-                        "ratio": round(a / b, 3) if b else None})
+            a, b = mean([x for x, _, _ in pairs]), mean([y for _, y, _ in pairs])
+            line = {"summary": f"partner_{partner}", "versus": versus,
+                    "episodes": len(pairs), "with_partner": a, "reference": b,
+                    "ratio": round(a / b, 3) if b else None}
+            if partner == "idle":
+                free = [(x, y) for x, y, r in pairs if not r.get("partner_cuts")]
+                fa, fb = mean([x for x, _ in free]), mean([y for _, y in free])
+                line.update(episodes_not_cut=len(free), ratio_not_cut=round(fa / fb, 3)
+                            if fb else None,
+                            cut=[[r["kitchen"], r["cooks"], r["seed"], r["partner_cuts"], x, y]
+                                 for x, y, r in pairs if r.get("partner_cuts")])
+            out.append(line)
     return out
 
 

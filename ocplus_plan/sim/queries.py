@@ -20,7 +20,7 @@ from functools import lru_cache
 from typing import TYPE_CHECKING, NamedTuple
 
 from ..errors import ConfigError
-from .codes import COUNTERS, VEGETABLES, Action, Cell, Item, ItemState
+from .codes import COUNTERS, STATIONS, VEGETABLES, Action, Cell, Item, ItemState
 
 if TYPE_CHECKING:
     from .rules import Rules
@@ -122,6 +122,27 @@ def walk_actions(neighbors: Neighbors, walkable: Sequence[bool], start: int, goa
 def interaction_spots(neighbors: Neighbors, walkable: Sequence[bool], cell: int) -> list[int]:
     """The walkable neighbours of ``cell``: where an agent stands to bump it."""
     return [nb for nb in neighbors[cell] if nb >= 0 and walkable[nb]]
+
+
+def stations_cut_off(geo: Geometry, layout: int, blocker: int,
+                     sources: Iterable[int]) -> list[int]:
+    """The station cells (:data:`~.codes.STATIONS`) that a cook standing still on ``blocker``
+    cuts off from ``sources`` in ``layout``: each can be bumped from a cell that a walk from
+    ``sources`` reaches without the blocker, and from none with it (a one-lane way, or the
+    only cell in front of the station)."""
+    walkable = geo.walkables[layout]
+    sources = [s for s in sources if s != blocker]
+    free = walks(geo.neighbors, walkable, sources).dist
+    held = walks(geo.neighbors, walkable, sources, {blocker}).dist
+    out = []
+    for cell, code in enumerate(geo.terrains[layout]):
+        if code not in STATIONS:
+            continue
+        spots = interaction_spots(geo.neighbors, walkable, cell)
+        if any(free[c] >= 0 for c in spots) and not any(held[c] >= 0 for c in spots
+                                                         if c != blocker):
+            out.append(cell)
+    return out
 
 
 @lru_cache(maxsize=64)
@@ -342,5 +363,5 @@ def plate_fits(contents: Counter[int], recipe: Counter[int]) -> bool:
 
 __all__ = ["Bump", "SwitchingWalks", "Walks", "bump_effect", "bumps_needed", "direction", "distances",
            "grid_neighbors", "interaction_spots", "is_plateable", "layout_at", "plate_fits",
-           "switching_walks", "ticks_until_burnt", "ticks_until_cooked", "walk_actions",
+           "stations_cut_off", "switching_walks", "ticks_until_burnt", "ticks_until_cooked", "walk_actions",
            "walk_to", "walkable_in_any_layout", "walks"]

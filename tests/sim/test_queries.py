@@ -19,6 +19,7 @@ from ocplus_plan.sim.queries import (
     interaction_spots,
     is_plateable,
     plate_fits,
+    stations_cut_off,
     ticks_until_burnt,
     ticks_until_cooked,
     walk_actions,
@@ -237,3 +238,27 @@ def test_plate_fits_is_multiset_inclusion():
     assert plate_fits(Counter([tomato, tomato, steak]), recipe)
     assert not plate_fits(Counter([tomato, tomato, tomato]), recipe)
     assert not plate_fits(Counter([int(Item.ONION)]), recipe)
+
+
+def test_a_cook_standing_in_front_of_a_station_cuts_it_off() -> None:
+    # lettuce (row 0) is bumped only from the floor cell below it, where cook 1 stands
+    grid = [[1, 4, 1, 1, 1],
+            [5, 0, 0, 0, 7],
+            [1, 6, 1, 3, 1]]
+    rules, state = kitchen(grid, [[1, 3], [1, 1]])
+    geo = state.geo
+    cut = stations_cut_off(geo, 0, geo.flat(1, 1), [geo.flat(1, 3)])
+    assert sorted(geo.rc(c) for c in cut) == [(0, 1), (1, 0), (2, 1)]  # lettuce, plate, board
+
+
+def test_a_cook_in_a_one_lane_way_cuts_off_what_lies_beyond() -> None:
+    grid = [[1, 4, 1, 1, 1, 1],
+            [5, 0, 0, 0, 0, 7],
+            [1, 6, 1, 0, 0, 1],
+            [1, 1, 1, 3, 1, 1]]
+    rules, state = kitchen(grid, [[1, 4], [1, 2]])
+    geo = state.geo
+    cut = stations_cut_off(geo, 0, geo.flat(1, 2), [geo.flat(1, 4)])
+    assert sorted(geo.rc(c) for c in cut) == [(0, 1), (1, 0), (2, 1)]  # lettuce, plate, board
+    # in the two-cell-wide part a cook standing still is walked around
+    assert stations_cut_off(geo, 0, geo.flat(2, 4), [geo.flat(1, 1)]) == []
