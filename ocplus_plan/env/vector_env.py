@@ -35,9 +35,12 @@ class OvercookedPlusVectorEnv(VectorEnv):
     ``SAME_STEP`` (the kitchen restarts in the step that ended it; the last observation
     is in ``info["final_obs"]``, masked by ``info["_final_obs"]``).
 
-    **Copies**: with ``copy=True`` (default) each returned observation is a fresh array;
-    ``copy=False`` returns views of the engine's live buffer, rewritten by the next step
-    (several times faster at a thousand kitchens: copy what you keep).
+    **Copies**: by default (``copy=False``) the observations returned by :meth:`reset`
+    and :meth:`step` are read-only views of the engine's live buffer: the next ``step``
+    or ``reset`` rewrites them in place, so ``np.copy`` what you keep across steps (a
+    rollout buffer that stores them by assignment, ``buf[t] = obs[a]``, already copies).
+    ``copy=True`` returns fresh arrays each step, at the price of copying every
+    kitchen's observations (2.6x slower at a thousand kitchens).
 
     Only the ``vector`` mode without communication or rendering is batched; the engine
     reports no per-step events (``info`` is empty); use the single env for those.
@@ -45,7 +48,7 @@ class OvercookedPlusVectorEnv(VectorEnv):
 
     def __init__(self, num_envs: int = 1, preset: str = "hard", *,
                  autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
-                 copy: bool = True, reward_scope: str = "team",
+                 copy: bool = False, reward_scope: str = "team",
                  max_episode_steps: int | None = None, compiled: bool | None = None,
                  **kwargs: Any) -> None:
         if max_episode_steps is not None:
@@ -132,7 +135,11 @@ class OvercookedPlusVectorEnv(VectorEnv):
         obs = self.sim.obs
         if self.copy:
             obs = obs.copy()
-        return tuple(obs[:, a] for a in range(self.n_agents))
+            return tuple(obs[:, a] for a in range(self.n_agents))
+        views = tuple(obs[:, a] for a in range(self.n_agents))
+        for v in views:  # a write would corrupt the engine's incremental observations
+            v.flags.writeable = False
+        return views
 
 
 __all__ = ["OvercookedPlusVectorEnv"]

@@ -74,13 +74,38 @@ def test_same_step_autoreset_reports_the_final_observation():
         assert len(info["final_obs"][e]) == 2 and info["final_obs"][e][0].shape == last[0][e].shape
 
 
-def test_copy_false_returns_live_views_and_copy_true_fresh_arrays():
-    live = OvercookedPlusVectorEnv(2, copy=False, **KW)
-    fresh = OvercookedPlusVectorEnv(2, **KW)
-    obs_live, _ = live.reset(seed=0)
-    obs_fresh, _ = fresh.reset(seed=0)
-    assert np.shares_memory(obs_live[0], live.sim.obs)
-    assert not np.shares_memory(obs_fresh[0], fresh.sim.obs)
+def test_observations_are_read_only_views_of_the_live_buffer_by_default():
+    venv = OvercookedPlusVectorEnv(2, **KW)
+    obs, _ = venv.reset(seed=0)
+    assert all(np.shares_memory(o, venv.sim.obs) and not o.flags.writeable for o in obs)
+    kept = obs[0].copy()
+    obs_next, *_ = venv.step(np.zeros((2, 2), np.int64))  # time advances: the buffer changes
+    assert np.shares_memory(obs_next[0], obs[0])
+    assert np.array_equal(obs[0], obs_next[0]) and not np.array_equal(obs[0], kept)
+
+
+def test_copy_true_returns_fresh_arrays_that_survive_the_next_step():
+    venv = OvercookedPlusVectorEnv(2, copy=True, **KW)
+    obs, _ = venv.reset(seed=0)
+    kept = obs[0].copy()
+    assert not np.shares_memory(obs[0], venv.sim.obs) and obs[0].flags.writeable
+    obs_next, *_ = venv.step(np.zeros((2, 2), np.int64))
+    assert not np.shares_memory(obs_next[0], obs[0])
+    assert np.array_equal(obs[0], kept) and not np.array_equal(obs_next[0], kept)
+
+
+def test_copy_true_and_false_give_the_same_values():
+    live, fresh = OvercookedPlusVectorEnv(3, **KW), OvercookedPlusVectorEnv(3, copy=True, **KW)
+    pairs = [(live.reset(seed=4)[0], fresh.reset(seed=4)[0])]
+    rng = np.random.default_rng(1)
+    for _ in range(15):
+        acts = rng.integers(0, 5, size=(3, 2))
+        a, b = live.step(acts), fresh.step(acts)
+        for x, y in zip(a[1:4], b[1:4]):
+            np.testing.assert_array_equal(x, y)
+        pairs.append((a[0], b[0]))
+        for o_live, o_fresh in zip(*pairs[-1]):
+            np.testing.assert_array_equal(o_live, o_fresh)
 
 
 @pytest.mark.parametrize("bad", [dict(mode="rgb"), dict(agent_communication=True),
