@@ -3,13 +3,17 @@ vector env, and each of its kitchens is the single env's kitchen step for step."
 
 from __future__ import annotations
 
+import pickle
+import tracemalloc
+
 import gymnasium as gym
 import numpy as np
 import pytest
 from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
 
 import ocplus_plan.env  # noqa: F401  (registers the ids)
-from ocplus_plan.env.vector_env import OvercookedPlusVectorEnv
+from ocplus_plan.env.vector_env import BatchedBox, OvercookedPlusVectorEnv, batch_tuple_of_boxes
 from ocplus_plan.errors import ConfigError
 
 KW = dict(preset="hard", n_agents=2, horizon=12, obs_radius=2, compiled=False)
@@ -113,3 +117,56 @@ def test_copy_true_and_false_give_the_same_values():
 def test_unbatchable_options_are_refused_with_the_alternative(bad):
     with pytest.raises(ConfigError, match="sync|reward_scope"):
         OvercookedPlusVectorEnv(2, preset="hard", compiled=False, **bad)
+
+
+def _space_bytes(n: int) -> int:
+    """Bytes allocated while building the batched observation space of ``n`` kitchens."""
+    single = OvercookedPlusVectorEnv(1, **KW).single_observation_space
+    single.seed(0)
+    tracemalloc.start()
+    try:
+        space = batch_tuple_of_boxes(single, n)
+        held = tracemalloc.get_traced_memory()[0]
+    finally:
+        tracemalloc.stop()
+    assert [box.shape for box in space] == [(n, single[0].shape[0])] * 2
+    return held
+
+
+def test_the_batched_observation_space_holds_one_kitchens_bounds():
+    assert _space_bytes(4096) - _space_bytes(1) < 4096  # under a byte per kitchen
+    venv = OvercookedPlusVectorEnv(4096, **KW)
+    for box in venv.observation_space:
+        assert isinstance(box, BatchedBox) and box.shape == (4096, box.single.shape[0])
+        assert np.shares_memory(box.low, box.single.low) and box.low.strides[0] == 0
+
+
+def test_the_batched_box_is_gymnasiums_batched_box_for_its_users():
+    venv = OvercookedPlusVectorEnv(5, **KW)
+    single = venv.single_observation_space
+    reference = batch_space(single, 5)
+    ours = batch_tuple_of_boxes(single, 5)
+    assert ours == reference and reference == ours
+    ours.seed(3)
+    reference.seed(3)
+    for x, y in zip(ours.sample(), reference.sample()):
+        assert x.dtype == y.dtype == np.float32 and x.shape == y.shape == (5, single[0].shape[0])
+        np.testing.assert_array_equal(x, y)
+    obs, _ = venv.reset(seed=0)
+    assert ours.contains(obs) and reference.contains(obs)
+    bad = (obs[0].copy(), obs[1].copy())
+    bad[1][2, 0] = -1.0  # below a bound, in one kitchen
+    assert not ours.contains(bad) and not reference.contains(bad)
+    assert not ours.contains((obs[0][:4], obs[1][:4]))  # the wrong number of kitchens
+
+
+def test_the_batched_box_pickles_without_repeating_its_bounds():
+    box = OvercookedPlusVectorEnv(1000, **KW).observation_space[0]
+    box.seed(1)
+    data = pickle.dumps(box)
+    assert len(data) < 4 * box.single.low.nbytes + 4096  # not 1000 kitchens' bounds
+    back = pickle.loads(data)
+    assert back == box and back.low.strides[0] == 0
+    np.testing.assert_array_equal(back.sample(), box.sample())
+    with pytest.raises(ConfigError, match="positive number"):
+        BatchedBox(box.single, 0)
