@@ -9,6 +9,7 @@ is held to ``transition`` by ``tests/sim/fast/test_batch.py``), stepped together
 
 from __future__ import annotations
 
+from copy import deepcopy
 from typing import Any
 
 import numpy as np
@@ -21,23 +22,69 @@ from ..sim.fast.batch import BatchSim
 from .core import parse_env_kwargs
 
 
+class BatchedBox(spaces.Box):
+    """``n`` stacked copies of the Box ``single`` (shape ``(n, *single.shape)``) whose
+    bounds are read-only broadcast views of ``single``'s: the space holds the bounds of one
+    kitchen however many kitchens it covers, where Gymnasium's ``batch_space`` repeats
+    them ``n`` times. ``contains``, ``sample``, ``shape``, ``dtype``, ``==`` and pickling
+    behave as for the repeated Box (``sample`` draws the same values from the same seed).
+    """
+
+    def __init__(self, single: spaces.Box, n: int, seed: Any = None) -> None:
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+            raise ConfigError(f"a batched Box needs a positive number of copies, got {n!r}")
+        spaces.Space.__init__(self, (int(n), *single.shape), single.dtype, seed)
+        self.single = single
+        self._broadcast()
+
+    def _broadcast(self) -> None:
+        one, shape = self.single, self._shape
+        self.low = np.broadcast_to(one.low, shape)
+        self.high = np.broadcast_to(one.high, shape)
+        self.bounded_below = np.broadcast_to(one.bounded_below, shape)
+        self.bounded_above = np.broadcast_to(one.bounded_above, shape)
+        self.low_repr = self.high_repr = None
+
+    def __getstate__(self) -> dict[str, Any]:
+        # the views would pickle as n full copies: keep ``single`` and rebuild them
+        state = dict(self.__dict__)
+        for name in ("low", "high", "bounded_below", "bounded_above"):
+            del state[name]
+        return state
+
+    def __setstate__(self, state: Any) -> None:
+        self.__dict__.update(state)
+        self._broadcast()
+
+
+def batch_tuple_of_boxes(single: spaces.Tuple, n: int) -> spaces.Tuple:
+    """``gymnasium.vector.utils.batch_space`` of a Tuple of Boxes, with :class:`BatchedBox`
+    entries (bounds held once, not ``n`` times)."""
+    return spaces.Tuple([BatchedBox(box, n, seed=deepcopy(box.np_random)) for box in single.spaces],
+                        seed=deepcopy(single.np_random))
+
+
 class OvercookedPlusVectorEnv(VectorEnv):
     """``num_envs`` Overcooked Plus kitchens (same keywords as ``OvercookedPlus-v0``).
 
     **Spaces** (per kitchen, batched on a first axis of ``num_envs``): observations a
     ``Tuple`` of one ``Box`` float32 per cook (the ``vector`` encoding of the ``obs_radius``
-    window); actions ``MultiDiscrete([5] * n_agents)``; the reward is the team's (the sum
-    over cooks, or once the shared reward), or per cook with ``reward_scope="per_agent"``
-    (then ``(num_envs, n_agents)`` float64).
+    window; batched as a :class:`BatchedBox`, whose bounds are one kitchen's, broadcast);
+    actions ``MultiDiscrete([5] * n_agents)``; the reward is the team's (the sum over
+    cooks, or once the shared reward), or per cook with ``reward_scope="per_agent"`` (then
+    ``(num_envs, n_agents)`` float64).
 
     **Autoreset**: ``autoreset_mode`` is ``AutoresetMode.NEXT_STEP`` (Gymnasium's default:
     the step after an episode ends resets that kitchen and ignores its action) or
     ``SAME_STEP`` (the kitchen restarts in the step that ended it; the last observation
     is in ``info["final_obs"]``, masked by ``info["_final_obs"]``).
 
-    **Copies**: with ``copy=True`` (default) each returned observation is a fresh array;
-    ``copy=False`` returns views of the engine's live buffer, rewritten by the next step
-    (several times faster at a thousand kitchens: copy what you keep).
+    **Copies**: by default (``copy=False``) the observations returned by :meth:`reset`
+    and :meth:`step` are read-only views of the engine's live buffer: the next ``step``
+    or ``reset`` rewrites them in place, so ``np.copy`` what you keep across steps (a
+    rollout buffer that stores them by assignment, ``buf[t] = obs[a]``, already copies).
+    ``copy=True`` returns fresh arrays each step, at the price of copying every
+    kitchen's observations (2.5x slower at 1,024 kitchens in ``docs/speed.md``).
 
     Only the ``vector`` mode without communication or rendering is batched; the engine
     reports no per-step events (``info`` is empty); use the single env for those.
@@ -45,7 +92,7 @@ class OvercookedPlusVectorEnv(VectorEnv):
 
     def __init__(self, num_envs: int = 1, preset: str = "hard", *,
                  autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
-                 copy: bool = True, reward_scope: str = "team",
+                 copy: bool = False, reward_scope: str = "team",
                  max_episode_steps: int | None = None, compiled: bool | None = None,
                  **kwargs: Any) -> None:
         if max_episode_steps is not None:
@@ -70,7 +117,8 @@ class OvercookedPlusVectorEnv(VectorEnv):
         box = spaces.Box(enc.low, enc.high, shape=(enc.size,), dtype=np.float32)
         self.single_observation_space = spaces.Tuple([box] * n)
         self.single_action_space = spaces.MultiDiscrete([5] * n)
-        self.observation_space = batch_space(self.single_observation_space, num_envs)
+        # bounds held once, not per kitchen (batch_space's Boxes held 46 KB per kitchen)
+        self.observation_space = batch_tuple_of_boxes(self.single_observation_space, num_envs)
         self.action_space = batch_space(self.single_action_space, num_envs)
         self.metadata = {"autoreset_mode": mode}
         self.render_mode = None
@@ -132,7 +180,11 @@ class OvercookedPlusVectorEnv(VectorEnv):
         obs = self.sim.obs
         if self.copy:
             obs = obs.copy()
-        return tuple(obs[:, a] for a in range(self.n_agents))
+            return tuple(obs[:, a] for a in range(self.n_agents))
+        views = tuple(obs[:, a] for a in range(self.n_agents))
+        for v in views:  # a write would corrupt the engine's incremental observations
+            v.flags.writeable = False
+        return views
 
 
-__all__ = ["OvercookedPlusVectorEnv"]
+__all__ = ["BatchedBox", "OvercookedPlusVectorEnv", "batch_tuple_of_boxes"]

@@ -34,7 +34,9 @@ simulator) are encoded into one array.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import weakref
+from collections.abc import Callable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -70,6 +72,90 @@ _CELL, _HAND, _PLATE = int(Where.CELL), int(Where.HAND), int(Where.PLATE)
 _PLATE_KIND = int(Item.PLATE)
 
 
+class SharedTables:
+    """Tables that encoders of one key share (one object per key while a holder lives).
+
+    Their arrays are read-only and their lists are never changed: encoders only read
+    them (a radius-2 window's gather indices alone are 0.5 MB on a 9x9 map). Derived
+    tables (:mod:`ocplus_plan.sim.fast.observe_incremental`, :mod:`ocplus_plan.sim.fast.batch`)
+    are added under their own names with :meth:`derived`.
+    """
+
+    def __init__(self) -> None:
+        self.filled = False
+
+    def fill(self, **tables: Any) -> None:
+        """Set the tables (arrays made read-only) and mark the object filled."""
+        for name, value in tables.items():
+            if isinstance(value, np.ndarray):
+                value.flags.writeable = False
+            setattr(self, name, value)
+        self.filled = True
+
+    def derived(self, name: str, build: Callable[[], Any]) -> Any:
+        """The table ``name``, built by ``build()`` on its first use (an array is made
+        read-only)."""
+        value = self.__dict__.get(name)
+        if value is None:
+            self.fill(**{name: build()})
+            value = self.__dict__[name]
+        return value
+
+
+#: key -> tables, alive as long as an encoder (or another holder) keeps them
+_SHARED: weakref.WeakValueDictionary[tuple, SharedTables] = weakref.WeakValueDictionary()
+
+
+def shared_tables(key: tuple) -> SharedTables:
+    """The tables object of ``key``: the live one, or a new unfilled one."""
+    tables = _SHARED.get(key)
+    if tables is None:
+        tables = _SHARED[key] = SharedTables()
+    return tables
+
+
+def _window_tables(rows: int, cols: int, r: int, n_features: int) -> dict[str, Any]:
+    """The tables of a ``rows x cols`` map that do not depend on its terrain: every map
+    cell's (row, col) and position features, and (r > 0) the gather indices of every
+    agent cell's window into the padded planes (features gather their trailing zero)."""
+    rc = [divmod(f, cols) for f in range(rows * cols)]
+    pos_feat = [(r_ / max(1, rows - 1), c_ / max(1, cols - 1)) for r_, c_ in rc]
+    gather = None
+    if r:
+        wh = ww = 2 * r + 1
+        hp, wp = rows + 2 * r, cols + 2 * r
+        offs = (np.arange(wh)[:, None] * wp + np.arange(ww)[None, :]).reshape(-1)
+        tops = np.array([(f // cols) * wp + f % cols for f in range(rows * cols)])
+        win = tops[:, None] + offs[None, :]
+        chan = (np.arange(len(GRID_CHANNELS)) * hp * wp)[None, :, None]
+        grid = (chan + win[:, None, :]).reshape(rows * cols, -1)
+        feat = np.full((rows * cols, n_features), len(GRID_CHANNELS) * hp * wp)
+        gather = np.concatenate([grid, feat], axis=1)
+    return dict(rc=rc, pos_feat=pos_feat, gather=gather)
+
+
+def _plane_tables(rules: Rules, r: int, n: int, n_features: int) -> dict[str, Any]:
+    """The static planes of every layout, padded by r: terrain one-hots, unknown outside
+    the map. ``blank`` (r = 0): per layout, a ready ``(n, size)`` block of rows with zero
+    features; ``padded_ext`` (r > 0): per layout, the padded planes plus one trailing
+    zero, which windows gather from."""
+    rows, cols = rules.layout.shape
+    hp, wp = rows + 2 * r, cols + 2 * r
+    static = []
+    for grid in rules.layout.grids():
+        planes = np.zeros((len(GRID_CHANNELS), hp, wp), np.float32)
+        planes[CH_UNKNOWN] = 1.0
+        planes[CH_UNKNOWN, r : r + rows, r : r + cols] = 0.0
+        for (row, col), code in np.ndenumerate(grid):
+            planes[_TERRAIN_INDEX[int(code)], row + r, col + r] = 1.0
+        static.append(planes.reshape(-1))
+    blank = np.stack([np.tile(p, (n, 1)) for p in static])
+    blank = np.concatenate(
+        [blank, np.zeros((*blank.shape[:2], n_features), np.float32)], axis=2)
+    padded_ext = np.stack([np.concatenate([p, np.zeros(1, np.float32)]) for p in static])
+    return dict(blank=blank, padded_ext=padded_ext)
+
+
 class VectorEncoder:
     """Encodes states of one :class:`Rules` into per-agent ``float32`` vectors.
 
@@ -94,41 +180,28 @@ class VectorEncoder:
         self.grid_shape = (len(GRID_CHANNELS), wh, ww)
         self.grid_size = len(GRID_CHANNELS) * self._cells
         self._has_switch = rules.dynamic and rules.layout.switch_grid is not None
-        self._rc = [divmod(f, cols) for f in range(rows * cols)]
-
+        self._init_features(rules, comm_vocab)
         self._init_static(rules)
         geo_kinds = [int(k) for k in Geometry.build(rules).item_kind]
         self._init_items(rules, geo_kinds)
-        self._init_features(rules, comm_vocab)
         self._init_bounds(rules, geo_kinds)
 
     def _init_static(self, rules: Rules) -> None:
-        """The static planes per layout (terrain one-hots, unknown outside the map) and,
-        for a window, the gather indices of every agent cell's window."""
-        r, rows, cols, n = self.radius, self.rows, self.cols, self.n_agents
-        wh, ww = self.window
-        hp, wp = rows + 2 * r, cols + 2 * r
-        # static planes per layout (padded by r): terrain one-hots, unknown outside the map
-        static = []
-        for grid in rules.layout.grids():
-            planes = np.zeros((len(GRID_CHANNELS), hp, wp), np.float32)
-            planes[CH_UNKNOWN] = 1.0
-            planes[CH_UNKNOWN, r : r + rows, r : r + cols] = 0.0
-            for (row, col), code in np.ndenumerate(grid):
-                planes[_TERRAIN_INDEX[int(code)], row + r, col + r] = 1.0
-            static.append(planes.reshape(-1))
-        # r = 0: per layout, a ready (n_agents, size) block of rows with zero features;
-        # r > 0: padded planes plus one trailing zero, gathered per agent window (features
-        # gather that zero)
-        self._blank = np.stack([np.tile(p, (n, 1)) for p in static])  # + features, below
-        self._padded_ext = np.stack([np.concatenate([p, np.zeros(1, np.float32)]) for p in static])
-        self._gather = None
-        if r:
-            offs = (np.arange(wh)[:, None] * wp + np.arange(ww)[None, :]).reshape(-1)
-            tops = np.array([(f // cols) * wp + f % cols for f in range(rows * cols)])
-            win = tops[:, None] + offs[None, :]
-            chan = (np.arange(len(GRID_CHANNELS)) * hp * wp)[None, :, None]
-            self._gather = (chan + win[:, None, :]).reshape(rows * cols, -1)
+        """The static planes per layout (terrain one-hots, unknown outside the map, zero
+        features) and, for a window, the gather indices of every agent cell's window:
+        shared with every encoder of the same layouts and sizes (:func:`shared_tables`)."""
+        r, n, nf = self.radius, self.n_agents, self.n_features
+        #: tables that depend on the map's shape, the radius and the row layout only
+        self._window = window = shared_tables(("window", self.rows, self.cols, r, n, nf))
+        if not window.filled:
+            window.fill(**_window_tables(self.rows, self.cols, r, nf))
+        grids = tuple(tuple(int(v) for v in np.asarray(g).ravel()) for g in rules.layout.grids())
+        #: tables that depend on the layouts' terrain too
+        self._planes = planes = shared_tables(("planes", self.rows, self.cols, grids, r, n, nf))
+        if not planes.filled:
+            planes.fill(**_plane_tables(rules, r, n, nf))
+        self._rc, self._pos_feat, self._gather = window.rc, window.pos_feat, window.gather
+        self._blank, self._padded_ext = planes.blank, planes.padded_ext
 
     def _init_items(self, rules: Rules, geo_kinds: list[int]) -> None:
         """The channel offsets of every item's kind, state and progress entries."""
@@ -155,7 +228,7 @@ class VectorEncoder:
         self._item_kind = geo_kinds
 
     def _init_features(self, rules: Rules, comm_vocab: int) -> None:
-        """The feature names and offsets, and the zero features of the blank rows."""
+        """The feature names and offsets."""
         n = self.n_agents
         names = [f"hand:{k.name.lower()}" for k in ITEM_KINDS]
         names += [f"hand_state:{s.name.lower()}" for s in ITEM_STATES]
@@ -172,16 +245,9 @@ class VectorEncoder:
         self.feature_names: tuple[str, ...] = tuple(names)
         self.n_features = len(names)
         self.size = self.grid_size + self.n_features
-        pad = np.zeros(self._blank.shape[:2] + (self.n_features,), np.float32)
-        self._blank = np.concatenate([self._blank, pad], axis=2)
-        if self._gather is not None:
-            zero_slot = self._padded_ext.shape[1] - 1
-            feat = np.full((self._gather.shape[0], self.n_features), zero_slot)
-            self._gather = np.concatenate([self._gather, feat], axis=1)
 
     def _init_bounds(self, rules: Rules, geo_kinds: list[int]) -> None:
         """The exact element bounds :attr:`low` / :attr:`high` and the per-step offsets."""
-        rows, cols = self.rows, self.cols
         counts = {k: geo_kinds.count(int(k)) for k in ITEM_KINDS}
         grid_high = np.ones(self.grid_shape, np.float32)
         for i, k in enumerate(ITEM_KINDS):
@@ -201,8 +267,6 @@ class VectorEncoder:
         self._ingredient_index = {int(k): j for j, k in enumerate(INGREDIENT_KINDS)}
         self._self_ch, self._other_ch = CH_SELF * self._cells, CH_OTHER * self._cells
         self._prog_ch = CH_PROGRESS * self._cells
-        #: per map cell: the (row, col) features, precomputed
-        self._pos_feat = [(r_ / max(1, rows - 1), c_ / max(1, cols - 1)) for r_, c_ in self._rc]
         self._orders_cache: dict[tuple, tuple[list[int], list[float]]] = {}
 
     # ------------------------------------------------------------------ public
@@ -443,7 +507,9 @@ __all__ = [
     "ITEM_KINDS",
     "ITEM_STATES",
     "TERRAIN_CODES",
+    "SharedTables",
     "StateSnapshot",
     "VectorEncoder",
+    "shared_tables",
     "snapshot",
 ]

@@ -3,13 +3,17 @@ vector env, and each of its kitchens is the single env's kitchen step for step."
 
 from __future__ import annotations
 
+import pickle
+import tracemalloc
+
 import gymnasium as gym
 import numpy as np
 import pytest
 from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
 
 import ocplus_plan.env  # noqa: F401  (registers the ids)
-from ocplus_plan.env.vector_env import OvercookedPlusVectorEnv
+from ocplus_plan.env.vector_env import BatchedBox, OvercookedPlusVectorEnv, batch_tuple_of_boxes
 from ocplus_plan.errors import ConfigError
 
 KW = dict(preset="hard", n_agents=2, horizon=12, obs_radius=2, compiled=False)
@@ -74,13 +78,38 @@ def test_same_step_autoreset_reports_the_final_observation():
         assert len(info["final_obs"][e]) == 2 and info["final_obs"][e][0].shape == last[0][e].shape
 
 
-def test_copy_false_returns_live_views_and_copy_true_fresh_arrays():
-    live = OvercookedPlusVectorEnv(2, copy=False, **KW)
-    fresh = OvercookedPlusVectorEnv(2, **KW)
-    obs_live, _ = live.reset(seed=0)
-    obs_fresh, _ = fresh.reset(seed=0)
-    assert np.shares_memory(obs_live[0], live.sim.obs)
-    assert not np.shares_memory(obs_fresh[0], fresh.sim.obs)
+def test_observations_are_read_only_views_of_the_live_buffer_by_default():
+    venv = OvercookedPlusVectorEnv(2, **KW)
+    obs, _ = venv.reset(seed=0)
+    assert all(np.shares_memory(o, venv.sim.obs) and not o.flags.writeable for o in obs)
+    kept = obs[0].copy()
+    obs_next, *_ = venv.step(np.zeros((2, 2), np.int64))  # time advances: the buffer changes
+    assert np.shares_memory(obs_next[0], obs[0])
+    assert np.array_equal(obs[0], obs_next[0]) and not np.array_equal(obs[0], kept)
+
+
+def test_copy_true_returns_fresh_arrays_that_survive_the_next_step():
+    venv = OvercookedPlusVectorEnv(2, copy=True, **KW)
+    obs, _ = venv.reset(seed=0)
+    kept = obs[0].copy()
+    assert not np.shares_memory(obs[0], venv.sim.obs) and obs[0].flags.writeable
+    obs_next, *_ = venv.step(np.zeros((2, 2), np.int64))
+    assert not np.shares_memory(obs_next[0], obs[0])
+    assert np.array_equal(obs[0], kept) and not np.array_equal(obs_next[0], kept)
+
+
+def test_copy_true_and_false_give_the_same_values():
+    live, fresh = OvercookedPlusVectorEnv(3, **KW), OvercookedPlusVectorEnv(3, copy=True, **KW)
+    pairs = [(live.reset(seed=4)[0], fresh.reset(seed=4)[0])]
+    rng = np.random.default_rng(1)
+    for _ in range(15):
+        acts = rng.integers(0, 5, size=(3, 2))
+        a, b = live.step(acts), fresh.step(acts)
+        for x, y in zip(a[1:4], b[1:4]):
+            np.testing.assert_array_equal(x, y)
+        pairs.append((a[0], b[0]))
+        for o_live, o_fresh in zip(*pairs[-1]):
+            np.testing.assert_array_equal(o_live, o_fresh)
 
 
 @pytest.mark.parametrize("bad", [dict(mode="rgb"), dict(agent_communication=True),
@@ -88,3 +117,56 @@ def test_copy_false_returns_live_views_and_copy_true_fresh_arrays():
 def test_unbatchable_options_are_refused_with_the_alternative(bad):
     with pytest.raises(ConfigError, match="sync|reward_scope"):
         OvercookedPlusVectorEnv(2, preset="hard", compiled=False, **bad)
+
+
+def _space_bytes(n: int) -> int:
+    """Bytes allocated while building the batched observation space of ``n`` kitchens."""
+    single = OvercookedPlusVectorEnv(1, **KW).single_observation_space
+    single.seed(0)
+    tracemalloc.start()
+    try:
+        space = batch_tuple_of_boxes(single, n)
+        held = tracemalloc.get_traced_memory()[0]
+    finally:
+        tracemalloc.stop()
+    assert [box.shape for box in space] == [(n, single[0].shape[0])] * 2
+    return held
+
+
+def test_the_batched_observation_space_holds_one_kitchens_bounds():
+    assert _space_bytes(4096) - _space_bytes(1) < 4096  # under a byte per kitchen
+    venv = OvercookedPlusVectorEnv(4096, **KW)
+    for box in venv.observation_space:
+        assert isinstance(box, BatchedBox) and box.shape == (4096, box.single.shape[0])
+        assert np.shares_memory(box.low, box.single.low) and box.low.strides[0] == 0
+
+
+def test_the_batched_box_is_gymnasiums_batched_box_for_its_users():
+    venv = OvercookedPlusVectorEnv(5, **KW)
+    single = venv.single_observation_space
+    reference = batch_space(single, 5)
+    ours = batch_tuple_of_boxes(single, 5)
+    assert ours == reference and reference == ours
+    ours.seed(3)
+    reference.seed(3)
+    for x, y in zip(ours.sample(), reference.sample()):
+        assert x.dtype == y.dtype == np.float32 and x.shape == y.shape == (5, single[0].shape[0])
+        np.testing.assert_array_equal(x, y)
+    obs, _ = venv.reset(seed=0)
+    assert ours.contains(obs) and reference.contains(obs)
+    bad = (obs[0].copy(), obs[1].copy())
+    bad[1][2, 0] = -1.0  # below a bound, in one kitchen
+    assert not ours.contains(bad) and not reference.contains(bad)
+    assert not ours.contains((obs[0][:4], obs[1][:4]))  # the wrong number of kitchens
+
+
+def test_the_batched_box_pickles_without_repeating_its_bounds():
+    box = OvercookedPlusVectorEnv(1000, **KW).observation_space[0]
+    box.seed(1)
+    data = pickle.dumps(box)
+    assert len(data) < 4 * box.single.low.nbytes + 4096  # not 1000 kitchens' bounds
+    back = pickle.loads(data)
+    assert back == box and back.low.strides[0] == 0
+    np.testing.assert_array_equal(back.sample(), box.sample())
+    with pytest.raises(ConfigError, match="positive number"):
+        BatchedBox(box.single, 0)

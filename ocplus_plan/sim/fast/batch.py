@@ -141,12 +141,15 @@ def static_arrays(rules: Rules, encoder: VectorEncoder, observe: bool = True,
     fixed = [rules.recipes.index(r) for r in rules.fixed_orders or ()] or [0]
     cells_w = encoder.window[0] * encoder.window[1]
     static_size = _STATIC_CHANNELS * cells_w
+    # read-only tables shared by every batch of the same encoder tables
     if encoder.radius:
         static_obs = encoder._padded_ext
-        gather = encoder._gather[:, :static_size]
+        gather = encoder._window.derived(
+            "static_gather", lambda: np.ascontiguousarray(encoder._gather[:, :static_size], i64))
     else:
-        static_obs = np.ascontiguousarray(encoder._blank[:, 0, :static_size])
-        gather = np.arange(static_size)[None, :]
+        static_obs = encoder._planes.derived(
+            "static_obs", lambda: np.ascontiguousarray(encoder._blank[:, 0, :static_size]))
+        gather = encoder._window.derived("static_gather", lambda: np.arange(static_size)[None, :])
     view = np.array([
         cells_w, encoder.window[1], _CH_KIND0, _CH_STATE0, CH_PROGRESS, CH_SELF, CH_OTHER,
         encoder.grid_size, encoder.grid_size + encoder._order0, static_size], i64)
@@ -157,7 +160,7 @@ def static_arrays(rules: Rules, encoder: VectorEncoder, observe: bool = True,
         np.array(geo.switch_cells, i64).reshape(-1), np.array(geo.item_kind, i64),
         np.array(geo.item_home, i64), kind_index, np.array(encoder._prog_den, np.float64),
         recipe_counts, np.array(fixed, i64), np.array(spawn, i64), view,
-        np.ascontiguousarray(static_obs, np.float32), np.ascontiguousarray(gather, i64))
+        static_obs, gather)
 
 
 class BatchSim:

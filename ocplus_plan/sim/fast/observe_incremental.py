@@ -37,6 +37,8 @@ centre of ``agent:self`` as 1 and of ``agent:other`` as 0).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from ..codes import Where
@@ -51,6 +53,7 @@ from ..observe import (
     CH_SELF,
     GRID_CHANNELS,
     ITEM_STATES,
+    SharedTables,
     VectorEncoder,
 )
 from ..state import State
@@ -96,42 +99,16 @@ class IncrementalEncoder:
             self._cell_off = [(c // cols + r) * wp + c % cols + r for c in range(m)]
             self._grid_rows = [0]
             self._feat_rows = [zero_slot + 2 + a * f for a in range(n)]
-            # the encoder's window indices per agent cell, agent:self read as the
-            # constant 1 at the centre and 0 elsewhere, agent:other as 0 at the centre
-            cells, centre = e._cells, r * e.window[1] + r
-            table = e._gather[:, :g].copy()
-            table[:, CH_SELF * cells : (CH_SELF + 1) * cells] = zero_slot
-            table[:, CH_SELF * cells + centre] = zero_slot + 1
-            table[:, CH_OTHER * cells + centre] = zero_slot
-            feats = np.array([np.arange(fr, fr + f) for fr in self._feat_rows],
-                             dtype=np.intp).reshape(n, f)
-            #: [agent, cell] -> gather index of that agent's observation row when it stands
-            #: on that cell (its window, then its features): one lookup per step, no misses
-            self._rows = np.concatenate(
-                (np.broadcast_to(table, (n, m, g)), np.broadcast_to(feats[:, None, :], (n, m, f))),
-                axis=2).astype(np.intp)
             self._agent_ids = np.arange(n)
         self._kind_off = [(_CH_KIND0 + _KIND_INDEX[k]) * plane for k in self._item_kind]
         self._state_off = [(_CH_STATE0 + s) * plane for s in range(len(ITEM_STATES))]
         self._prog_off = CH_PROGRESS * plane
-        # an agent's own plane, per grid row: r = 0 agent:self in its row, agent:other in
-        # the others; r > 0 the shared agent:other plane
-        if r == 0:
-            planes = [[ro + (CH_SELF if b == a else CH_OTHER) * plane
-                       for b, ro in enumerate(self._grid_rows)] for a in range(n)]
-        else:
-            planes = [[CH_OTHER * plane] for _ in range(n)]
-        # per agent, per map cell: the absolute offsets of the agent standing there, and
-        # (offset, value) writes of that plus its (row, col) features
-        self._agent_clear = [[[x + self._cell_off[c] for x in planes[a]] for c in range(m)]
-                             for a in range(n)]
-        self._agent_put = [
-            [[(x, 1.0) for x in self._agent_clear[a][c]]
-             + list(zip((self._feat_rows[a] + f_row, self._feat_rows[a] + f_col),
-                        e._pos_feat[c]))
-             for c in range(m)]
-            for a in range(n)
-        ]
+        # the per-cell tables depend on the encoder's sizes only: built once and shared by
+        # every incremental encoder of an encoder with the same window tables
+        shared = e._window.derived("incremental", lambda: self._shared(plane, f_row, f_col))
+        self._agent_clear, self._agent_put = shared.agent_clear, shared.agent_put
+        if r:
+            self._rows = shared.rows
         self._tick_offs = [(fr + f_time, fr + f_switch) for fr in self._feat_rows]
         self._layout_offs = [fr + f_layout for fr in self._feat_rows]
         self._has_switch = e._has_switch
@@ -152,6 +129,51 @@ class IncrementalEncoder:
                     )
         self._holding_cache: dict[tuple, tuple[list, list]] = {}
         self._layout = -1  # nothing remembered yet
+
+    def _shared(self, plane: int, f_row: int, f_col: int) -> SharedTables:
+        shared = SharedTables()
+        shared.fill(**self._cell_tables(plane, f_row, f_col))
+        return shared
+
+    def _cell_tables(self, plane: int, f_row: int, f_col: int) -> dict[str, Any]:
+        """Per agent and map cell: ``agent_clear``, the absolute offsets of the agent
+        standing there; ``agent_put``, (offset, value) writes of that plus its (row, col)
+        features; and (r > 0) ``rows``, the gather index of the agent's observation row
+        (its window, then its features: one lookup per step, no misses)."""
+        e, n, r = self.encoder, self.n_agents, self.radius
+        m, g, f = e.rows * e.cols, e.grid_size, e.n_features
+        tables: dict[str, Any] = {}
+        if r:
+            # the encoder's window indices per agent cell, agent:self read as the
+            # constant 1 at the centre and 0 elsewhere, agent:other as 0 at the centre
+            zero_slot = len(GRID_CHANNELS) * plane
+            cells, centre = e._cells, r * e.window[1] + r
+            table = e._gather[:, :g].copy()
+            table[:, CH_SELF * cells : (CH_SELF + 1) * cells] = zero_slot
+            table[:, CH_SELF * cells + centre] = zero_slot + 1
+            table[:, CH_OTHER * cells + centre] = zero_slot
+            feats = np.array([np.arange(fr, fr + f) for fr in self._feat_rows],
+                             dtype=np.intp).reshape(n, f)
+            tables["rows"] = np.concatenate(
+                (np.broadcast_to(table, (n, m, g)), np.broadcast_to(feats[:, None, :], (n, m, f))),
+                axis=2).astype(np.intp)
+        # an agent's own plane, per grid row: r = 0 agent:self in its row, agent:other in
+        # the others; r > 0 the shared agent:other plane
+        if r == 0:
+            planes = [[ro + (CH_SELF if b == a else CH_OTHER) * plane
+                       for b, ro in enumerate(self._grid_rows)] for a in range(n)]
+        else:
+            planes = [[CH_OTHER * plane] for _ in range(n)]
+        clear = tuple(tuple(tuple(x + self._cell_off[c] for x in planes[a]) for c in range(m))
+                      for a in range(n))
+        tables["agent_clear"] = clear
+        tables["agent_put"] = tuple(
+            tuple(tuple((x, 1.0) for x in clear[a][c])
+                  + tuple(zip((self._feat_rows[a] + f_row, self._feat_rows[a] + f_col),
+                              e._pos_feat[c]))
+                  for c in range(m))
+            for a in range(n))
+        return tables
 
     def forget(self) -> None:
         """Drop the remembered observation; the next :meth:`encode` starts from scratch."""
