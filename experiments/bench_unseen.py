@@ -216,7 +216,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--kitchens-per-family", type=int, default=2)
     p.add_argument("--first-kitchen", type=int, default=0, help="index of the first kitchen")
     p.add_argument("--cooks", type=int, nargs="+", default=[1, 2, 3])
-    p.add_argument("--seeds", type=int, default=1, help="seeds 0..N-1")
+    p.add_argument("--seeds", type=int, default=1, help="seeds FIRST..FIRST+N-1")
+    p.add_argument("--first-seed", type=int, default=0, help="the first seed (FIRST)")
     p.add_argument("--steps", type=int, default=200)
     p.add_argument("--preset", default="medium", help="stations and recipes (easy, medium, hard)")
     p.add_argument("--planner", default="planner:fast-downward-wastar",
@@ -260,7 +261,7 @@ def main(argv: list[str] | None = None) -> int:
 def _run(args: argparse.Namespace) -> int:
     out = args.out.open("a") if args.out else None
     rows = []
-    for seed in range(args.seeds):
+    for seed in range(args.first_seed, args.first_seed + args.seeds):
         for index in range(args.first_kitchen, args.first_kitchen + args.kitchens_per_family):
             for family in args.families:
                 for cooks in args.cooks:
