@@ -46,9 +46,9 @@ from ocplus_plan.agents import make_controller, run_episode  # noqa: E402
 from ocplus_plan.agents import with_partner  # noqa: E402
 from ocplus_plan.agents.planner import make_planner_agent  # noqa: E402
 from ocplus_plan.sim import make_rules, new_state  # noqa: E402
-from ocplus_plan.sim.codes import Cell  # noqa: E402
 from ocplus_plan.sim.generate import FAMILIES  # noqa: E402
 from ocplus_plan.sim.queries import stations_cut_off  # noqa: E402
+from ocplus_plan.sim.stations import KIND_OF  # noqa: E402
 
 #: the kitchens of these families switch layouts (the hard rules); the others are static
 DYNAMIC = frozenset({"switching"})
@@ -90,7 +90,7 @@ def idle_cuts(state: object) -> list[str]:
     last = state.n_agents - 1
     cells = stations_cut_off(geo, state.layout_index, state.agent_pos[last],
                              [state.agent_pos[a] for a in range(last)])
-    return sorted({Cell(geo.terrains[state.layout_index][c]).name.lower() for c in cells})
+    return sorted({KIND_OF[geo.terrains[state.layout_index][c]].name for c in cells})
 
 
 def cause(row: dict) -> str:

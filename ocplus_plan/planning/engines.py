@@ -294,8 +294,9 @@ def _availability(config: PlannerConfig) -> Availability:
             problem = portfolio.member_problem(config.name, config.encoding, sub)
             if problem:
                 return Availability(False, problem)
-            if not availability(sub).ok:
-                return Availability(False, f"member {member}: {availability(sub).reason}")
+            found = availability(sub)
+            if not found.ok:
+                return Availability(False, f"member {member}: {found.reason}")
         return Availability(True)
     for module in config.modules:
         if importlib.util.find_spec(module) is None:
