@@ -93,7 +93,8 @@ def test_the_wheel_carries_the_package_data_and_reads_it_through_importlib(wheel
     assert {"mapA.yaml", "mapB.yaml", "mapC.yaml"} <= set(got["maps"])
     assert {"fast-downward.yaml", "kairos.yaml"} <= set(got["planners"])
     assert {"temporal_stations.pddl", "classical_stations.pddl"} <= set(got["domains"])
-    assert {"easy_1agent.zip", "easy_1agent.json"} <= set(got["checkpoints"])
+    assert {"easy_1agent.npz", "easy_1agent.json"} <= set(got["checkpoints"])
+    assert not [n for n in got["checkpoints"] if n.endswith(".zip")]  # pickles stay out
     assert not [n for n in got["checkpoints"] if n.endswith(".csv")]  # training logs stay out
 
 

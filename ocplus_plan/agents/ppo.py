@@ -8,11 +8,14 @@ the episode seed), or taken greedily with ``ppo:PATH@greedy``. torch and
 stable-baselines3 are imported when the first controller is built; without them the
 error names the ``rl`` extra.
 
-``ppo:OUT/policy.npz`` plays a policy of ``ocplus train --engine jax`` with numpy alone
-(:mod:`ocplus_plan.rl.npz_policy`). ``ppo`` without a path picks a shipped checkpoint (package data built from
-``experiments/checkpoints/``) by the kitchen's preset and agent count:
-``{preset}_{n}agent.zip``, else ``{preset}_1agent.zip`` (the features policy is shared,
-so it drives any number of agents).
+A checkpoint is a weights-only ``.npz`` (:mod:`ocplus_plan.rl.weights`: arrays and a JSON
+description, read with sizes checked and nothing unpickled), played with numpy alone;
+``ppo:OUT/policy.npz`` of ``ocplus train --engine jax`` likewise
+(:mod:`ocplus_plan.rl.npz_policy`). An SB3 ``.zip`` runs code when loaded (pickle) and is
+refused unless ``--trust-pickled-checkpoint`` is given. ``ppo`` without a path picks a
+shipped checkpoint (package data built from ``experiments/checkpoints/``) by the kitchen's
+preset and agent count: ``{preset}_{n}agent.npz``, else ``{preset}_1agent.npz`` (the
+features policy is shared, so it drives any number of agents).
 """
 
 from __future__ import annotations
@@ -52,10 +55,10 @@ def shipped_checkpoint(preset: str, n_agents: int,
         from ..data import data_files
 
         directory = data_files("checkpoints")
-    for name in (f"{preset}_{n_agents}agent.zip", f"{preset}_1agent.zip"):
+    for name in (f"{preset}_{n_agents}agent.npz", f"{preset}_1agent.npz"):
         if (directory / name).is_file():
             return directory / name
-    have = sorted(p.name for p in directory.iterdir() if p.name.endswith(".zip")) \
+    have = sorted(p.name for p in directory.iterdir() if p.name.endswith(".npz")) \
         if directory.is_dir() else []
     raise ConfigError(
         f"no shipped PPO checkpoint for preset {preset!r} in {directory} (have: "
@@ -83,10 +86,6 @@ class PPOAgent(Controller):
     name = "ppo"
 
     def __init__(self, path: str | None, seed: int = 0, mode: str | None = None) -> None:
-        from ..rl.policy import require_rl
-
-        if not _is_npz(path):
-            require_rl()  # fail early, naming the extra (a JAX policy needs numpy alone)
         self.path = path
         self.seed = seed
         self._mode = mode
@@ -101,15 +100,8 @@ class PPOAgent(Controller):
         self._encoder: Any = None
 
     def _load(self, path: str) -> Any:
-        from ..rl.policy import load_policy
-
         if path not in self._loaded:
-            if _is_npz(path):
-                from ..rl.npz_policy import NpzPolicy
-
-                self._loaded[path] = NpzPolicy(path)
-            else:
-                self._loaded[path] = load_policy(path)
+            self._loaded[path] = load_checkpoint(path)
         return self._loaded[path]
 
     @property
@@ -123,7 +115,7 @@ class PPOAgent(Controller):
 
         if self.path is None:  # a shipped checkpoint, chosen per kitchen
             shipped = shipped_checkpoint(state.rules.preset, state.n_agents)
-            with resources.as_file(shipped) as file:  # a real file for stable-baselines3
+            with resources.as_file(shipped) as file:  # a real file, sizes checked by stat
                 chosen = str(file)
                 if self.policy is None or self.policy.path != Path(chosen):
                     self.policy = self._load(chosen)
@@ -164,8 +156,25 @@ class PPOAgent(Controller):
         return {"checkpoint": checkpoint, "mode": self.mode}
 
 
-def _is_npz(path: str | None) -> bool:
-    return path is not None and str(path).endswith(".npz")
+def load_checkpoint(path: str) -> Any:
+    """A weights-only ``.npz`` (``ocplus train``'s or a JAX ``policy.npz``); anything else is
+    an SB3 zip, loaded with stable-baselines3 (which unpickles, so runs code) only when the
+    user trusts pickled checkpoints."""
+    from ..rl import weights
+
+    if str(path).endswith(".npz"):
+        arrays = weights.read_arrays(path)  # sizes checked, nothing unpickled
+        if weights.META in arrays:
+            return weights.WeightsPolicy(path, arrays)
+        from ..rl.npz_policy import NpzPolicy
+
+        return NpzPolicy(path)
+    if not weights.pickled_trusted():
+        raise weights.refuse_pickled(path)
+    from ..rl.policy import load_policy, require_rl
+
+    require_rl()  # names the extra
+    return load_policy(path)
 
 
 def make_ppo_agent(arg: str | None, seed: int = 0) -> PPOAgent:

@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import json
+import os
 import sys
 import time
 from dataclasses import fields
@@ -180,6 +181,25 @@ def _rule_value(key: str, kind: str, text: str) -> Any:
             none = " (or none)" if kind.endswith("| None") else ""
             raise ConfigError(f"--rules {key}={text!r}: {key} is a whole number{none}") from None
     return text
+
+
+class _TrustPickled(argparse.Action):
+    """Sets the environment switch, so that worker processes see it too."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace,
+                 values: Any, option_string: str | None = None) -> None:
+        from ..rl.weights import TRUST_ENV
+
+        os.environ[TRUST_ENV] = "1"
+        setattr(namespace, self.dest, True)
+
+
+def add_trust_arg(p: Any) -> None:
+    """``--trust-pickled-checkpoint``: allow SB3 ``.zip`` checkpoints, which run code."""
+    p.add_argument("--trust-pickled-checkpoint", nargs=0, action=_TrustPickled, default=False,
+                   help="load stable-baselines3 .zip checkpoints: they are pickles and RUN "
+                        "CODE when loaded; only for files you made yourself (convert them "
+                        "with `python -m ocplus_plan.rl.weights IN.zip OUT.npz` instead)")
 
 
 def add_output_args(p: argparse.ArgumentParser, *, out: bool = False, writes: str = "") -> None:

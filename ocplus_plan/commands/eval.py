@@ -27,6 +27,7 @@ from ..eval.runner import BACKENDS, EvalConfig, parse_list, parse_seeds, run_eva
 from ..execution.faults import FAULT_KEYS, parse_faults
 from . import _types
 from ._common import (
+    add_trust_arg,
     HelpFormatter,
     add_episode_timeout_arg,
     add_jobs_arg,
@@ -55,6 +56,7 @@ def add_sweep_args(p: argparse.ArgumentParser, *, agents: str | None) -> None:
     p.add_argument("--partner", default=None, metavar="AGENT",
                    help="the last cook is played by AGENT (idle, random, greedy, ppo:PATH), "
                         "which the evaluated agent does not control (ad-hoc teamwork)")
+    add_trust_arg(p)
     h = p.add_argument_group("how to run")
     h.add_argument("--resume", action="store_true",
                    help="continue an interrupted run in --out (only missing episodes run)")

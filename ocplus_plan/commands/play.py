@@ -24,7 +24,15 @@ from ..agents.base import Controller
 from ..errors import ConfigError
 from ..sim import PRESETS, Action, Rules, State, StepResult, make_rules, new_state
 from . import _types
-from ._common import HelpFormatter, add_kitchen_args, add_output_args, emit, rules_from_args, say
+from ._common import (
+    HelpFormatter,
+    add_kitchen_args,
+    add_output_args,
+    add_trust_arg,
+    emit,
+    rules_from_args,
+    say,
+)
 
 MODES = ("coop", "adversarial")
 _FPS = _types.number("--fps (steps per second)", 0.0, 10_000.0)
@@ -245,6 +253,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="save the episode (.jsonl or .jsonl.gz) for `ocplus replay`")
     p.add_argument("--no-wait", action="store_true",
                    help="close the window as soon as the episode ends")
+    add_trust_arg(p)
     add_output_args(p)
     p.set_defaults(func=run)
 

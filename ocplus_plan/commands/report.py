@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
-from ..eval.results import SUMMARY_FILE, leaderboard, read_results, summarise, write_summary
+from ..errors import ConfigError
+from ..eval.results import SUMMARY_FILE, leaderboard, scan_results, summarise, write_summary
 from ._common import HelpFormatter, add_output_args, add_plots_arg, emit
 
 
@@ -19,7 +21,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    summary = summarise(read_results(args.dir))
+    found = scan_results(args.dir)
+    if found.note():
+        print(f"ocplus: note: {found.note()}", file=sys.stderr)
+    if not args.dir.is_dir():
+        raise ConfigError(f"{args.dir} is not a folder; give the folder written by "
+                          "`ocplus eval --out DIR`")
+    summary = summarise(found.rows)
     write_summary(summary, args.dir / SUMMARY_FILE)
     files = []
     if args.plots:

@@ -8,6 +8,7 @@ import time
 from ..sim import conservation_problems, new_state
 from . import _types
 from ._common import (
+    add_trust_arg,
     HelpFormatter,
     add_deprecated_alias,
     add_kitchen_args,
@@ -23,6 +24,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_kitchen_args(p)
     p.add_argument("--agents", type=_types.name, default="random",
                    help="controller for all agents (random, stay, greedy, planner:NAME, ...)")
+    add_trust_arg(p)
     add_output_args(p)
     add_deprecated_alias(p, "--steps", "--horizon", takes_value=True, type=_types.horizon)
     p.set_defaults(func=run)

@@ -1,6 +1,7 @@
 """``ocplus train``: train the parameter-shared PPO baseline (needs the ``rl`` extra).
 
-Writes OUT/policy.zip (use it as ``--agents ppo:OUT/policy.zip``), periodic checkpoints in
+Writes OUT/policy.npz, weights only (use it as ``--agents ppo:OUT/policy.npz``; the SB3
+OUT/policy.zip beside it is a pickle that runs code when loaded), periodic checkpoints in
 OUT/checkpoints/, OUT/episodes.csv (game reward and dishes served per episode, against
 training steps) and OUT/train.json (configuration, command, wall time).
 """
@@ -13,7 +14,14 @@ import shlex
 import sys
 
 from . import _types
-from ._common import HelpFormatter, add_deprecated_alias, add_kitchen_args, add_output_args, emit
+from ._common import (
+    HelpFormatter,
+    add_deprecated_alias,
+    add_kitchen_args,
+    add_output_args,
+    add_trust_arg,
+    emit,
+)
 
 _POSITIVE = _types.whole("the value", 1)
 _FRACTION = _types.number("a fraction", 0.0, 1.0, lo_open=False)
@@ -55,7 +63,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "PRESET:R1/R2 restricts a preset's kitchen to those recipes, e.g. "
                         "medium:steak/tomato (one-ingredient orders teach the pan)")
     g.add_argument("--curriculum-fraction", type=_FRACTION, default=0.3)
-    g.add_argument("--init", default=None, help="start from this checkpoint's weights")
+    g.add_argument("--init", default=None,
+                   help="start from this checkpoint's weights (a .npz; an SB3 .zip needs "
+                        "--trust-pickled-checkpoint)")
     g.add_argument("--checkpoint-every", type=_POSITIVE, default=None,
                    help="steps between checkpoints (default: steps / 5)")
     b = p.add_argument_group("imitation warm start")
@@ -89,7 +99,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="torch device of the SB3 trainer: cpu, cuda, cuda:N or auto")
     s.add_argument("--max-wall", type=_types.seconds, default=None, metavar="SECONDS",
                    help="stop after this much training time and save the policy as usual")
-    add_output_args(p, out=True, writes="policy.zip, checkpoints/, episodes.csv, train.json")
+    add_trust_arg(p)
+    add_output_args(p, out=True, writes="policy.npz, policy.zip, checkpoints/, episodes.csv, "
+                    "train.json")
     add_deprecated_alias(p, "--no-progress", "--quiet", takes_value=False)
     p.set_defaults(func=run)
 

@@ -12,11 +12,14 @@ the faults did: burns and switches applied, messages lost, the blocker's moves).
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import json
 import math
 import os
-from collections.abc import Iterable, Sequence
+import stat
+from collections.abc import Iterable, Iterator, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -26,6 +29,7 @@ from .metrics import controller_metrics
 RESULTS_FILE = "results.jsonl"
 SUMMARY_FILE = "summary.csv"
 CONFIG_FILE = "config.json"
+LOCK_FILE = ".ocplus-eval.lock"
 
 #: the configuration fields that, with the seed, identify an episode
 GROUP_FIELDS: tuple[str, ...] = ("preset", "map", "n_agents", "agent", "horizon")
@@ -72,9 +76,13 @@ class ResultsWriter:
         self._fh = self.path.open("a", encoding="utf-8")
 
     def write(self, row: dict[str, Any]) -> None:
-        self._fh.write(json.dumps(row, default=_json_default) + "\n")
-        self._fh.flush()
-        os.fsync(self._fh.fileno())
+        try:
+            self._fh.write(json.dumps(row, default=_json_default) + "\n")
+            self._fh.flush()
+            os.fsync(self._fh.fileno())
+        except OSError as exc:  # a full or read-only filesystem: one line, rows kept
+            raise ConfigError(f"cannot write {self.path}: {exc.strerror}; free some space "
+                              "and continue with --resume") from None
 
     def close(self) -> None:
         self._fh.close()
@@ -94,31 +102,221 @@ def _json_default(obj: Any) -> Any:
     return str(obj)
 
 
-def read_results(path: str | os.PathLike[str]) -> list[dict[str, Any]]:
-    """Rows of a ``results.jsonl`` (a folder holding one, or the file itself).
+#: a row of ``results.jsonl`` longer than this is skipped as bad (real rows are < 20 kB)
+MAX_ROW_BYTES = 1 << 20
+#: a ``results.jsonl`` larger than this is refused (about 100,000 episodes of rows)
+MAX_RESULTS_BYTES = 256 << 20
+STATUSES = ("ok", "error", "skipped")
+_TEXT = (str,)
+_FIELD_TYPES: dict[str, tuple[type, ...]] = {
+    "key": _TEXT, "status": _TEXT, "preset": _TEXT, "agent": _TEXT, "map": (str, type(None)),
+    "n_agents": (int,), "seed": (int, type(None)), "horizon": (int, type(None)),
+}
+_OPTIONAL_TYPES: dict[str, tuple[type, ...]] = {
+    "reason": _TEXT, "faults": _TEXT, "partner": _TEXT, "map_source": _TEXT,
+    "metrics": (dict,), "timings": (dict,), "controller": (dict,), "planner": (dict,),
+    "rules": (dict,), "worker": (dict,), "fault_report": (dict,),
+}
 
-    A truncated last line (a run killed mid-write) is ignored; any other broken line is
-    a :class:`ConfigError` naming the line.
-    """
+
+@dataclass
+class ResultsFile:
+    """What :func:`scan_results` found: the trusted rows and the lines it skipped."""
+
+    path: Path
+    rows: list[dict[str, Any]] = field(default_factory=list)
+    #: (line number, why) of every line skipped as bad; a torn last line is among them
+    bad: list[tuple[int, str]] = field(default_factory=list)
+
+    def note(self) -> str | None:
+        """One line about the skipped lines, or None when every line was a good row."""
+        if not self.bad:
+            return None
+        shown = "; ".join(f"line {n}: {why}" for n, why in self.bad[:3])
+        more = f"; and {len(self.bad) - 3} more" if len(self.bad) > 3 else ""
+        return f"{self.path}: skipped {len(self.bad)} bad row(s) ({shown}{more})"
+
+
+def results_path(path: str | os.PathLike[str]) -> Path:
+    """``results.jsonl`` of a folder, or the file itself."""
     p = Path(path)
-    if p.is_dir():
-        p = p / RESULTS_FILE
-    if not p.exists():
+    return p / RESULTS_FILE if p.is_dir() else p
+
+
+def row_problem(row: Any) -> str | None:
+    """Why a parsed line is not a row this package wrote (None when it is one). The key
+    must be the one its own configuration gives, so a row cannot claim another episode."""
+    if not isinstance(row, dict):
+        return f"a JSON {type(row).__name__}, not an object"
+    for name, types in _FIELD_TYPES.items():
+        if name not in row:
+            return f"no {name!r}"
+        value = row[name]
+        if not isinstance(value, types) or isinstance(value, bool):
+            return f"{name!r} is a {type(value).__name__}"
+    for name, types in _OPTIONAL_TYPES.items():
+        if name in row and not isinstance(row[name], types):
+            return f"{name!r} is a {type(row[name]).__name__}"
+    if row["status"] not in STATUSES:
+        return f"status {row['status'][:40]!r} is not one of {', '.join(STATUSES)}"
+    for section in ("metrics", "planner", "timings"):
+        for k, v in (row.get(section) or {}).items():
+            if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float))):
+                if section != "planner" and k in SUMMARY_METRICS:
+                    return f"{section}.{k} is not a number"
+    if row["key"] != row_key(row):
+        return "its key does not match its preset, map, cooks, agent, horizon and seed"
+    return None
+
+
+def row_key(row: dict[str, Any]) -> str:
+    """The key the runner gives a row with these fields (:meth:`EpisodeSpec.row_base`)."""
+    return episode_key(row) + "".join(f"|{k}={v}" for k, v in (row.get("rules") or {}).items())
+
+
+def _open_regular(p: Path) -> int:
+    """A read-only descriptor of ``p``, which must be a regular file within the limit
+    (opened without blocking, so a FIFO is refused, never waited on)."""
+    try:
+        fd = os.open(p, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0))
+    except FileNotFoundError:
         raise ConfigError(f"no results found: {p} does not exist; run `ocplus eval --out DIR` "
-                          "first or point at a folder that holds results.jsonl")
-    rows = []
-    lines = p.read_text(encoding="utf-8").splitlines()
-    for i, line in enumerate(lines):
-        if not line.strip():
-            continue
+                          "first or point at a folder that holds results.jsonl") from None
+    except OSError as exc:
+        raise ConfigError(f"cannot read {p}: {exc.strerror}") from None
+    st = os.fstat(fd)
+    why = None if stat.S_ISREG(st.st_mode) else "is not a regular file"
+    if why is None and st.st_size > MAX_RESULTS_BYTES:
+        why = f"is {st.st_size} bytes; the limit is {MAX_RESULTS_BYTES}"
+    if why:
+        os.close(fd)
+        raise ConfigError(f"{p} {why}; point at a folder written by `ocplus eval --out DIR`")
+    return fd
+
+
+def scan_results(path: str | os.PathLike[str]) -> ResultsFile:
+    """Read a ``results.jsonl`` (a folder holding one, or the file itself) within the limits
+    above. Every line that is not a valid row (not UTF-8, not JSON, nested too deep, too
+    long, not an object, fields of the wrong type, a key that its fields do not give) is
+    skipped and counted with its line number; none is fatal."""
+    p = results_path(path)
+    found = ResultsFile(p)
+    with os.fdopen(_open_regular(p), "rb") as fh:
+        for number, raw, long in _lines(fh):
+            if long:
+                found.bad.append((number, f"longer than {MAX_ROW_BYTES} bytes"))
+                continue
+            if not raw.strip():
+                continue
+            try:
+                row = json.loads(raw.decode("utf-8"))
+            except UnicodeDecodeError:
+                found.bad.append((number, "not UTF-8"))
+                continue
+            except RecursionError:
+                found.bad.append((number, "nested too deeply"))
+                continue
+            except ValueError as exc:
+                found.bad.append((number, f"not JSON ({str(exc)[:60]})"))
+                continue
+            problem = row_problem(row)
+            if problem:
+                found.bad.append((number, problem))
+            else:
+                found.rows.append(row)
+    return found
+
+
+def _lines(fh: Any) -> Iterator[tuple[int, bytes, bool]]:
+    """(line number, bytes, too long) for each line; a long line is not kept in memory."""
+    number = 0
+    while True:
+        raw = fh.readline(MAX_ROW_BYTES + 1)
+        if not raw:
+            return
+        number += 1
+        long = len(raw) > MAX_ROW_BYTES
+        while long and not raw.endswith(b"\n"):
+            raw = fh.readline(MAX_ROW_BYTES + 1)
+            if not raw:
+                break
+        yield number, (b"" if long else raw), long
+
+
+def read_results(path: str | os.PathLike[str]) -> list[dict[str, Any]]:
+    """The trusted rows of a ``results.jsonl`` (see :func:`scan_results`)."""
+    return scan_results(path).rows
+
+
+def repair_torn_tail(path: Path) -> bool:
+    """Before appending: a last line without its newline (a run killed mid-write) is cut
+    off, or, when it is a whole row, given its newline. True if the file was changed.
+    Reads at most one row's length back from the end."""
+    with open(path, "r+b") as fh:
+        size = fh.seek(0, os.SEEK_END)
+        if size == 0:
+            return False
+        fh.seek(size - 1)
+        if fh.read(1) == b"\n":
+            return False
+        start = max(0, size - MAX_ROW_BYTES - 1)
+        fh.seek(start)
+        tail = fh.read()
+        cut = tail.rfind(b"\n")
+        keep = start + cut + 1 if cut >= 0 else (0 if start == 0 else None)
+        if keep is None:  # a torn line longer than a row: find where it started
+            keep = _last_newline_before(fh, start) + 1
+        last = tail[keep - start:] if keep >= start else b""
         try:
-            rows.append(json.loads(line))
-        except json.JSONDecodeError as exc:
-            if i == len(lines) - 1:
-                break  # interrupted while writing the last row: it will be rerun
-            raise ConfigError(f"{p}: line {i + 1} is not valid JSON ({exc}); "
-                              "remove that line and run with --resume to redo it") from None
-    return rows
+            whole = row_problem(json.loads(last.decode("utf-8"))) is None
+        except (ValueError, RecursionError):
+            whole = False
+        if whole:
+            fh.write(b"\n")
+        else:
+            fh.truncate(keep)
+        return True
+
+
+def _last_newline_before(fh: Any, end: int) -> int:
+    """The offset of the last newline before ``end`` (-1 when there is none)."""
+    while end > 0:
+        start = max(0, end - (1 << 16))
+        fh.seek(start)
+        chunk = fh.read(end - start)
+        i = chunk.rfind(b"\n")
+        if i >= 0:
+            return start + i
+        end = start
+    return -1
+
+
+@contextlib.contextmanager
+def folder_lock(out: Path) -> Iterator[None]:
+    """Hold ``out/.ocplus-eval.lock`` (``flock``) while a run writes ``out``; a second run
+    on the same folder is refused at once. The kernel drops the lock when the holder
+    dies, whatever killed it."""
+    import fcntl
+
+    out.mkdir(parents=True, exist_ok=True)
+    lock = out / LOCK_FILE
+    fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise ConfigError(f"output folder {out} is being written by another run (it "
+                              f"holds {lock}); wait for it to end or choose another "
+                              "--out") from None
+        os.ftruncate(fd, 0)
+        os.write(fd, f"{os.getpid()}\n".encode())
+        try:
+            yield
+        finally:
+            with contextlib.suppress(OSError):
+                lock.unlink()
+    finally:
+        os.close(fd)
 
 
 def latest_rows(rows: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -175,12 +373,15 @@ def write_summary(summary: list[dict[str, Any]], path: str | os.PathLike[str]) -
     fields = list(GROUP_FIELDS) + (["faults"] if any("faults" in s for s in summary) else [])
     fields += ["episodes", "errors", "skipped"]
     fields += [f"{m}_{s}" for m in SUMMARY_METRICS for s in ("mean", "ci95")] + ["reason"]
-    with p.open("w", newline="", encoding="utf-8") as fh:
-        w = csv.DictWriter(fh, fieldnames=fields)
-        w.writeheader()
-        for s in summary:
-            w.writerow({k: (round(v, 4) if isinstance(v, float) else v) for k, v in s.items()
-                        if k in fields})
+    try:
+        with p.open("w", newline="", encoding="utf-8") as fh:
+            w = csv.DictWriter(fh, fieldnames=fields)
+            w.writeheader()
+            for s in summary:
+                w.writerow({k: (round(v, 4) if isinstance(v, float) else v)
+                            for k, v in s.items() if k in fields})
+    except OSError as exc:
+        raise ConfigError(f"cannot write {p}: {exc.strerror}") from None
     return p
 
 
@@ -234,6 +435,10 @@ def leaderboard(summary: list[dict[str, Any]]) -> str:
 __all__ = [
     "CONFIG_FILE",
     "GROUP_FIELDS",
+    "LOCK_FILE",
+    "MAX_RESULTS_BYTES",
+    "MAX_ROW_BYTES",
+    "ResultsFile",
     "RESULTS_FILE",
     "ResultsWriter",
     "SUMMARY_FILE",
@@ -242,7 +447,11 @@ __all__ = [
     "latest_rows",
     "leaderboard",
     "mean_ci",
+    "folder_lock",
     "read_results",
+    "repair_torn_tail",
+    "row_problem",
+    "scan_results",
     "summarise",
     "write_summary",
 ]

@@ -45,12 +45,16 @@ from .episode import (
 )
 from .results import (
     CONFIG_FILE,
+    LOCK_FILE,
     RESULTS_FILE,
     SUMMARY_FILE,
     ResultsWriter,
     episode_key,
+    folder_lock,
     leaderboard,
     read_results,
+    repair_torn_tail,
+    scan_results,
     summarise,
     write_summary,
 )
@@ -184,33 +188,22 @@ def check_backend(cfg: EvalConfig) -> None:
         raise ConfigError(f"--retries must be 0 or more, got {cfg.retries}")
 
 
-def prepare_out_dir(out: Path, resume: bool) -> set[str]:
-    """Create ``out`` (or check it for ``--resume``); the keys of the episodes already done."""
+def prepare_out_dir(out: Path, resume: bool, echo: Any = print) -> set[str]:
+    """Check ``out`` (created and locked by :func:`folder_lock`) or, for ``--resume``, read
+    it: the keys of the episodes already done. Bad rows are skipped and counted (never
+    trusted); a row torn by a killed run is cut off before anything is appended."""
     results = out / RESULTS_FILE
-    if out.exists() and not resume:
-        if any(out.iterdir()):
-            raise ConfigError(
-                f"output folder {out} already exists and is not empty; continue that run "
-                "with --resume, or choose another --out")
-    out.mkdir(parents=True, exist_ok=True)
+    if not resume and any(p.name != LOCK_FILE for p in out.iterdir()):
+        raise ConfigError(
+            f"output folder {out} already exists and is not empty; continue that run "
+            "with --resume, or choose another --out")
     if not resume or not results.exists():
         return set()
-    rows = read_results(results)
-    _drop_partial_last_line(results)
-    return {r["key"] for r in rows if r.get("status") in ("ok", "error") and "key" in r}
-
-
-def _drop_partial_last_line(path: Path) -> None:
-    """Cut a row that a killed run left half-written, so appended rows start on a new line."""
-    data = path.read_bytes()
-    if not data or data.endswith(b"\n"):
-        return
-    cut = data.rfind(b"\n") + 1
-    try:
-        json.loads(data[cut:])
-        path.write_bytes(data + b"\n")  # complete row, only the newline is missing
-    except ValueError:
-        path.write_bytes(data[:cut])
+    found = scan_results(results)
+    if found.note():
+        echo(f"note: {found.note()}")
+    repair_torn_tail(results)
+    return {r["key"] for r in found.rows if r["status"] in ("ok", "error")}
 
 
 def run_eval(cfg: EvalConfig, echo: Any = print) -> EvalOutcome:
@@ -218,10 +211,10 @@ def run_eval(cfg: EvalConfig, echo: Any = print) -> EvalOutcome:
     out = Path(cfg.out)
     with _sigint_marks_interrupt():
         episodes, skipped = plan_episodes(cfg)
-        with _backend_session(cfg):  # a Ray cluster is joined before any file is written
+        with _backend_session(cfg), folder_lock(out):  # Ray is joined before any file is written
             ran, n_err = _run_and_write(cfg, episodes, skipped, echo)
-    summary = summarise(read_results(out))
-    write_summary(summary, out / SUMMARY_FILE)
+            summary = summarise(read_results(out))
+            write_summary(summary, out / SUMMARY_FILE)
     plots: list[Path] = []
     if cfg.plots:
         from .plots import make_plots
@@ -245,9 +238,12 @@ def _run_and_write(cfg: EvalConfig, episodes: list[EpisodeSpec], skipped: list[d
     from .progress import SweepProgress
 
     out = Path(cfg.out)
-    done = prepare_out_dir(out, cfg.resume)
+    done = prepare_out_dir(out, cfg.resume, echo)
     config = {k: (str(v) if isinstance(v, Path) else v) for k, v in asdict(cfg).items()}
-    (out / CONFIG_FILE).write_text(json.dumps(config, indent=2) + "\n")
+    try:
+        (out / CONFIG_FILE).write_text(json.dumps(config, indent=2) + "\n")
+    except OSError as exc:
+        raise ConfigError(f"cannot write {out / CONFIG_FILE}: {exc.strerror}") from None
     todo = [e for e in episodes if e.row_base()["key"] not in done]
     if cfg.resume and done:
         echo(f"resuming {out}: {len(episodes) - len(todo)} episode(s) already done, "

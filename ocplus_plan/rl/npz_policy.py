@@ -19,6 +19,9 @@ import numpy as np
 from ..errors import ConfigError
 from ..sim.rules import Rules
 from ..sim.state import State
+from .weights import read_arrays
+
+MAX_RECORD_BYTES = 1 << 20
 
 
 class NpzPolicy:
@@ -30,18 +33,25 @@ class NpzPolicy:
         if not self.path.is_file() or not record.is_file():
             raise ConfigError(f"{str(self.path)!r}: a JAX policy is a policy.npz with the "
                               "train.json that ocplus train --engine jax writes beside it")
+        arrays = read_arrays(self.path, "JAX policy")  # sizes checked, nothing unpickled
+        self.weights = {k: np.asarray(v, np.float32) for k, v in arrays.items()}
         try:
-            with np.load(self.path) as data:
-                self.weights = {k: np.asarray(data[k], np.float32) for k in data.files}
+            if record.stat().st_size > MAX_RECORD_BYTES:
+                raise ValueError(f"{record.name} is over {MAX_RECORD_BYTES} bytes")
             info = json.loads(record.read_text())
-        except (OSError, ValueError) as exc:
+            if not isinstance(info, dict):
+                raise ValueError(f"{record.name} is not a JSON object")
+        except (OSError, ValueError, RecursionError) as exc:
             raise ConfigError(f"{str(self.path)!r}: not a readable JAX policy ({exc})") from None
         if {f"{p}{i}" for p in "wb" for i in range(3)} - set(self.weights):
             raise ConfigError(f"{str(self.path)!r}: expected weights w0-w2 and b0-b2")
-        self.meta: dict[str, Any] = {
-            "obs": "vector", "obs_radius": int(info.get("obs_radius", 0)),
-            "obs_size": int(info["obs_size"]), "n_agents": int(info["n_agents"]),
-            "map": info.get("map"), "act": "sample", "engine": "jax"}
+        try:
+            self.meta: dict[str, Any] = {
+                "obs": "vector", "obs_radius": int(info.get("obs_radius", 0)),
+                "obs_size": int(info["obs_size"]), "n_agents": int(info["n_agents"]),
+                "map": info.get("map"), "act": "sample", "engine": "jax"}
+        except (KeyError, TypeError, ValueError) as exc:
+            raise ConfigError(f"{str(self.path)!r}: train.json lacks a valid {exc}") from None
 
     def probs(self, x: np.ndarray) -> np.ndarray:
         w = self.weights

@@ -1,4 +1,8 @@
-"""The checkpoint format and a loaded policy that acts from observations.
+"""The SB3 checkpoint format and a loaded policy that acts from observations.
+
+Loading one unpickles its ``data`` member, which can run any code: :func:`load_policy`
+is reached only with ``--trust-pickled-checkpoint``; the weights-only ``.npz`` of
+:mod:`ocplus_plan.rl.weights` is what the package ships and reads by default.
 
 A checkpoint is one stable-baselines3 ``PPO.save`` zip with one extra member,
 ``ocplus_meta.json`` (SB3's loader ignores members that are not ``.pth``): the

@@ -2,8 +2,12 @@
 
 Output directory layout::
 
-    OUT/policy.zip             final checkpoint (SB3 zip + ocplus_meta.json)
-    OUT/checkpoints/step_*.zip periodic checkpoints
+    OUT/policy.npz             final checkpoint, weights only (rl/weights.py): what
+                               ``ppo:OUT/policy.npz`` and ``--init`` read
+    OUT/policy.zip             the same as an SB3 zip + ocplus_meta.json (it pickles the
+                               optimizer and schedules too; loading it runs code, so it is
+                               read only with --trust-pickled-checkpoint)
+    OUT/checkpoints/step_*.npz periodic checkpoints (and step_*.zip beside them)
     OUT/episodes.csv           one row per finished kitchen episode (game reward, dishes)
     OUT/train.json             the configuration, the command, wall time and throughput
 
@@ -28,6 +32,7 @@ from .lean import PRECISIONS
 from .obs import OBS_KINDS
 from .policy import load_policy, require_rl, write_meta
 from .shaping import Shaping
+from .weights import WeightsPolicy, pickled_trusted, refuse_pickled, save_weights
 
 
 ALGOS = ("sb3", "lean")
@@ -115,6 +120,8 @@ class TrainConfig:
             raise ConfigError(f"max_wall_s must be positive seconds, got {self.max_wall_s}")
         if not self.hidden or any(h < 1 for h in self.hidden):
             raise ConfigError(f"hidden layer sizes must be positive, got {self.hidden}")
+        if self.init is not None and not self.init.endswith(".npz") and not pickled_trusted():
+            raise refuse_pickled(self.init)
         if self.bc is not None:
             self.imitation().validate()
         if self.algo not in ALGOS:
@@ -226,11 +233,13 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
     def save(path: Path, timesteps: int) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)
         model.save(str(path))
-        write_meta(path, {**meta_base, "train": {
+        meta = {**meta_base, "train": {
             "timesteps": timesteps, "seed": config.seed, "command": command,
             "wall_time_s": round(time.perf_counter() - t0, 1),
             **({"bc": config.bc} if config.bc else {}), "algo": config.algo,
-        }})
+        }}
+        write_meta(path, meta)
+        save_weights(path.with_suffix(".npz"), model.policy.state_dict(), meta)
 
     imitation = None
     if config.bc is not None:
@@ -241,7 +250,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         )
         imitation = {"teacher": config.bc, "rounds": rounds,
                      "wall_time_s": round(time.perf_counter() - t0, 1),
-                     "policy": str(out / "bc_policy.zip")}
+                     "policy": str(out / "bc_policy.npz")}
         save(out / "bc_policy.zip", 0)
 
     learner = model
@@ -284,7 +293,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         "steps_per_s": round(model.num_timesteps / (wall - (imitation or {}).get(
             "wall_time_s", 0.0)), 1),
         "imitation": imitation,
-        "policy": str(out / "policy.zip"),
+        "policy": str(out / "policy.npz"),
         # where the lean loop's time went (rl/lean.py); SB3 does not split its own
         **({"seconds": {k: round(v, 2) for k, v in learner.seconds.items()}}
            if config.algo == "lean" else {}),
@@ -297,9 +306,17 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
 
 def _start_from(model: Any, venv: Any, config: TrainConfig) -> None:
     """Load ``config.init``'s weights into ``model`` (same observations and shapes)."""
+    import numpy as np
     import torch
 
-    source = load_policy(config.init)
+    if config.init.endswith(".npz"):
+        source: Any = WeightsPolicy(config.init)
+        state = {k: torch.as_tensor(np.array(v)) for k, v in source.tensors.items()}
+    elif pickled_trusted():
+        source = load_policy(config.init)
+        state = source.model.policy.state_dict()
+    else:
+        raise refuse_pickled(config.init)
     torch.set_num_threads(config.torch_threads)  # load_policy's require_rl reset it
     if source.meta["obs"] != config.obs or source.meta["obs_size"] != venv.obs_size:
         raise ConfigError(
@@ -307,7 +324,7 @@ def _start_from(model: Any, venv: Any, config: TrainConfig) -> None:
             f"{source.meta['obs_size']}) differ from this run's ({config.obs}, {venv.obs_size})"
         )
     try:
-        model.policy.load_state_dict(source.model.policy.state_dict())
+        model.policy.load_state_dict(state)
     except RuntimeError as exc:
         raise ConfigError(f"--init {config.init}: network shapes differ ({exc})") from exc
 

@@ -62,9 +62,9 @@ def test_two_rollouts_save_a_checkpoint_the_ppo_controller_plays(tmp_path: Path)
     meta = read_meta(tmp_path / "policy.zip")
     assert meta["train"]["algo"] == "lean" and meta["n_agents"] == 2
     assert json.loads((tmp_path / "train.json").read_text())["config"]["algo"] == "lean"
-    agent = make_controller(f"ppo:{tmp_path / 'policy.zip'}", seed=0)
+    agent = make_controller(f"ppo:{tmp_path / 'policy.npz'}", seed=0)
     played = run_episode(new_state(make_rules("easy", n_agents=2, horizon=12), 0), agent)
-    assert played["t"] == 12 and agent.info()["checkpoint"].endswith("policy.zip")
+    assert played["t"] == 12 and agent.info()["checkpoint"].endswith("policy.npz")
 
 
 def test_lean_runs_a_curriculum_after_a_greedy_clone(tmp_path: Path):

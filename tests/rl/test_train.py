@@ -21,12 +21,13 @@ from ocplus_plan.errors import ConfigError
 from ocplus_plan.rl.policy import load_policy, read_meta
 from ocplus_plan.rl.train import TrainConfig, train
 from ocplus_plan.rl.vec_env import KitchenVecEnv
+from ocplus_plan.rl.weights import FORMAT, WeightsPolicy
 from ocplus_plan.sim import make_rules, new_state, transition
 
 SHIPPED = Path(__file__).resolve().parents[2] / "experiments" / "checkpoints"
-EXPECTED = {"easy_1agent.zip": ("easy", 1), "medium_1agent.zip": ("medium", 1),
-            "easy_2agent.zip": ("easy", 2), "medium_2agent.zip": ("medium", 2),
-            "hard_1agent.zip": ("hard", 1), "hard_2agent.zip": ("hard", 2)}
+EXPECTED = {"easy_1agent.npz": ("easy", 1), "medium_1agent.npz": ("medium", 1),
+            "easy_2agent.npz": ("easy", 2), "medium_2agent.npz": ("medium", 2),
+            "hard_1agent.npz": ("hard", 1), "hard_2agent.npz": ("hard", 2)}
 
 
 @pytest.fixture(scope="module")
@@ -40,8 +41,8 @@ def tiny_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def test_short_training_writes_policy_logs_and_checkpoints(tiny_run: Path):
-    assert (tiny_run / "policy.zip").is_file()
-    assert len(list((tiny_run / "checkpoints").glob("step_*.zip"))) >= 2
+    assert (tiny_run / "policy.zip").is_file() and (tiny_run / "policy.npz").is_file()
+    assert len(list((tiny_run / "checkpoints").glob("step_*.npz"))) >= 2
     summary = json.loads((tiny_run / "train.json").read_text())
     assert summary["timesteps"] >= 3000 and summary["wall_time_s"] > 0
     rows = list(csv.DictReader((tiny_run / "episodes.csv").open()))
@@ -49,7 +50,8 @@ def test_short_training_writes_policy_logs_and_checkpoints(tiny_run: Path):
     assert len(rows) == 4
     assert {r["steps"] for r in rows} == {"200"}
     assert all(float(r["dishes"]) >= 0 and r["preset"] == "easy" for r in rows)
-    meta = read_meta(tiny_run / "policy.zip")
+    meta = WeightsPolicy(tiny_run / "policy.npz").meta
+    assert meta == {**read_meta(tiny_run / "policy.zip"), "format": FORMAT, "activation": "tanh"}
     assert meta["n_agents"] == 2 and meta["obs"] == "features"
     assert meta["train"]["command"] == "test"
 
@@ -59,7 +61,7 @@ def test_saved_policy_loads_and_drives_every_agent(tiny_run: Path):
     obs = np.zeros((3, policy.meta["obs_size"]), np.float32)
     p = policy.probs(obs)
     assert p.shape == (3, 5) and np.allclose(p.sum(axis=1), 1.0, atol=1e-5)
-    agent = make_controller(f"ppo:{tiny_run / 'policy.zip'}", seed=0)
+    agent = make_controller(f"ppo:{tiny_run / 'policy.npz'}", seed=0)
     rules = make_rules("hard")  # features work on any map and agent count
     state = new_state(rules, 0)
     agent.reset(state)
@@ -70,7 +72,7 @@ def test_saved_policy_loads_and_drives_every_agent(tiny_run: Path):
 
 
 def test_sampling_is_reproducible_and_greedy_is_deterministic(tiny_run: Path):
-    path = str(tiny_run / "policy.zip")
+    path = str(tiny_run / "policy.npz")
 
     def run(spec: str, seed: int) -> list[list[int]]:
         agent = make_controller(spec, seed)
@@ -94,17 +96,19 @@ def test_cli_train_runs_and_prints_a_summary(tmp_path: Path, capsys: pytest.Capt
                  "--no-progress", "--json"])
     assert code == 0
     printed = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
-    assert printed["policy"].endswith("policy.zip") and printed["timesteps"] >= 600
+    assert printed["policy"].endswith("policy.npz") and printed["timesteps"] >= 600
     assert "ocplus train --preset easy" in read_meta(out / "policy.zip")["train"]["command"]
 
 
 def test_bad_input_is_a_clear_error(tmp_path: Path):
     assert main(["train", "--preset", "nope", "--steps", "10", "--out", str(tmp_path)]) == 2
     assert main(["train", "--steps", "0", "--out", str(tmp_path / "x")]) == 2
-    with pytest.raises(ConfigError, match="does not exist"):
-        make_controller(f"ppo:{tmp_path / 'missing.zip'}")
-    (tmp_path / "junk.zip").write_text("not a zip")
-    with pytest.raises(ConfigError, match="not an ocplus PPO checkpoint"):
+    with pytest.raises(ConfigError, match="cannot be read"):
+        make_controller(f"ppo:{tmp_path / 'missing.npz'}")
+    (tmp_path / "junk.npz").write_text("not a zip")
+    with pytest.raises(ConfigError, match="not a readable .npz"):
+        make_controller(f"ppo:{tmp_path / 'junk.npz'}")
+    with pytest.raises(ConfigError, match="trust-pickled-checkpoint"):
         make_controller(f"ppo:{tmp_path / 'junk.zip'}")
     assert parse_spec("a/b.zip@greedy") == ("a/b.zip", "greedy")
     assert parse_spec(None) == (None, None)
@@ -135,7 +139,7 @@ def test_shipped_checkpoints_are_small_load_and_serve(name: str):
         pytest.fail(f"missing shipped checkpoint {path}")
     assert path.stat().st_size < 5 * 1024 * 1024
     preset, n_agents = EXPECTED[name]
-    meta = read_meta(path)
+    meta = WeightsPolicy(path).meta
     assert (meta["preset"], meta["n_agents"]) == (preset, n_agents)
     agent = PPOAgent(str(path), seed=0)
     rules = make_rules(preset, n_agents=n_agents)
