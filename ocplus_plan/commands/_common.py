@@ -32,7 +32,7 @@ from typing import Any, NoReturn
 
 from ..errors import ConfigError, DependencyNotInstalled
 from ..planning.model import ENCODINGS, GRANULARITIES
-from ..sim.rules import Rules, make_rules
+from ..sim.rules import OPTIONAL_RULE_LIMITS, RULE_LIMITS, Rules, make_rules, rule_limit_problem
 from . import _types
 
 PRESET_HELP = "easy | medium | hard"
@@ -175,11 +175,15 @@ def _rule_value(key: str, kind: str, text: str) -> Any:
             return low in _TRUE
         raise ConfigError(f"--rules {key}={text!r}: {key} is true or false")
     if kind.startswith("int"):
-        try:
-            return int(text)
-        except ValueError:
+        if not _types.WHOLE.fullmatch(text):
             none = " (or none)" if kind.endswith("| None") else ""
-            raise ConfigError(f"--rules {key}={text!r}: {key} is a whole number{none}") from None
+            raise ConfigError(f"--rules {key}={text!r}: {key} is a whole number in ASCII "
+                              f"digits{none}")
+        problem = rule_limit_problem(key, int(text)) \
+            if key in RULE_LIMITS or key in OPTIONAL_RULE_LIMITS else None
+        if problem:  # the limits a recording of the episode is read with
+            raise ConfigError(f"--rules {key}={text}: {problem}")
+        return int(text)
     return text
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import re
 from collections.abc import Callable
 from pathlib import Path
 
@@ -29,6 +30,10 @@ MAX_SECONDS = 7 * 24 * 3600.0
 
 Type = Callable[[str], object]
 
+#: a whole number as typed: ASCII digits only (Python's ``int`` also reads full-width and
+#: other Unicode digits, and ``1_000``)
+WHOLE = re.compile(r"[+-]?[0-9]+")
+
 
 def _fail(message: str) -> argparse.ArgumentTypeError:
     return argparse.ArgumentTypeError(message)
@@ -37,10 +42,10 @@ def _fail(message: str) -> argparse.ArgumentTypeError:
 def _whole(text: str, what: str, lo: int, hi: int | None) -> int:
     allowed = f"a whole number from {lo} to {hi}" if hi is not None else \
         f"a whole number, at least {lo}"
-    try:
-        value = int(str(text).strip())
-    except ValueError:
-        raise _fail(f"{text!r} is not a whole number; {what} is {allowed}") from None
+    stripped = str(text).strip()
+    if not WHOLE.fullmatch(stripped):
+        raise _fail(f"{text!r} is not a whole number (ASCII digits); {what} is {allowed}")
+    value = int(stripped)
     if value < lo or (hi is not None and value > hi):
         raise _fail(f"{value} is out of range; {what} is {allowed}")
     return value
@@ -63,6 +68,8 @@ def number(what: str, lo: float, hi: float, *, lo_open: bool = True) -> Type:
 
     def parse(text: str) -> float:
         try:
+            if not str(text).isascii():
+                raise ValueError(text)
             value = float(str(text).strip())
         except ValueError:
             raise _fail(f"{text!r} is not a number; {what} is a number in "
@@ -133,9 +140,24 @@ def _seed_selection(text: str, *, single_is_count: bool) -> str:
 
 
 def name(text: str) -> str:
-    """A name or a comma-separated list of names (presets, maps, agents): not empty."""
+    """A name or a comma-separated list of names (presets, maps, agents): not empty, and
+    no empty item in the list (``greedy,,greedy``)."""
     if not str(text).strip() or "\0" in text:
         raise _fail(f"{text!r} names nothing; give a name (or a comma-separated list)")
+    if "," in text and any(not part.strip() for part in text.split(",")):
+        raise _fail(f"{text!r} has an empty item; write the names with one comma between "
+                    "each two")
+    return text
+
+
+def faults(text: str) -> str:
+    """``--faults``: KEY:VALUE pairs joined by commas; neither empty nor with empty items
+    (omit the option for no faults)."""
+    if not str(text).strip() or any(not p.strip() for p in str(text).split(",")):
+        raise _fail(f"{text!r} has an empty item; give KEY:VALUE pairs joined by commas "
+                    "(e.g. burns:3,switches:40), or leave --faults out for none")
+    if not str(text).isascii():
+        raise _fail(f"{text!r}: write faults in ASCII (digits 0-9)")
     return text
 
 

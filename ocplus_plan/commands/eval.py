@@ -71,7 +71,7 @@ def add_sweep_args(p: argparse.ArgumentParser, *, agents: str | None) -> None:
                    help="--backend ray: reruns of an episode whose worker or node died")
     add_episode_timeout_arg(h)
     add_plots_arg(h)
-    h.add_argument("--faults", default="", metavar="KEY:VALUE,...",
+    h.add_argument("--faults", type=_types.faults, default=None, metavar="KEY:VALUE,...",
                    help="faults in every episode, e.g. burns:3,switches:40,message-loss:0.3,"
                         "blocker:moving; keys: " + "; ".join(f"{k}:{v}" for k, v in
                                                            FAULT_KEYS.items()))

@@ -83,6 +83,10 @@ def _check(args: argparse.Namespace) -> None:
         raise ConfigError(f"--n must be at least 1, got {args.n}")
     if args.seed < 0:
         raise ConfigError(f"--seed must be >= 0, got {args.seed}")
+    if args.split is None and args.seed + args.n - 1 > _types.MAX_SEED:
+        raise ConfigError(f"--seed {args.seed} --n {args.n} would write seeds up to "
+                          f"{args.seed + args.n - 1}, past the largest seed {_types.MAX_SEED}; "
+                          f"start at {_types.MAX_SEED - args.n + 1} or lower")
     if args.candidates < 1:
         raise ConfigError(f"--candidates must be at least 1, got {args.candidates}")
     if args.timeout <= 0:
@@ -127,6 +131,14 @@ def _one_kitchen(args: argparse.Namespace, seed: int, stem: str, name: str, prov
 
 def run(args: argparse.Namespace) -> int:
     _check(args)
+    try:
+        return _generate(args)
+    except OSError as exc:  # a folder that cannot be made or written (/proc, a full disk)
+        raise ConfigError(f"cannot write the kitchens under {args.out}: "
+                          f"{exc.strerror or exc}") from None
+
+
+def _generate(args: argparse.Namespace) -> int:
     prove, why_not = _should_prove(args.prove)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

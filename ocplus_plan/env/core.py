@@ -21,6 +21,12 @@ from ..errors import ConfigError, InvalidActionError
 from ..sim import Rules, State, StepResult, make_rules, new_state, transition
 from ..sim.observe import VectorEncoder, snapshot
 from ..sim.fast.observe_incremental import IncrementalEncoder
+from ..sim.maps import MAX_GRID_SIDE
+
+#: the largest ``obs_radius``: a window of radius 64 already covers the largest map
+MAX_OBS_RADIUS = MAX_GRID_SIDE
+#: actions are whole numbers; anything this large is no action of any kind
+_ACTION_BOUND = 2**31
 from ..sim.observe_text import text_observations
 from .comm import CommChannel, CommConfig
 from .paper import PAPER_ONLY_KEYWORDS, translate_paper_keywords
@@ -90,8 +96,10 @@ def parse_env_kwargs(preset: str = "hard", **kwargs: Any) -> tuple[Rules, EnvCon
     if mode not in MODE_ALIASES:
         raise ConfigError(f"mode must be one of {', '.join(MODES)} ('image' = 'rgb'), got {mode!r}")
     obs_radius = kw.pop("obs_radius", 0)
-    if isinstance(obs_radius, bool) or not isinstance(obs_radius, int) or obs_radius < 0:
-        raise ConfigError(f"obs_radius must be an integer >= 0 (0 = whole map), got {obs_radius!r}")
+    if isinstance(obs_radius, bool) or not isinstance(obs_radius, int) \
+            or not 0 <= obs_radius <= MAX_OBS_RADIUS:
+        raise ConfigError(f"obs_radius must be an integer from 0 (whole map) to "
+                          f"{MAX_OBS_RADIUS} (a map's largest side), got {obs_radius!r}")
     if MODE_ALIASES[mode] == "text" and obs_radius:
         raise ConfigError(f"mode='text' describes the whole kitchen; obs_radius must be 0, "
                           f"got {obs_radius}")
@@ -183,17 +191,13 @@ class KitchenCore:
         """A joint action -> (moves, tokens). Accepts ``n`` moves, or with communication
         ``2n`` values interleaved ``[move0, token0, move1, token1, ...]`` (or ``(n, 2)``)."""
         n = self.n_agents
-        if self.comm is None and type(action) is list and len(action) == n:
+        if self.comm is None and type(action) is list and len(action) == n \
+                and all(type(a) is int for a in action):
             return action, None  # fast path; transition checks each move
         if type(action) is np.ndarray and action.ndim == 1 and action.dtype.kind in "iu":
             flat = action
         else:
-            try:
-                flat = np.asarray(action, dtype=np.int64).reshape(-1)
-            except (TypeError, ValueError):
-                raise InvalidActionError(
-                    f"action {action!r} is not a sequence of integers"
-                ) from None
+            flat = whole_numbers(action)
         if self.comm is None:
             if flat.size != n:
                 raise InvalidActionError(
@@ -209,4 +213,36 @@ class KitchenCore:
         return pairs[:, 0].tolist(), pairs[:, 1].tolist()
 
 
-__all__ = ["MODES", "EnvConfig", "KitchenCore", "parse_env_kwargs"]
+def whole_numbers(action: Any) -> np.ndarray:
+    """``action`` as a flat int64 array. Integers pass; a float that is a whole number
+    (2.0) passes; 1.7, NaN, infinity, booleans, text and anything past 2**31 are an
+    :class:`InvalidActionError` naming the value (never silently rounded or wrapped)."""
+    try:
+        arr = np.asarray(action)
+    except (TypeError, ValueError):
+        arr = np.asarray(None)
+    kind = arr.dtype.kind
+    if kind == "O":  # a ragged or mixed sequence: try the plain int conversion
+        try:
+            arr = np.asarray(action, dtype=np.int64)
+            kind = "i"
+        except (TypeError, ValueError, OverflowError):
+            pass
+    if kind not in "iuf":
+        raise InvalidActionError(f"action {action!r} is not a sequence of whole numbers "
+                                 "(moves are 0..4)")
+    flat = arr.reshape(-1)
+    if kind == "f":
+        bad = ~np.isfinite(flat) | (flat != np.round(flat))
+        if bad.any():
+            raise InvalidActionError(f"action value {flat[bad][0].item()!r} is not a whole number "
+                                     "(moves are 0..4)")
+    big = np.abs(flat.astype(np.float64)) >= _ACTION_BOUND
+    if big.any():
+        raise InvalidActionError(f"action value {flat[big][0].item()!r} is out of range (moves are "
+                                 "0..4)")
+    return flat.astype(np.int64)
+
+
+__all__ = ["MAX_OBS_RADIUS", "MODES", "EnvConfig", "KitchenCore", "parse_env_kwargs",
+           "whole_numbers"]

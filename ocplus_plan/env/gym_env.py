@@ -13,7 +13,7 @@ from gymnasium.error import ResetNeeded
 from ..errors import ConfigError, DependencyNotInstalled, InvalidActionError
 from ..sim import Action, Rules, State, new_state
 from ..sim.observe_text import TEXT_CHARSET, max_text_length
-from .core import EnvConfig, KitchenCore, parse_env_kwargs
+from .core import EnvConfig, KitchenCore, parse_env_kwargs, whole_numbers
 
 _SEED_HIGH = 2**31 - 1
 
@@ -318,10 +318,14 @@ class OvercookedPlusSingleEnv(_Base):
         n = self.core.n_agents
         others = iter(self._partner_moves())
         if self.core.comm is None:
-            own = int(np.asarray(action).reshape(-1)[0]) if np.ndim(action) else int(action)
+            flat = whole_numbers(action)
+            if flat.size != 1:
+                raise InvalidActionError(f"this env drives one cook: give one move (0..4), "
+                                         f"got {flat.size} values")
+            own = int(flat[0])
             joint: list[int] = [own if a == self.agent_id else next(others) for a in range(n)]
         else:
-            pair = np.asarray(action, dtype=np.int64).reshape(-1)
+            pair = whole_numbers(action)
             if pair.size != 2:
                 raise InvalidActionError(
                     f"with agent_communication the action is [move, token], got {action!r}"

@@ -19,7 +19,10 @@ from gymnasium.vector.utils import batch_space
 
 from ..errors import ConfigError
 from ..sim.fast.batch import BatchSim
-from .core import parse_env_kwargs
+from .core import parse_env_kwargs, whole_numbers
+
+#: the most kitchens one vector env holds (each keeps its grids and observations in memory)
+MAX_NUM_ENVS = 1 << 16
 
 
 class BatchedBox(spaces.Box):
@@ -109,6 +112,11 @@ class OvercookedPlusVectorEnv(VectorEnv):
         mode = AutoresetMode(autoreset_mode)
         if mode not in (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP):
             raise ConfigError(f"autoreset_mode must be NEXT_STEP or SAME_STEP, got {mode!r}")
+        if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) \
+                or not 1 <= num_envs <= MAX_NUM_ENVS:
+            raise ConfigError(f"num_envs must be a whole number from 1 to {MAX_NUM_ENVS}, "
+                              f"got {num_envs!r}")
+        num_envs = int(num_envs)
         self.rules = rules
         self.num_envs = num_envs
         self.sim = BatchSim(rules, num_envs, obs_radius=config.obs_radius, compiled=compiled)
@@ -146,6 +154,8 @@ class OvercookedPlusVectorEnv(VectorEnv):
 
     def step(self, actions: Any) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, dict]:
         acts = np.asarray(actions)
+        if acts.dtype.kind not in "iu":  # 1.7 or NaN is refused, never truncated
+            acts = whole_numbers(actions).reshape(acts.shape)
         info: dict[str, Any] = {}
         if self.metadata["autoreset_mode"] == AutoresetMode.NEXT_STEP:
             restart = np.flatnonzero(self._needs_reset)

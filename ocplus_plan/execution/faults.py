@@ -311,13 +311,13 @@ def _fault_value(text: str, key: str, value: str) -> object:
         return value
     if key == "message-loss":
         try:
-            rate = float(value)
+            rate = float(value) if value.isascii() else math.nan
         except ValueError:
             rate = math.nan
         if not 0.0 <= rate <= 1.0:  # nan fails too
             raise _fault_error(text, f"message-loss:{value} is not a probability in [0, 1]")
         return rate
-    if not value.isdigit() or int(value) < 1 or int(value) > 100_000:
+    if not (value.isascii() and value.isdigit()) or int(value) < 1 or int(value) > 100_000:
         raise _fault_error(text, f"{key}:{value} is not a whole number from 1 to 100000")
     return int(value)
 

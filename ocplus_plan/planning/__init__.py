@@ -12,9 +12,17 @@ never import it. Typical use::
 
 from __future__ import annotations
 
-from .compile import Compiled, compile
-from .model import ENCODINGS, GRANULARITIES, build_domain
-from .names import MappedAction, Names
+import warnings
+
+# up_lpg imports pkg_resources, which warns (UserWarning or DeprecationWarning, by
+# setuptools version) the first time; UP's factory imports it as soon as any planning
+# module touches UP. Filtered here, before the first such import, so that every command's
+# one-line refusal stays one line.
+warnings.filterwarnings("ignore", message="pkg_resources is deprecated")
+
+from .compile import Compiled, compile  # noqa: E402
+from .model import ENCODINGS, GRANULARITIES, build_domain  # noqa: E402
+from .names import MappedAction, Names  # noqa: E402
 
 __all__ = ["ENCODINGS", "GRANULARITIES", "Compiled", "MappedAction", "Names", "build_domain",
            "compile"]

@@ -20,6 +20,7 @@ from typing import Any
 import unified_planning as up
 
 with warnings.catch_warnings():  # up_lpg imports pkg_resources, which warns on import
+    warnings.filterwarnings("ignore", message="pkg_resources is deprecated")
     warnings.simplefilter("ignore", UserWarning)
     from up_lpg.lpg_planner import LPGEngine
 

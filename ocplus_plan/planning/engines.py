@@ -45,7 +45,7 @@ if TYPE_CHECKING:
 
 # up-lpg imports pkg_resources, which warns on every import (UP's factory imports it too);
 # the pin setuptools<81 is deliberate, so this one message is noise.
-warnings.filterwarnings("ignore", message="pkg_resources is deprecated", category=UserWarning)
+warnings.filterwarnings("ignore", message="pkg_resources is deprecated")
 
 
 #: Every status a :class:`PlanResult` can have.

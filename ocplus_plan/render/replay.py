@@ -31,7 +31,7 @@ import numpy as np
 
 from ..errors import ConfigError, DependencyNotInstalled, OcplusError
 from ..sim import Action, Event, Rules, State, make_rules, new_state, recipe_name, transition
-from ..sim.rules import Rewards
+from ..sim.rules import OPTIONAL_RULE_LIMITS, RULE_LIMITS, Rewards
 
 FORMAT = "ocplus-replay"
 #: 2: every rule field is in the header (``fixed_orders`` included) and every line is
@@ -173,9 +173,6 @@ ADDED_AFTER_V1: dict[str, Any] = {"fixed_orders": None}
 _HEADER_KEYS = {"format", "version", "preset", "map", "rules", "seed"}
 _INT_LIMIT = 2**31
 _SEED_LIMIT = 2**64
-#: open orders at once: the initial state draws them all, so a tampered huge count would
-#: stall the replay before its first step
-MAX_ORDERS = 1000
 
 
 class UnreadableRecording(ConfigError):
@@ -198,13 +195,19 @@ def _is_rewards(value: Any) -> bool:
         isinstance(v, (int, float)) and not isinstance(v, bool) for v in value.values())
 
 
+def _within(lo: int, hi: int, optional: bool = False) -> tuple[Any, str]:
+    """A check of one integer rule against the rules' own limits (``sim.rules.RULE_LIMITS``:
+    the same table ``make_rules`` and ``--rules`` use)."""
+    what = f"an integer from {lo} to {hi}"
+    if optional:
+        return (lambda v: v is None or _is_int(v, lo, hi + 1)), f"null or {what}"
+    return (lambda v: _is_int(v, lo, hi + 1)), what
+
+
 _RULE_CHECKS: dict[str, tuple[Any, str]] = {
-    **{k: (_is_int, "an integer from 0 to 2**31-1") for k in (
-        "n_agents", "chop_steps", "cook_time", "burn_time", "wash_steps", "horizon",
-        "map_switch_step")},
-    "n_orders": (lambda v: _is_int(v, 0, MAX_ORDERS + 1), f"an integer from 0 to {MAX_ORDERS}"),
-    **{k: (lambda v: v is None or _is_int(v), "null or an integer from 0 to 2**31-1")
-       for k in ("order_time_limit", "stop_after_orders")},
+    "n_agents": (_is_int, "an integer from 0 to 2**31-1"),
+    **{k: _within(lo, hi) for k, (lo, hi) in RULE_LIMITS.items()},
+    **{k: _within(lo, hi, True) for k, (lo, hi) in OPTIONAL_RULE_LIMITS.items()},
     "recipes": (_is_str_list, "a list of recipe names"),
     "fixed_orders": (lambda v: v is None or _is_str_list(v), "null or a list of recipe names"),
     "dirty_plates": (lambda v: isinstance(v, bool), "true or false"),

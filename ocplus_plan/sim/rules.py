@@ -307,21 +307,47 @@ def _too_many_agents(n_agents: int, layout: Layout) -> str:
             f"cooks ({why}); pick another map or fewer agents")
 
 
+#: the largest count or time a rule may hold (recordings store them as 32-bit integers)
+MAX_RULE_INT = 2**31 - 1
+#: open orders at once: the first state draws them all, so a huge count would stall it
+MAX_ORDERS = 1000
+#: the one table of integer rule limits, (low, high) inclusive: :func:`make_rules`,
+#: ``--rules`` and the recordings' reader (``render/replay.py``) all check these
+RULE_LIMITS: dict[str, tuple[int, int]] = {
+    **{name: (1, MAX_RULE_INT) for name in (
+        "chop_steps", "cook_time", "burn_time", "wash_steps", "horizon", "map_switch_step")},
+    "n_orders": (1, MAX_ORDERS),
+}
+#: the same for the rules that may also be None (no limit)
+OPTIONAL_RULE_LIMITS: dict[str, tuple[int, int]] = {
+    "order_time_limit": (1, MAX_RULE_INT), "stop_after_orders": (1, MAX_RULE_INT)}
+
+
+def rule_limit_problem(name: str, value: Any) -> str | None:
+    """Why ``value`` is not allowed for the integer rule ``name`` (None when it is)."""
+    if name in OPTIONAL_RULE_LIMITS:
+        if value is None:
+            return None
+        lo, hi = OPTIONAL_RULE_LIMITS[name]
+        kind = "an integer or None"
+    else:
+        lo, hi = RULE_LIMITS[name]
+        kind = "an integer"
+    if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
+        return f"{name} must be {kind} from {lo} to {hi}, got {value!r}"
+    return None
+
+
 def _check(rules: Rules) -> None:
-    for name in ("chop_steps", "cook_time", "burn_time", "wash_steps", "n_orders", "horizon",
-                 "map_switch_step"):
-        v = getattr(rules, name)
-        if isinstance(v, bool) or not isinstance(v, int) or v < 1:
-            raise ConfigError(f"{name} must be a positive integer, got {v!r}")
+    for name in (*RULE_LIMITS, *OPTIONAL_RULE_LIMITS):
+        problem = rule_limit_problem(name, getattr(rules, name))
+        if problem:
+            raise ConfigError(problem)
     if rules.burn_time < rules.cook_time:
         raise ConfigError(
             f"burn_time ({rules.burn_time}) must be >= cook_time ({rules.cook_time}), "
             "or a steak would burn before it is cooked"
         )
-    for name in ("order_time_limit", "stop_after_orders"):
-        v = getattr(rules, name)
-        if v is not None and (isinstance(v, bool) or not isinstance(v, int) or v < 1):
-            raise ConfigError(f"{name} must be a positive integer or None, got {v!r}")
     if rules.reward_mode not in ("individual", "shared"):
         raise ConfigError(f"reward_mode must be 'individual' or 'shared', got {rules.reward_mode!r}")
 
@@ -334,15 +360,20 @@ def with_overrides(rules: Rules, **changes: Any) -> Rules:
 
 
 __all__ = [
+    "MAX_ORDERS",
+    "MAX_RULE_INT",
+    "OPTIONAL_RULE_LIMITS",
     "PRESETS",
     "Preset",
     "Recipe",
     "Rewards",
+    "RULE_LIMITS",
     "Rules",
     "VEGETABLES",
     "make_rules",
     "parse_recipe",
     "recipe_name",
     "recipe_pool",
+    "rule_limit_problem",
     "with_overrides",
 ]

@@ -193,7 +193,7 @@ def test_a_huge_order_count_is_refused_before_the_replay_starts(tmp_path, lines,
     head = json.loads(lines[0])
     head["rules"]["n_orders"] = 10**9
     refused_by_the_cli(write(tmp_path, [json.dumps(head), *lines[1:]]), capsys,
-                       "rule parameter 'n_orders' must be an integer from 0 to 1000")
+                       "rule parameter 'n_orders' must be an integer from 1 to 1000")
 
 
 def test_the_reader_checks_every_rule_field_the_writer_writes():

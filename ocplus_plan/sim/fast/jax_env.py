@@ -62,7 +62,8 @@ class JaxKitchenEnv:
     ``infos`` holds per cook ``terminated``, ``truncated`` and the cook's own reward.
     """
 
-    def __init__(self, rules: Rules, obs_radius: int = 0, reward_scope: str = "team") -> None:
+    def __init__(self, rules: Rules, obs_radius: int = 0, reward_scope: str = "team",
+                 checked: bool = False) -> None:
         if reward_scope not in ("team", "per_agent"):
             raise ConfigError(f"reward_scope must be 'team' or 'per_agent', got {reward_scope!r}")
         self.rules = rules
@@ -77,11 +78,34 @@ class JaxKitchenEnv:
         space = Box(0.0, jnp.asarray(enc.high), (enc.size,))
         self.observation_spaces = {a: space for a in self.agents}
         self.action_spaces = {a: Discrete(5) for a in self.agents}
+        self.checked = checked
+        if checked:  # a debugging mode: every action is checked on the host first
+            self.step = self._checked_step  # type: ignore[method-assign]
+            self.step_env = self._checked_step_env  # type: ignore[method-assign]
+
+    def _checked_step(self, key: Any, state: jk.KitchenState, actions: dict[str, Any],
+                      reset_state: jk.KitchenState | None = None) -> tuple[Any, ...]:
+        self._check(actions)
+        return JaxKitchenEnv.step(self, key, state, actions, reset_state)
+
+    def _checked_step_env(self, key: Any, state: jk.KitchenState,
+                          actions: dict[str, Any]) -> tuple[Any, ...]:
+        self._check(actions)
+        return JaxKitchenEnv.step_env(self, key, state, actions)
+
+    def _check(self, actions: dict[str, Any]) -> None:
+        if not isinstance(actions, dict) or set(actions) != set(self.agents):
+            raise ConfigError(f"actions are a dict keyed by {', '.join(self.agents)}")
+        for agent in self.agents:
+            try:
+                jk.check_actions(actions[agent])
+            except jk.InvalidActionError as exc:
+                raise jk.InvalidActionError(f"{agent}: {exc}") from None
 
     @classmethod
     def from_options(cls, rules: Rules, *, mode: str = "vector", obs_radius: int = 0,
                      comm: Any = None, render_mode: str | None = None,
-                     reward_scope: str = "team") -> JaxKitchenEnv:
+                     reward_scope: str = "team", checked: bool = False) -> JaxKitchenEnv:
         """The env for the Gymnasium env's parsed options; refuses what it cannot do."""
         if mode != "vector":
             raise ConfigError(f"the JAX kitchen observes vectors only, got mode={mode!r}; "
@@ -92,7 +116,7 @@ class JaxKitchenEnv:
         if render_mode is not None:
             raise ConfigError(f"the JAX kitchen draws nothing (render_mode={render_mode!r}); "
                               "render a state with the Gymnasium env instead")
-        return cls(rules, obs_radius, reward_scope)
+        return cls(rules, obs_radius, reward_scope, checked)
 
     def observation_space(self, agent: str) -> Box:
         return self.observation_spaces[agent]

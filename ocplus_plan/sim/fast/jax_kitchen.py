@@ -27,7 +27,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from ...errors import ConfigError, DependencyNotInstalled
+from ...errors import ConfigError, DependencyNotInstalled, InvalidActionError
 
 try:
     import jax
@@ -429,16 +429,48 @@ def _interact(s: KitchenState, a: int, cell: Any, active: Any, rewards: Any,
 
 
 # ---------------------------------------------------------------- the step
+def check_actions(actions: Any, n_agents: int | None = None) -> np.ndarray:
+    """Check concrete actions on the host (outside ``jit``): an integer array (``(N,)`` or
+    batched ``(..., N)``) of values 0..4. Anything else is an :class:`InvalidActionError`
+    naming the first bad value. :func:`step` itself cannot raise on a traced value, so
+    inside ``jit`` an integer outside 0..4 acts as stay; this is the checked mode's test
+    (``JaxKitchenEnv(..., checked=True)``)."""
+    try:
+        arr = np.asarray(actions)
+    except Exception:  # a traced value has no concrete contents  # noqa: BLE001
+        raise ConfigError("check_actions needs concrete actions: call it (or a checked env's "
+                          "step) outside jax.jit") from None
+    if arr.dtype.kind not in "iu":
+        raise InvalidActionError(f"actions must be integers 0..4, got dtype {arr.dtype}"
+                                 + (f" (first value {arr.reshape(-1)[0].item()!r})"
+                                    if arr.size else ""))
+    bad = (arr < 0) | (arr > 4)
+    if bad.any():
+        raise InvalidActionError(f"action {arr[bad].reshape(-1)[0].item()} is out of range; "
+                                 "moves are 0 right, 1 down, 2 left, 3 up, 4 stay")
+    if n_agents is not None and (arr.ndim == 0 or arr.shape[-1] != n_agents):
+        raise InvalidActionError(f"expected {n_agents} actions (one per cook), got shape "
+                                 f"{arr.shape}")
+    return arr
+
+
 def step(key: Any, state: KitchenState, actions: Any) -> StepOut:
-    """One joint action (``(N,)`` ints, 0 right 1 down 2 left 3 up 4 stay; anything else
-    stays) applied to ``state`` (step.transition). ``key`` is unused: the step is
-    deterministic (order draws come from the episode's key); it is taken for the
-    JaxMARL-style signature."""
+    """One joint action (``(N,)`` integers, 0 right 1 down 2 left 3 up 4 stay) applied to
+    ``state`` (step.transition). Actions of a float or bool dtype are refused when the
+    step is traced (an :class:`InvalidActionError`: 1.7 is not truncated, NaN is not read
+    as 0); an integer outside 0..4 cannot be refused inside ``jit`` and acts as stay (use
+    :func:`check_actions`, or the env's ``checked=True``, to refuse it). ``key`` is
+    unused: the step is deterministic (order draws come from the episode's key); it is
+    taken for the JaxMARL-style signature."""
     del key
     s, p = state, state.params
     ints, rw = p.ints, p.rewards
     n = s.pos.shape[0]
-    actions = jnp.asarray(actions, jnp.int32)
+    actions = jnp.asarray(actions)
+    if not jnp.issubdtype(actions.dtype, jnp.integer):  # static under jit: checked once
+        raise InvalidActionError(f"JAX kitchen actions must be integers 0..4, got dtype "
+                                 f"{actions.dtype}; round or cast them first")
+    actions = actions.astype(jnp.int32)
     rewards = jnp.full(n, rw[R_STEP], jnp.float32)
     nbrs = jnp.asarray(_NBRS)
 
