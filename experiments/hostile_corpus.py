@@ -2,8 +2,11 @@
 
 The corpus of ``tests/fuzz/corpus.py`` (alias bombs, huge and deep maps, non-UTF-8,
 tampered recordings, plan paths that are no files; each expected to exit 2), a legal
-64x64 map and the shipped recording (each expected to exit 0) are written to a temporary
-folder; every case runs with ``tests/fuzz/limited.py`` (one forked child each, 600 MB of
+64x64 map and the shipped recording (each expected to exit 0), and the data group of
+``tests/fuzz/corpus_data.py`` (planted checkpoints, ``--rules`` past the limits, damaged,
+forged and locked result files, check-plan limits, small argument cases; each with its
+documented exit code, and the planted checkpoints' marker file must not appear) are
+written to a temporary folder; every case runs with ``tests/fuzz/limited.py`` (one forked child each, 600 MB of
 address space, 20 s). One JSON line per case goes to
 ``experiments/results/hostile-input-corpus/outcomes.jsonl``, with the commit and the
 load average.
@@ -26,7 +29,9 @@ OUT = ROOT / "experiments/results/hostile-input-corpus/outcomes.jsonl"
 
 def main() -> None:
     sys.path.insert(0, str(ROOT))
+    from ocplus_plan.eval.results import folder_lock
     from tests.fuzz.corpus import build
+    from tests.fuzz.corpus_data import LOCKED, MARKER, build_data
     from tests.render.test_replay import record_episode
     from tests.sim.test_maps_limits import square
 
@@ -43,27 +48,48 @@ def main() -> None:
                            ("shipped_recording", ["replay", shipped, "--check"])):
             cases.append((name, argv))
             expected[name] = 0
+        group = dict.fromkeys(expected, "files")
+        data = root / "data"
+        data.mkdir()
+        for case in build_data(data):
+            cases.append((case.name, case.argv))
+            expected[case.name], group[case.name] = case.expected, "data"
         load_before = os.getloadavg()[0]
-        done = subprocess.run([sys.executable, "-m", "tests.fuzz.limited"], cwd=ROOT,
-                              input=json.dumps([argv for _, argv in cases]),
-                              capture_output=True, text=True, check=True)
+        with folder_lock(data / LOCKED):  # another run holds this folder
+            done = subprocess.run([sys.executable, "-m", "tests.fuzz.limited"], cwd=ROOT,
+                                  input=json.dumps([argv for _, argv in cases]),
+                                  capture_output=True, text=True, check=True)
         load_after = os.getloadavg()[0]
+        planted_ran = (data / MARKER).exists()
     OUT.parent.mkdir(parents=True, exist_ok=True)
     with OUT.open("w") as fh:
         for (name, argv), line in zip(cases, done.stdout.splitlines()):
             r = json.loads(line)
             r.pop("argv")
-            r["stderr"] = r["stderr"].replace(tmp, "TMP").strip()[:300]
-            row = {"case": name, "command": argv[0], "expected": expected[name], **r,
+            err = r["stderr"].strip()
+            one_line = "\n" not in err and "Traceback" not in err
+            r["stderr"] = err.replace(tmp, "TMP")[:300]
+            row = {"case": name, "group": group[name], "command": argv[0],
+                   "expected": expected[name], "one_line": one_line, **r,
+                   **({"planted_checkpoint_ran": planted_ran} if group[name] == "data" else {}),
                    "commit": commit,
                    "machine": "2 shared cores", "load_1min": [load_before, load_after]}
             fh.write(json.dumps(row) + "\n")
     print(f"{len(cases)} cases -> {OUT.relative_to(ROOT)}")
     rows = [json.loads(x) for x in OUT.read_text().splitlines()]
+    print(f"planted checkpoint code ran: {planted_ran}")
     print(f"as expected: {sum(r['code'] == r['expected'] for r in rows)}/{len(rows)}; "
+          f"one line, no traceback: {sum(r['one_line'] for r in rows)}/{len(rows)}; "
           f"slowest {max(r['seconds'] for r in rows):.2f} s wall, "
           f"{max(r['cpu_seconds'] for r in rows):.2f} s CPU; "
           f"largest address space {max(r['vm_peak_mb'] for r in rows):.0f} MB")
+    for name in ("files", "data"):
+        part = [r for r in rows if r["group"] == name]
+        print(f"  {name}: {sum(r['code'] == r['expected'] and r['one_line'] for r in part)}"
+              f"/{len(part)} as expected in one line; slowest "
+              f"{max(r['seconds'] for r in part):.2f} s wall, "
+              f"{max(r['cpu_seconds'] for r in part):.2f} s CPU, "
+              f"{max(r['vm_peak_mb'] for r in part):.0f} MB")
 
 
 if __name__ == "__main__":

@@ -13,14 +13,19 @@ Exit codes: 0 valid (and, for an instance, faithful: the simulator did what the 
 says); 4 invalid (unreadable, or rejected by a validator); 5 unfaithful (valid, but the
 simulator diverges from it); 2 bad input: no such instance, an edited problem, or a
 plan, domain or problem path that is not a readable regular file (missing, a directory,
-a device such as /dev/zero, unreadable) or a plan file over 4 MB. A plan with a UTF-8
-byte-order mark or CRLF line ends reads as the same plan without them.
+a device such as /dev/zero, unreadable), a plan file over 4 MB or of more than 20,000
+actions, a domain or problem file over 1 MB, or a check that needs more than
+--cpu-limit CPU seconds (60 by default). A plan with a UTF-8 byte-order mark or CRLF line
+ends reads as the same plan without them.
 """
 
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
+from typing import Any
 
+from . import _types
 from ._common import HelpFormatter, add_output_args, emit
 
 
@@ -38,6 +43,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--domain", default=None, help="a PDDL domain file (without an instance)")
     p.add_argument("--problem", default=None, help="a PDDL problem file (without an instance)")
     p.add_argument("--no-val", action="store_true", help="validate with unified-planning only")
+    p.add_argument("--cpu-limit", type=_types.seconds, default=None, metavar="SECONDS",
+                   help="CPU seconds the check may use (default 60); past them it stops "
+                        "with exit 2")
     add_output_args(p)
     p.set_defaults(func=run)
 
@@ -48,17 +56,37 @@ def _check_paths(args: argparse.Namespace) -> None:
     from ..errors import ConfigError
     from ..planning.plan_io import MAX_PLAN_BYTES, plan_file_problem
 
-    for path, limit in ((args.plan, MAX_PLAN_BYTES), (args.domain, None), (args.problem, None)):
-        problem = None if path is None else plan_file_problem(path, limit)
-        if problem is not None:
-            raise ConfigError(problem)
+    from ..eval.check import MAX_PDDL_BYTES
+
+    problem = None if args.plan is None else plan_file_problem(args.plan, MAX_PLAN_BYTES)
+    for path in (args.domain, args.problem):
+        if problem is None and path is not None:
+            problem = plan_file_problem(path, None)
+            if problem is None and Path(path).stat().st_size > MAX_PDDL_BYTES:
+                problem = (f"{path}: {Path(path).stat().st_size} bytes; a PDDL domain or "
+                           f"problem file has at most {MAX_PDDL_BYTES} here")
+    if problem is not None:
+        raise ConfigError(problem)
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..eval.check import DEFAULT_CPU_LIMIT, cpu_budget
+
+    _check_paths(args)
+    with cpu_budget(args.cpu_limit or DEFAULT_CPU_LIMIT):
+        result = _check(args)
+    out = result.to_dict()
+    if args.json:
+        emit(out, args)
+    else:
+        emit({k: v for k, v in out.items() if v not in (None, "", [])}, args, width=15)
+    return result.exit_code
+
+
+def _check(args: argparse.Namespace) -> Any:
     from ..errors import ConfigError
     from ..eval.check import check_files, check_instance_plan
 
-    _check_paths(args)
     if args.instance is not None:
         if args.domain or args.problem:
             raise ConfigError("give an instance folder or --domain/--problem files, not both")
@@ -69,9 +97,4 @@ def run(args: argparse.Namespace) -> int:
             raise ConfigError("give an instance folder (OUT/pNN), or all of --domain, "
                               "--problem and --plan")
         result = check_files(args.domain, args.problem, args.plan, use_val=not args.no_val)
-    out = result.to_dict()
-    if args.json:
-        emit(out, args)
-    else:
-        emit({k: v for k, v in out.items() if v not in (None, "", [])}, args, width=15)
-    return result.exit_code
+    return result

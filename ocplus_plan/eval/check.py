@@ -20,6 +20,11 @@ Verdicts and the exit codes of ``ocplus check-plan``: ``valid`` 0, ``invalid`` 4
 
 from __future__ import annotations
 
+import contextlib
+import math
+import re
+import threading
+from collections.abc import Iterator
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
@@ -27,6 +32,65 @@ from typing import Any
 from ..errors import ConfigError, UnreadableText
 
 VERDICT_EXIT = {"valid": 0, "invalid": 4, "unfaithful": 5}
+#: a ``--domain`` or ``--problem`` file (the generated domains are under 40 kB, a hard
+#: kitchen's problem about 30 kB)
+MAX_PDDL_BYTES = 1_000_000
+#: actions in one plan (a reference plan of a hard kitchen has a few hundred)
+MAX_PLAN_ACTIONS = 20_000
+#: CPU seconds one check may use (``--cpu-limit``); reading, validating and replaying a
+#: reference plan takes a few
+DEFAULT_CPU_LIMIT = 60.0
+_ACTION_LINE = re.compile(rb"(?m)^(?:\xef\xbb\xbf)?[ \t]*(?:[0-9.]+[ \t]*:[ \t]*)?\(")
+
+
+class WorkLimit(ConfigError):
+    """A check that used up its CPU seconds."""
+
+
+def count_plan_actions(path: str | Path) -> int:
+    """The action lines of a plan file (read within its size limit), before any parsing;
+    a plan of more than :data:`MAX_PLAN_ACTIONS` is refused (``ConfigError``)."""
+    from ..planning.plan_io import MAX_PLAN_BYTES
+
+    with open(path, "rb") as fh:
+        data = fh.read(MAX_PLAN_BYTES + 1)
+    n = len(_ACTION_LINE.findall(data))
+    if n > MAX_PLAN_ACTIONS:
+        raise ConfigError(f"{path}: {n} actions; check-plan reads plans of at most "
+                          f"{MAX_PLAN_ACTIONS} actions")
+    return n
+
+
+@contextlib.contextmanager
+def cpu_budget(seconds: float) -> Iterator[None]:
+    """Stop the work inside after ``seconds`` more CPU seconds of this process with a
+    :class:`WorkLimit` (the kernel's ``RLIMIT_CPU`` soft limit sends SIGXCPU; the hard
+    limit is left alone). Child processes (VAL) inherit the same limit on their own CPU."""
+    import resource
+    import signal
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    soft, hard = resource.getrlimit(resource.RLIMIT_CPU)
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    limit = math.ceil(usage.ru_utime + usage.ru_stime + seconds)
+    if hard != resource.RLIM_INFINITY:
+        limit = min(limit, hard)
+    if soft != resource.RLIM_INFINITY:
+        limit = min(limit, soft)
+
+    def over(signum: int, frame: Any) -> None:
+        raise WorkLimit(f"the check used more than {seconds:g} CPU seconds (--cpu-limit); "
+                        "the plan or problem is too large to check within it")
+
+    previous = signal.signal(signal.SIGXCPU, over)
+    resource.setrlimit(resource.RLIMIT_CPU, (limit, hard))
+    try:
+        yield
+    finally:
+        resource.setrlimit(resource.RLIMIT_CPU, (soft, hard))
+        signal.signal(signal.SIGXCPU, previous)
 
 
 @dataclass
@@ -92,6 +156,7 @@ def check_instance_plan(instance_dir: str | Path, encoding: str | None = None,
                               f"{entry['plan']}, which is not there; export the set again "
                               "or give a plan with --plan")
     out = PlanCheck("valid", str(plan_path), encoding)
+    count_plan_actions(plan_path)
     try:
         plan = read_plan(plan_path, compiled.problem)
     except UnreadableText as exc:
@@ -125,8 +190,11 @@ def check_files(domain: str | Path, problem: str | Path, plan_path: str | Path,
     for path in (domain, problem):
         if not Path(path).is_file():
             raise ConfigError(f"{path}: no such file")
+    count_plan_actions(plan_path)  # before the PDDL is parsed
     try:
         parsed = read_pddl(domain, problem)
+    except WorkLimit:
+        raise
     except Exception as exc:  # noqa: BLE001 - UP's reader raises many kinds
         raise ConfigError(f"{domain} / {problem}: unified-planning cannot read them "
                           f"({type(exc).__name__}: {str(exc)[:300]})") from None
@@ -146,4 +214,6 @@ def _length(plan: Any) -> int:
         plan.actions)
 
 
-__all__ = ["VERDICT_EXIT", "PlanCheck", "check_files", "check_instance_plan"]
+__all__ = ["DEFAULT_CPU_LIMIT", "MAX_PDDL_BYTES", "MAX_PLAN_ACTIONS", "VERDICT_EXIT", "PlanCheck",
+           "WorkLimit", "check_files", "check_instance_plan", "count_plan_actions",
+           "cpu_budget"]

@@ -43,6 +43,7 @@ of the ``portfolio`` with its status, value, faithfulness and optimality.
 from __future__ import annotations
 
 import json
+import re
 import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -367,6 +368,45 @@ class Instance:
         return compiled
 
 
+#: an instance's manifest.json or state.json (a hard kitchen's state is about 10 kB)
+MAX_INSTANCE_JSON_BYTES = 4_000_000
+#: lists and objects inside one another (an instance's files need 5)
+MAX_JSON_DEPTH = 32
+
+
+def read_json(path: Path, limit: int = MAX_INSTANCE_JSON_BYTES,
+              depth: int = MAX_JSON_DEPTH) -> Any:
+    """A JSON file of an instance, read within a size and a nesting limit (``ValueError``
+    naming the file otherwise): nothing past ``limit`` bytes is read, and the nesting is
+    measured before the text is parsed, so a file nested 100,000 deep is refused, not a
+    ``RecursionError``."""
+    with open(path, "rb") as fh:
+        data = fh.read(limit + 1)
+    if len(data) > limit:
+        raise ValueError(f"{path.name} is over {limit} bytes")
+    text = data.decode("utf-8")
+    deepest = _nesting(text)
+    if deepest > depth:
+        raise ValueError(f"{path.name} is nested {deepest} deep; the limit is {depth}")
+    return json.loads(text)
+
+
+_BRACKETS = re.compile(r'"(?:[^"\\]|\\.)*"|[\[\]{}]')
+
+
+def _nesting(text: str) -> int:
+    """The deepest nesting of lists and objects in JSON text (strings skipped)."""
+    level = deepest = 0
+    for m in _BRACKETS.finditer(text):
+        c = m.group()
+        if c in "[{":
+            level += 1
+            deepest = max(deepest, level)
+        elif c in "]}":
+            level -= 1
+    return deepest
+
+
 def load_instance(folder: str | Path) -> Instance:
     """An instance folder written by :func:`export_suite` (bad folders raise ConfigError)."""
     path = Path(folder)
@@ -376,13 +416,15 @@ def load_instance(folder: str | Path) -> Instance:
                           "give a folder pNN written by `ocplus export-suite`, or the "
                           "domain, problem and plan files")
     try:
-        manifest = json.loads(manifest_path.read_text(encoding="utf-8"))
+        manifest = read_json(manifest_path)
+        if not isinstance(manifest, dict):
+            raise ValueError("manifest.json is not a JSON object")
         if "instances" in manifest:
             raise ConfigError(f"{path} is a whole set; give one of its instances, e.g. "
                               f"{path / manifest['instances'][0]}")
         rules = rules_of(manifest, path.parent)
-        state = state_from_dict(rules, json.loads((path / "state.json").read_text("utf-8")))
-    except (OSError, ValueError, KeyError, TypeError) as exc:
+        state = state_from_dict(rules, read_json(path / "state.json"))
+    except (OSError, ValueError, KeyError, TypeError, IndexError, AttributeError) as exc:
         raise ConfigError(f"{path}: cannot read the instance ({type(exc).__name__}: {exc}); "
                           "export the set again") from None
     if state.state_hash() != manifest.get("state_hash"):
