@@ -2,7 +2,7 @@
 
     .venv/bin/python experiments/eval_checkpoints.py                 # every shipped checkpoint
     .venv/bin/python experiments/eval_checkpoints.py --preset hard --n-agents 2 \
-        experiments/checkpoints/medium_1agent.zip                   # a policy on another preset
+        experiments/checkpoints/medium_1agent.npz                   # a policy on another preset
 
 Prints one JSON line per (checkpoint, preset, mode). Seeds are 0..N-1; the controller
 samples with its own seeded generator, so every number here is reproducible.
@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from ocplus_plan.agents.ppo import PPOAgent
-from ocplus_plan.rl.policy import read_meta
+from ocplus_plan.rl.weights import WeightsPolicy
 from ocplus_plan.sim import make_rules, new_state, transition
 
 
@@ -55,15 +55,15 @@ def evaluate(path: Path, preset: str, n_agents: int, seeds: int, mode: str | Non
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("checkpoints", nargs="*", type=Path,
-                   help="checkpoint zips (default: experiments/checkpoints/*.zip)")
+                   help="checkpoints (default: experiments/checkpoints/*.npz)")
     p.add_argument("--seeds", type=int, default=20)
     p.add_argument("--preset", default=None, help="evaluate on this preset (default: trained one)")
     p.add_argument("--n-agents", type=int, default=None)
     p.add_argument("--modes", default="sample,greedy", help="comma-separated: sample, greedy")
     args = p.parse_args()
-    paths = args.checkpoints or sorted((ROOT / "experiments" / "checkpoints").glob("*.zip"))
+    paths = args.checkpoints or sorted((ROOT / "experiments" / "checkpoints").glob("*.npz"))
     for path in paths:
-        meta = read_meta(path)
+        meta = WeightsPolicy(path).meta
         for mode in args.modes.split(","):
             print(json.dumps(evaluate(path, args.preset or meta["preset"],
                                       args.n_agents or meta["n_agents"], args.seeds,

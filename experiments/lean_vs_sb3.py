@@ -52,7 +52,7 @@ def run(trainer: str, preset: str, n_agents: int, steps: int, seed: int, eval_se
            *TRAINERS[trainer], "--out", str(out), "--quiet"]
     subprocess.run(cmd, cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
     summary = json.loads((out / "train.json").read_text())
-    scored = evaluate(out / "policy.zip", preset, n_agents, eval_seeds, "sample")
+    scored = evaluate(out / "policy.npz", preset, n_agents, eval_seeds, "sample")
     return {"trainer": trainer, "seed": seed, "preset": preset, "n_agents": n_agents,
             "command": summary["command"], "timesteps": summary["timesteps"],
             "wall_time_s": summary["wall_time_s"], "steps_per_s": summary["steps_per_s"],

@@ -3,8 +3,9 @@
     .venv/bin/python experiments/train_baselines.py                # all, in order
     .venv/bin/python experiments/train_baselines.py easy_1agent    # just one
 
-Each run is ``ocplus train ... --out experiments/runs/NAME``; its policy is copied to
-``experiments/checkpoints/NAME.zip`` and ``NAME.json`` beside it records the exact
+Each run is ``ocplus train ... --out experiments/runs/NAME``; its weights-only policy is
+copied to ``experiments/checkpoints/NAME.npz`` (what ``ppo`` loads; the SB3 ``NAME.zip``
+is kept beside it in the source tree, not shipped) and ``NAME.json`` beside it records the exact
 command, its wall time and CPU time on this machine, and the training summary;
 ``NAME.episodes.csv`` keeps the training log (game reward and dishes per episode) for
 experiments/plot_learning_curves.py (``experiments/runs/`` itself is git-ignored). The
@@ -13,7 +14,7 @@ agent-count-independent, so what was learned alone transfers to a shared kitchen
 medium checkpoint is the end of a three-stage chain (see RUNS). The hard checkpoints and
 medium with 2 cooks start by cloning the greedy cook (``--bc greedy``, rl/imitation.py),
 then run PPO; their record keeps the imitation rounds and ``experiments/runs/NAME/
-bc_policy.zip`` the clone alone (evaluate it with eval_checkpoints.py to compare).
+bc_policy.npz`` the clone alone (evaluate it with eval_checkpoints.py to compare).
 """
 
 from __future__ import annotations
@@ -57,7 +58,7 @@ RUNS: dict[str, list[str]] = {
                     "--anneal-fraction", "0.8", "--n-epochs", "8", "--ent-coef", "0.02",
                     "--n-kitchens", "8"],
     "easy_2agent": ["--preset", "easy", "--n-agents", "2", "--steps", "200000", "--seed", "0",
-                    "--init", "experiments/checkpoints/easy_1agent.zip"],
+                    "--init", "experiments/checkpoints/easy_1agent.npz"],
     # medium from scratch: one-ingredient steak orders teach the pan (an easy-trained start
     # never explored the steak), then steak + one vegetable, then the preset's own recipes
     "_medium_stage1": ["--preset", "medium", "--steps", "400000", "--seed", "0",
@@ -66,29 +67,29 @@ RUNS: dict[str, list[str]] = {
     "_medium_stage2": ["--preset", "medium", "--steps", "300000", "--seed", "2",
                        "--curriculum", "medium:steak+tomato/steak+lettuce/steak+onion",
                        "--curriculum-fraction", "0.3", "--ent-coef", "0.03", "--init",
-                       "experiments/runs/_medium_stage1/checkpoints/step_000160000.zip"],
+                       "experiments/runs/_medium_stage1/checkpoints/step_000160000.npz"],
     "_medium_1agent_v1": ["--preset", "medium", "--steps", "300000", "--seed", "3",
                           "--anneal-fraction", "0.5",
-                          "--init", "experiments/runs/_medium_stage2/policy.zip"],
+                          "--init", "experiments/runs/_medium_stage2/policy.npz"],
     # issue 16: long runs at the fast settings (bench_train.py), each under a wall budget;
     # each starts from the shipped checkpoint before it (its record is kept as init_record)
     "medium_1agent": ["--preset", "medium", "--steps", "8000000", "--seed", "4",
                       "--anneal-fraction", "0.5", "--max-wall", "720",
-                      "--init", "experiments/checkpoints/medium_1agent.zip", *FAST],
+                      "--init", "experiments/checkpoints/medium_1agent.npz", *FAST],
     "_medium_2agent_s4": ["--preset", "medium", "--n-agents", "2", "--steps", "8000000",
                           "--seed", "5", "--anneal-fraction", "0.5", "--max-wall", "720",
-                          "--init", "experiments/checkpoints/medium_1agent.zip", *FAST],
+                          "--init", "experiments/checkpoints/medium_1agent.npz", *FAST],
     # first attempt: straight onto hard from medium_2agent (served 0 in 10M steps)
     "_hard_2agent_try1": ["--preset", "hard", "--n-agents", "2", "--steps", "10000000",
                           "--seed", "6", "--anneal-fraction", "0.6", "--max-wall", "900",
-                          "--init", "experiments/checkpoints/medium_2agent.zip", *FAST],
+                          "--init", "experiments/checkpoints/medium_2agent.npz", *FAST],
     # second: half the kitchens serve the two-ingredient steak orders medium taught, on
     # the hard map (dirty plates, layout switches), for the first 40 %
     "_hard_2agent_try2": ["--preset", "hard", "--n-agents", "2", "--steps", "6000000",
                     "--seed", "8", "--anneal-fraction", "0.6", "--max-wall", "600",
                     "--curriculum", "hard:steak+tomato/steak+lettuce/steak+onion",
                     "--curriculum-fraction", "0.4",
-                    "--init", "experiments/checkpoints/medium_2agent.zip", *FAST],
+                    "--init", "experiments/checkpoints/medium_2agent.npz", *FAST],
     # issue 16, session 5: behaviour cloning from the greedy cook (4 DAgger rounds of 60k
     # kitchen steps), then PPO on the true reward only (no shaping: the clone already
     # serves), with a small learning rate and entropy so PPO refines the clone
@@ -144,14 +145,14 @@ def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None 
     ``earlier``: the runs whose checkpoints this one started from (oldest first); their
     commands and wall times are recorded as the lineage."""
     summary = json.loads((run_dir / "train.json").read_text())
-    from ocplus_plan.rl.policy import read_meta
+    from ocplus_plan.rl.weights import WeightsPolicy
 
     lineage = []
     chain = [*(earlier or []), run_dir]
     for k, d in enumerate(chain[:-1], start=1):
         s = json.loads((d / "train.json").read_text())
         nxt = json.loads((chain[k] / "train.json").read_text())
-        used = read_meta(nxt["config"]["init"])["train"]["timesteps"]
+        used = WeightsPolicy(nxt["config"]["init"]).meta["train"]["timesteps"]
         log = f"{name}.stage{k}.episodes.csv"
         shutil.copyfile(d / "episodes.csv", CKPT / log)
         lineage.append({"command": s["command"], "wall_time_s": s["wall_time_s"],
@@ -165,9 +166,10 @@ def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None 
         init_json = ROOT / Path(init).with_suffix(".json")
         previous = json.loads(init_json.read_text()) if init_json.is_file() else None
     shutil.copyfile(run_dir / "policy.zip", CKPT / f"{name}.zip")
+    shutil.copyfile(run_dir / "policy.npz", CKPT / f"{name}.npz")
     _thin_log(run_dir / "episodes.csv", CKPT / f"{name}.episodes.csv")
     record = {
-        "checkpoint": f"experiments/checkpoints/{name}.zip",
+        "checkpoint": f"experiments/checkpoints/{name}.npz",
         "command": summary["command"],
         "wall_time_s": wall if wall is not None else summary["wall_time_s"],
         "cpu_time_s": cpu,
@@ -180,7 +182,7 @@ def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None 
         "init": summary["config"]["init"],
         "imitation": summary.get("imitation"),
         "config": summary["config"],
-        "size_bytes": (CKPT / f"{name}.zip").stat().st_size,
+        "size_bytes": (CKPT / f"{name}.npz").stat().st_size,
     }
     if lineage:
         record["lineage"] = lineage
@@ -190,8 +192,9 @@ def ship(name: str, run_dir: Path, wall: float | None = None, cpu: float | None 
         record["init_record"] = previous
     if name in RECORD_ONLY:
         (CKPT / f"{name}.zip").unlink()
-        record["checkpoint"] = str((run_dir / "policy.zip").relative_to(ROOT)) \
-            if run_dir.is_relative_to(ROOT) else str(run_dir / "policy.zip")
+        (CKPT / f"{name}.npz").unlink()
+        record["checkpoint"] = str((run_dir / "policy.npz").relative_to(ROOT)) \
+            if run_dir.is_relative_to(ROOT) else str(run_dir / "policy.npz")
     (CKPT / f"{name}.json").write_text(json.dumps(record, indent=2) + "\n")
     return record
 
