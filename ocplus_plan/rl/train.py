@@ -236,8 +236,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         meta = {**meta_base, "train": {
             "timesteps": timesteps, "seed": config.seed, "command": command,
             "wall_time_s": round(time.perf_counter() - t0, 1),
-            **({"bc": config.bc} if config.bc else {}), "algo": config.algo,
-        }}
+            **({"bc": config.bc} if config.bc else {}), "algo": config.algo}}
         write_meta(path, meta)
         save_weights(path.with_suffix(".npz"), model.policy.state_dict(), meta)
 
