@@ -64,8 +64,9 @@ def count_plan_actions(path: str | Path) -> int:
 @contextlib.contextmanager
 def cpu_budget(seconds: float) -> Iterator[None]:
     """Stop the work inside after ``seconds`` more CPU seconds of this process with a
-    :class:`WorkLimit` (the kernel's ``RLIMIT_CPU`` soft limit sends SIGXCPU; the hard
-    limit is left alone). Child processes (VAL) inherit the same limit on their own CPU."""
+    :class:`WorkLimit`: the profiling timer (``ITIMER_PROF``, user + system time) sends
+    SIGPROF at that point. Child processes (VAL) get the same budget on their own CPU
+    through ``RLIMIT_CPU`` (whole seconds, rounded up; only the soft limit is set)."""
     import resource
     import signal
 
@@ -74,23 +75,25 @@ def cpu_budget(seconds: float) -> Iterator[None]:
         return
     soft, hard = resource.getrlimit(resource.RLIMIT_CPU)
     usage = resource.getrusage(resource.RUSAGE_SELF)
-    limit = math.ceil(usage.ru_utime + usage.ru_stime + seconds)
-    if hard != resource.RLIM_INFINITY:
-        limit = min(limit, hard)
-    if soft != resource.RLIM_INFINITY:
-        limit = min(limit, soft)
+    limit = math.ceil(usage.ru_utime + usage.ru_stime + seconds) + 1
+    for cap in (hard, soft):
+        if cap != resource.RLIM_INFINITY:
+            limit = min(limit, cap)
 
     def over(signum: int, frame: Any) -> None:
         raise WorkLimit(f"the check used more than {seconds:g} CPU seconds (--cpu-limit); "
                         "the plan or problem is too large to check within it")
 
-    previous = signal.signal(signal.SIGXCPU, over)
+    previous = {sig: signal.signal(sig, over) for sig in (signal.SIGPROF, signal.SIGXCPU)}
     resource.setrlimit(resource.RLIMIT_CPU, (limit, hard))
+    signal.setitimer(signal.ITIMER_PROF, seconds)
     try:
         yield
     finally:
+        signal.setitimer(signal.ITIMER_PROF, 0)
         resource.setrlimit(resource.RLIMIT_CPU, (soft, hard))
-        signal.signal(signal.SIGXCPU, previous)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 @dataclass

@@ -219,7 +219,7 @@ def build_data(root: Path) -> list[Case]:
                                         str(pl["long_plan"])], 2),
         Case("checkplan_cpu_limit", ["check-plan", "--domain", str(pl["domain"]), "--problem",
                                      str(pl["many_objects"]), "--plan",
-                                     str(pl["empty_plan"]), "--no-val", "--cpu-limit", "1"], 2),
+                                     str(pl["empty_plan"]), "--no-val", "--cpu-limit", "0.5"], 2),
         Case("checkplan_deep_manifest", ["check-plan", str(pl["deep_instance"])], 2),
         Case("faults_empty", _eval(new / "f", "--faults", ""), 2),
         Case("faults_commas", _eval(new / "g", "--faults", ",,,"), 2),
