@@ -23,6 +23,8 @@ import numpy as np
 from ..errors import ConfigError, DependencyNotInstalled
 
 META_MEMBER = "ocplus_meta.json"
+#: what an SB3 checkpoint's members may declare in all, checked before anything is read
+MAX_ZIP_BYTES = 64 << 20
 FORMAT = "ocplus-ppo/1"
 
 
@@ -59,8 +61,12 @@ def read_meta(path: str | Path) -> dict[str, Any]:
                           "`ocplus train` or use one from experiments/checkpoints/")
     try:
         with zipfile.ZipFile(path) as zf:
+            declared = sum(i.file_size for i in zf.infolist())
+            if declared > MAX_ZIP_BYTES or zf.getinfo(META_MEMBER).file_size > 1 << 16:
+                raise ConfigError(f"{str(path)!r}: its members declare {declared} bytes (the "
+                                  f"limit is {MAX_ZIP_BYTES}) or its metadata is over 64 KiB")
             meta = json.loads(zf.read(META_MEMBER))
-    except (zipfile.BadZipFile, KeyError, json.JSONDecodeError) as exc:
+    except (zipfile.BadZipFile, KeyError, ValueError, RecursionError) as exc:
         raise ConfigError(
             f"{str(path)!r} is not an ocplus PPO checkpoint (a zip written by `ocplus train` "
             f"with {META_MEMBER}): {exc}"

@@ -185,3 +185,25 @@ def test_convert_reads_only_the_tensors(tmp_path: Path):
     out = weights.convert_sb3(plant_sb3(tmp_path / "evil.zip", marker), tmp_path / "w.npz")
     assert not marker.exists()
     assert WeightsPolicy(out).meta["preset"] == "easy"
+
+
+def test_the_flag_loads_an_sb3_zip_within_its_declared_sizes(tmp_path: Path):
+    pytest.importorskip("stable_baselines3", reason="the rl extra is not installed")
+    env = {k: v for k, v in os.environ.items() if k != weights.TRUST_ENV}
+    argv = ["rollout", "--agents", f"ppo:{SHIPPED / 'easy_1agent.zip'}@greedy", "--horizon",
+            "20", "--json", "--trust-pickled-checkpoint"]
+    done = subprocess.run(OCPLUS + argv, capture_output=True, text=True, timeout=300,
+                          cwd=tmp_path, env=env)
+    assert done.returncode == 0, done.stderr
+    npz = subprocess.run(OCPLUS + [a.replace(".zip", ".npz") for a in argv[:-1]],
+                         capture_output=True, text=True, timeout=300, cwd=tmp_path, env=env)
+    same = ("state_hash", "dishes_served", "reward")
+    zipped, weighed = json.loads(done.stdout), json.loads(npz.stdout)
+    assert {k: zipped[k] for k in same} == {k: weighed[k] for k in same}
+    with zipfile.ZipFile(tmp_path / "big.zip", "w", zipfile.ZIP_DEFLATED) as zf:
+        zf.writestr("ocplus_meta.json", json.dumps({"format": "ocplus-ppo/1"}))
+        zf.writestr("data", b"\0" * (65 << 20))
+    from ocplus_plan.rl.policy import read_meta
+
+    with pytest.raises(ConfigError, match="declare"):
+        read_meta(tmp_path / "big.zip")
