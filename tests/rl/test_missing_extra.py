@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 
 BLOCK = "import sys; sys.modules['torch'] = None; sys.modules['stable_baselines3'] = None; "
 
@@ -20,11 +21,18 @@ def test_train_without_the_extra_exits_3_naming_it(tmp_path):
     assert "pip install 'ocplus-plan[rl]'" in out.stderr
 
 
-def test_ppo_agent_without_the_extra_names_it():
-    out = _run("from ocplus_plan.agents import make_controller\n"
-               "try:\n    make_controller('ppo')\nexcept Exception as e:\n"
+def test_ppo_agent_plays_without_the_extra_and_an_sb3_zip_names_it():
+    zipped = Path(__file__).resolve().parents[2] / "experiments/checkpoints/easy_1agent.zip"
+    out = _run("import os\nfrom ocplus_plan.agents import make_controller\n"
+               "from ocplus_plan.sim import make_rules, new_state\n"
+               "a = make_controller('ppo'); s = new_state(make_rules('easy'), 0); a.reset(s)\n"
+               "print(len(a.act(s)))\n"
+               "os.environ['OCPLUS_TRUST_PICKLED_CHECKPOINT'] = '1'\n"
+               f"try:\n    make_controller('ppo:{zipped}')\nexcept Exception as e:\n"
                "    print(type(e).__name__, e)")
-    assert out.stdout.startswith("DependencyNotInstalled") and "[rl]" in out.stdout
+    first, second = out.stdout.splitlines()
+    assert first == "1"  # the weights-only checkpoint needs numpy alone
+    assert second.startswith("DependencyNotInstalled") and "[rl]" in second
 
 
 def test_importing_the_rl_package_loads_no_torch():
