@@ -6,7 +6,9 @@ tampered recordings, plan paths that are no files; each expected to exit 2), a l
 ``tests/fuzz/corpus_data.py`` (planted checkpoints, ``--rules`` past the limits, damaged,
 forged and locked result files, check-plan limits, small argument cases; each with its
 documented exit code, and the planted checkpoints' marker file must not appear) are
-written to a temporary folder; every case runs with ``tests/fuzz/limited.py`` (one forked child each, 600 MB of
+written to a temporary folder; the Python API group of ``tests/fuzz/corpus_api.py`` (env
+and JAX actions and sizes, a checkpoint header) runs after them, each case raising the
+package's own error; every case runs with ``tests/fuzz/limited.py`` (one forked child each, 600 MB of
 address space, 20 s). One JSON line per case goes to
 ``experiments/results/hostile-input-corpus/outcomes.jsonl``, with the commit and the
 load average.
@@ -75,8 +77,20 @@ def main() -> None:
                    "commit": commit,
                    "machine": "2 shared cores", "load_1min": [load_before, load_after]}
             fh.write(json.dumps(row) + "\n")
-    print(f"{len(cases)} cases -> {OUT.relative_to(ROOT)}")
-    rows = [json.loads(x) for x in OUT.read_text().splitlines()]
+        api = subprocess.run([sys.executable, "-m", "tests.fuzz.corpus_api"], cwd=ROOT,
+                             capture_output=True, text=True, check=True)
+        load_end = os.getloadavg()[0]
+        for line in api.stdout.splitlines():  # the Python API group
+            r = json.loads(line)
+            r["one_line"] = "\n" not in r["message"]
+            fh.write(json.dumps({"group": "api", "expected": "the package's own error", **r,
+                                 "commit": commit, "machine": "2 shared cores",
+                                 "load_1min": [load_after, load_end]}) + "\n")
+    print(f"{len(cases)} command-line cases and {len(api.stdout.splitlines())} API cases -> "
+          f"{OUT.relative_to(ROOT)}")
+    every = [json.loads(x) for x in OUT.read_text().splitlines()]
+    rows = [r for r in every if r["group"] != "api"]
+    api_rows = [r for r in every if r["group"] == "api"]
     print(f"planted checkpoint code ran: {planted_ran}")
     print(f"as expected: {sum(r['code'] == r['expected'] for r in rows)}/{len(rows)}; "
           f"one line, no traceback: {sum(r['one_line'] for r in rows)}/{len(rows)}; "
@@ -90,6 +104,13 @@ def main() -> None:
               f"{max(r['seconds'] for r in part):.2f} s wall, "
               f"{max(r['cpu_seconds'] for r in part):.2f} s CPU, "
               f"{max(r['vm_peak_mb'] for r in part):.0f} MB")
+    limited = [r for r in api_rows if r["address_space_limited"]]
+    print(f"  api: {sum(r['package_error'] and r['one_line'] for r in api_rows)}/"
+          f"{len(api_rows)} raise the package's error in one line; slowest "
+          f"{max(r['seconds'] for r in api_rows):.2f} s wall; largest address space "
+          f"{max(r['vm_peak_mb'] for r in limited):.0f} MB under the limit, "
+          f"{max(r['vm_peak_mb'] for r in api_rows):.0f} MB (RSS "
+          f"{max(r['max_rss_mb'] for r in api_rows):.0f} MB) for the JAX cases, run without it")
 
 
 if __name__ == "__main__":
