@@ -10,13 +10,16 @@ error names the ``rl`` extra.
 
 ``ppo:OUT/policy.npz`` plays a policy of ``ocplus train --engine jax`` with numpy alone
 (:mod:`ocplus_plan.rl.npz_policy`). ``ppo`` without a path picks a shipped checkpoint (package data built from
-``experiments/checkpoints/``) by the kitchen's preset and agent count:
-``{preset}_{n}agent.zip``, else ``{preset}_1agent.zip`` (the features policy is shared,
-so it drives any number of agents).
+``experiments/checkpoints/``) by the kitchen and its cook count: ``{preset}_{n}agent.zip``
+on the preset's own map, else the generalist trained on the generator's kitchens for ``n``
+cooks (``generalist_{n}agent/policy.npz``, weights only). It says on stderr which one it
+loaded, and never plays a checkpoint trained for another number of cooks: without one for
+``n`` cooks it is refused, naming the cook counts that have one.
 """
 
 from __future__ import annotations
 
+import sys
 from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -44,22 +47,32 @@ def parse_spec(arg: str | None) -> tuple[str | None, str | None]:
     return arg, None
 
 
-def shipped_checkpoint(preset: str, n_agents: int,
-                       directory: Traversable | None = None) -> Traversable:
-    """The shipped checkpoint for a preset and agent count (``ConfigError`` if none);
-    ``directory`` defaults to the package data ``checkpoints``."""
+def shipped_checkpoint(preset: str, n_agents: int, directory: Traversable | None = None,
+                       map_name: str | None = None) -> Traversable:
+    """The shipped checkpoint for a kitchen with ``n_agents`` cooks: the preset's own on its
+    map (``map_name`` None or the preset's), else the generalist for ``n_agents`` cooks
+    (``ConfigError`` if neither: never one trained for another cook count); ``directory``
+    defaults to the package data ``checkpoints``."""
+    from ..sim.rules import PRESETS
+
     if directory is None:
         from ..data import data_files
 
         directory = data_files("checkpoints")
-    for name in (f"{preset}_{n_agents}agent.zip", f"{preset}_1agent.zip"):
-        if (directory / name).is_file():
-            return directory / name
-    have = sorted(p.name for p in directory.iterdir() if p.name.endswith(".zip")) \
+    names = [f"generalist_{n_agents}agent/policy.npz"]
+    if preset in PRESETS and map_name in (None, PRESETS[preset].map):
+        names.insert(0, f"{preset}_{n_agents}agent.zip")
+    for name in names:
+        if (directory.joinpath(*name.split("/"))).is_file():
+            return directory.joinpath(*name.split("/"))
+    have = sorted(p.name for p in directory.iterdir()
+                  if p.name.endswith(".zip") or p.name.startswith("generalist_")) \
         if directory.is_dir() else []
     raise ConfigError(
-        f"no shipped PPO checkpoint for preset {preset!r} in {directory} (have: "
-        f"{', '.join(have) or 'none'}); pass one explicitly as ppo:PATH"
+        f"no shipped PPO checkpoint for {n_agents} cook(s) on preset {preset!r}"
+        f"{'' if map_name is None else f' map {map_name!r}'} in {directory} (have: "
+        f"{', '.join(have) or 'none'}; a checkpoint for another number of cooks is never "
+        "played in its place); pass one explicitly as ppo:PATH"
     )
 
 
@@ -122,10 +135,14 @@ class PPOAgent(Controller):
         from ..rl.obs import make_encoder
 
         if self.path is None:  # a shipped checkpoint, chosen per kitchen
-            shipped = shipped_checkpoint(state.rules.preset, state.n_agents)
+            shipped = shipped_checkpoint(state.rules.preset, state.n_agents,
+                                         map_name=state.rules.layout.name)
             with resources.as_file(shipped) as file:  # a real file for stable-baselines3
                 chosen = str(file)
                 if self.policy is None or self.policy.path != Path(chosen):
+                    if chosen not in self._loaded:
+                        print(f"ppo: kitchen {state.rules.layout.name!r} with {state.n_agents} "
+                              f"cook(s) plays the shipped checkpoint {chosen}", file=sys.stderr)
                     self.policy = self._load(chosen)
                     self._encoders = {}
         meta = self.policy.meta
