@@ -286,18 +286,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         max_wall_s=config.max_wall_s,
     )
     try:
-        if config.maps and config.map_stages > 1:
-            _learn_widening(learner, venv, config, monitor)
-        elif stages:
-            switch = int(config.steps * config.curriculum_fraction)
-            if switch:
-                learner.learn(switch, callback=monitor)
-            venv.set_rules(target)
-            if not monitor.out_of_time:
-                learner.learn(config.steps - switch, callback=monitor,
-                              reset_num_timesteps=False)
-        else:
-            learner.learn(config.steps, callback=monitor)
+        _learn(learner, venv, config, monitor, stages, target)
     finally:
         monitor.close()
     wall = time.perf_counter() - t0
@@ -325,6 +314,23 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
     }
     (out / "train.json").write_text(json.dumps(summary, indent=2) + "\n")
     return summary
+
+
+def _learn(learner: Any, venv: Any, config: TrainConfig, monitor: Any, stages: list[Rules],
+           target: Rules) -> None:
+    """PPO for ``config.steps``: through the kitchen curriculum, the preset curriculum
+    (``stages``, then ``target``), or plainly."""
+    if config.maps and config.map_stages > 1:
+        _learn_widening(learner, venv, config, monitor)
+    elif stages:
+        switch = int(config.steps * config.curriculum_fraction)
+        if switch:
+            learner.learn(switch, callback=monitor)
+        venv.set_rules(target)
+        if not monitor.out_of_time:
+            learner.learn(config.steps - switch, callback=monitor, reset_num_timesteps=False)
+    else:
+        learner.learn(config.steps, callback=monitor)
 
 
 def _learn_widening(learner: Any, venv: Any, config: TrainConfig, monitor: Any) -> None:
