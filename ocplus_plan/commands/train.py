@@ -65,6 +65,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "medium:steak/tomato (one-ingredient orders teach the pan)")
     g.add_argument("--curriculum-fraction", type=_FRACTION, default=0.3)
     g.add_argument("--init", default=None, help="start from this checkpoint's weights")
+    g.add_argument("--resume", default=None, metavar="CHECKPOINT",
+                   help="continue a run from its policy.zip or checkpoints/step_*.zip: weights, "
+                        "optimiser state and step count (the schedules go on from there)")
+    g.add_argument("--tensorboard", default=None, metavar="DIR",
+                   help="also log training metrics as TensorBoard event files in DIR "
+                        "(tensorboard extra)")
     g.add_argument("--checkpoint-every", type=_POSITIVE, default=None,
                    help="steps between checkpoints (default: steps / 5)")
     b = p.add_argument_group("imitation warm start")
@@ -153,6 +159,7 @@ def run(args: argparse.Namespace) -> int:
         curriculum=tuple(p.strip() for p in args.curriculum.split(",") if p.strip()),
         curriculum_fraction=args.curriculum_fraction, init=args.init,
         checkpoint_every=args.checkpoint_every, engine=args.engine,
+        resume=args.resume, tensorboard=args.tensorboard,
         torch_threads=args.torch_threads, max_wall_s=args.max_wall,
         bc=args.bc, bc_steps=args.bc_steps, bc_rounds=args.bc_rounds, bc_epochs=args.bc_epochs,
         algo=args.algo, precision=args.precision, device=args.device,

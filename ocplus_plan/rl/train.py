@@ -89,6 +89,13 @@ class TrainConfig:
     algo: str = "sb3"
     #: the lean loop's matrix products: "fp32" or "bf16" (autocast; weights stay float32)
     precision: str = "fp32"
+    #: continue this checkpoint's run (a ``policy.zip`` or ``checkpoints/step_*.zip``): its
+    #: weights, Adam state and step count, so the learning-rate schedule, the shaping anneal
+    #: and the checkpoints go on where they stopped
+    resume: str | None = None
+    #: also log SB3's training metrics as TensorBoard event files in this folder (the
+    #: ``tensorboard`` extra)
+    tensorboard: str | None = None
     #: torch device of the SB3 trainer: "cpu", "cuda", "cuda:N" or "auto" (cuda when
     #: torch sees one); the lean loop runs on the CPU
     device: str = "cpu"
@@ -129,6 +136,10 @@ class TrainConfig:
             raise ConfigError(f"hidden layer sizes must be positive, got {self.hidden}")
         if self.bc is not None:
             self.imitation().validate()
+        if self.resume is not None and (self.init or self.bc or self.curriculum
+                                        or self.map_stages > 1 or self.algo != "sb3"):
+            raise ConfigError("resume continues a plain sb3 run: drop init, bc, the curricula "
+                              "and --algo lean (they belong to the run being resumed)")
         if self.maps is not None and (self.map is not None or self.curriculum):
             raise ConfigError("maps (a kitchen distribution) replaces map and curriculum: "
                               "give one of them")
@@ -192,6 +203,14 @@ def build(config: TrainConfig) -> tuple[Any, Any, list[Rules], Rules]:
     target = pool[0] if pool else _rules(config, config.preset, with_map=True)
     stages = [_rules(config, p, with_map=config.map is not None) for p in config.curriculum]
     require_rl()
+    if config.tensorboard:
+        import importlib.util
+
+        from ..errors import DependencyNotInstalled
+
+        if importlib.util.find_spec("tensorboard") is None:
+            raise DependencyNotInstalled("--tensorboard needs the tensorboard package: pip "
+                                         "install 'ocplus-plan[tensorboard]'")
     import torch
     from stable_baselines3 import PPO
 
@@ -241,9 +260,12 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
     # nowhere, into the run's own folder (the monitor writes episodes.csv itself)
     from stable_baselines3.common.logger import configure
 
-    model.set_logger(configure(str(out), []))
+    model.set_logger(configure(config.tensorboard or str(out),
+                               ["tensorboard"] if config.tensorboard else []))
     if config.init:
         _start_from(model, venv, config)
+    if config.resume:
+        _resume(model, venv, config)
 
     meta_base = {
         "obs": config.obs, "obs_radius": config.obs_radius, "obs_size": venv.obs_size,
@@ -285,6 +307,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         checkpoint_every=every, save=save, stream=sys.stderr if progress else None,
         max_wall_s=config.max_wall_s,
     )
+    monitor._next_checkpoint = (model.num_timesteps // every + 1) * every
     try:
         _learn(learner, venv, config, monitor, stages, target)
     finally:
@@ -330,7 +353,9 @@ def _learn(learner: Any, venv: Any, config: TrainConfig, monitor: Any, stages: l
         if not monitor.out_of_time:
             learner.learn(config.steps - switch, callback=monitor, reset_num_timesteps=False)
     else:
-        learner.learn(config.steps, callback=monitor)
+        done = learner.num_timesteps if config.resume else 0
+        learner.learn(max(config.steps - done, 1), callback=monitor,
+                      reset_num_timesteps=not config.resume)
 
 
 def _learn_widening(learner: Any, venv: Any, config: TrainConfig, monitor: Any) -> None:
@@ -362,6 +387,26 @@ def _start_from(model: Any, venv: Any, config: TrainConfig) -> None:
         model.policy.load_state_dict(source.model.policy.state_dict())
     except RuntimeError as exc:
         raise ConfigError(f"--init {config.init}: network shapes differ ({exc})") from exc
+
+
+def _resume(model: Any, venv: Any, config: TrainConfig) -> None:
+    """Load ``config.resume``'s weights, Adam state and step count into ``model``."""
+    from stable_baselines3.common.save_util import load_from_zip_file
+
+    meta = load_policy(config.resume).meta
+    if meta["obs"] != config.obs or meta["obs_size"] != venv.obs_size:
+        raise ConfigError(f"--resume {config.resume}: its observations ({meta['obs']}, "
+                          f"{meta['obs_size']}) differ from this run's ({config.obs}, "
+                          f"{venv.obs_size}); resume with the run's own options")
+    data, _, _ = load_from_zip_file(config.resume, device=model.device)
+    try:
+        model.set_parameters(config.resume, exact_match=True, device=model.device)
+    except (RuntimeError, ValueError) as exc:
+        raise ConfigError(f"--resume {config.resume}: network shapes differ ({exc})") from exc
+    model.num_timesteps = int(data["num_timesteps"])
+    if model.num_timesteps >= config.steps:
+        raise ConfigError(f"--resume {config.resume}: it has {model.num_timesteps} steps "
+                          f"already; raise --timesteps above that")
 
 
 def _cpus() -> int:
