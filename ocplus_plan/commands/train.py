@@ -137,7 +137,8 @@ def _run_jax(args: argparse.Namespace) -> int:
                        hidden=hidden.pop(), lr=args.lr, gamma=args.gamma,
                        ent_coef=args.ent_coef)
     command = "ocplus " + shlex.join(sys.argv[1:]) if sys.argv[1:2] == ["train"] else None
-    summary = train_to_folder(env, config, args.out, args.seed, command)
+    summary = train_to_folder(env, config, args.out, args.seed, command,
+                              stream=None if args.quiet else sys.stderr)
     emit({k: summary[k] for k in ("policy", "timesteps", "wall_time_s", "steps_per_s",
                                   "device")}, args)
     return 0

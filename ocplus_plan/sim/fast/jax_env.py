@@ -59,7 +59,8 @@ class JaxKitchenEnv:
     2 left, 3 up, 4 stay). Rewards: ``reward_scope="team"`` gives every cook the team's
     reward (the Gymnasium env's scalar), ``"per_agent"`` each cook its own. ``step``
     restarts a finished episode at once (the returned observation is the new episode's);
-    ``infos`` holds per cook ``terminated``, ``truncated`` and the cook's own reward, and
+    ``infos`` holds per cook ``terminated``, ``truncated``, the cook's own reward and the
+    dishes the episode has served (before any restart), and
     ``infos["shaped_reward"]``, keyed by cook like the rewards: the part of the reward paid
     for subtasks (a chop, a wash, a cooked steak; the rules' ``subtask_finished``), as
     JaxMARL's Overcooked reports its dense shaping, so JaxMARL's ``ippo_ff_overcooked``
@@ -187,7 +188,7 @@ class JaxKitchenEnv:
         done = out.terminated | out.truncated
         dones = {a: done for a in self.agents} | {"__all__": done}
         infos = {"terminated": jnp.full(n, out.terminated), "truncated": jnp.full(n, out.truncated),
-                 "own_reward": own,
+                 "own_reward": own, "dishes": jnp.full(n, out.state.stats[jk.S_DISHES]),
                  "shaped_reward": {a: shaped[i] for i, a in enumerate(self.agents)}}
         return rewards, dones, infos
 
