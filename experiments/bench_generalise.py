@@ -19,7 +19,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import multiprocessing
 import os
+import resource
 import platform
 import subprocess
 import sys
@@ -56,7 +58,6 @@ def run(args: argparse.Namespace) -> list[dict]:
         agents.append((agent, label))
     if args.planner:
         agents.append((args.planner_spec, "planner"))
-    make = _factory(args.timeout)
     seeds = list(range(args.seeds))
     grid = cells(args.families, ["train", "test"], args.kitchens_per_family, args.cooks, seeds)
     rows = []
@@ -74,17 +75,34 @@ def run(args: argparse.Namespace) -> list[dict]:
     labels = {lab: a for a, lab in agents if lab != "planner"}
     for first, second in crossplay_pairs(list(labels)):
         jobs += [(c, labels[first], first, (labels[second], second)) for c in pair_cells]
-    t0 = time.process_time()
-    for i, (cell, agent, label, partner) in enumerate(jobs):
-        row = play(cell, agent, label, args.preset, args.horizon, partner, make)
+    work = [(job, args.preset, args.horizon, args.timeout) for job in jobs]
+    pool = multiprocessing.get_context("fork").Pool(args.jobs) if args.jobs > 1 else None
+    results = pool.imap(_play, work, chunksize=4) if pool else map(_play, work)
+    t0 = time.time()
+    for i, row in enumerate(results):
         rows.append(row)
         if out:
             out.write(json.dumps(row) + "\n")
             out.flush()
         if (i + 1) % 200 == 0:
-            print(f"{i + 1}/{len(jobs)} episodes, {time.process_time() - t0:.0f} CPU s",
+            print(f"{i + 1}/{len(jobs)} episodes, {time.time() - t0:.0f} s",
                   file=sys.stderr, flush=True)
+    if pool:
+        pool.close()
+        pool.join()
+    if out:
+        cpu = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(
+            resource.RUSAGE_CHILDREN)
+        out.write(json.dumps({"header": True, "finished": time.strftime(
+            "%Y-%m-%d %H:%M:%S UTC", time.gmtime()), "episodes": len(rows),
+            "cpu_s": round(sum(r.ru_utime + r.ru_stime for r in cpu), 1),
+            "load_1min": round(os.getloadavg()[0], 2)}) + "\n")
     return rows
+
+
+def _play(work: tuple) -> dict:
+    (cell, agent, label, partner), preset, horizon, timeout = work
+    return play(cell, agent, label, preset, horizon, partner, _factory(timeout))
 
 
 def _commit() -> str:
@@ -125,6 +143,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--timeout", type=float, default=10.0, help="CPU seconds per planner call")
     p.add_argument("--crossplay-kitchens", type=int, default=10,
                    help="test kitchens per family for the cross-play table (0: none)")
+    p.add_argument("--jobs", type=int, default=1, help="worker processes")
     p.add_argument("--out", type=Path, default=None, help="append the JSON lines here")
     p.add_argument("--table", type=Path, nargs="+", default=None,
                    help="print the tables of these --out files and stop")
