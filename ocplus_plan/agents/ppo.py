@@ -76,7 +76,8 @@ def shipped_checkpoint(preset: str, n_agents: int, directory: Traversable | None
     )
 
 
-def missing_checkpoint(arg: str | None, preset: str, n_agents: int) -> str | None:
+def missing_checkpoint(arg: str | None, preset: str, n_agents: int,
+                       map_name: str | None = None) -> str | None:
     """Why ``ppo[:arg]`` cannot play ``preset`` with ``n_agents`` cooks (a bare ``ppo`` with
     no shipped checkpoint for that kitchen), or None. Needs no torch: the evaluation
     runner asks before any episode, so such kitchens become skipped rows, not errors."""
@@ -84,7 +85,7 @@ def missing_checkpoint(arg: str | None, preset: str, n_agents: int) -> str | Non
     if path is not None:
         return None
     try:
-        shipped_checkpoint(preset, n_agents)
+        shipped_checkpoint(preset, n_agents, map_name=map_name)
     except ConfigError as exc:
         return str(exc)
     return None
