@@ -56,7 +56,14 @@ def _run(cooks: int, seed: int, clone: bool) -> list[str]:
             "--max-wall", PPO_WALL, *FAST]
 
 
+#: the clone alone on the path features (215 values; cheaper to fit than the window's 947):
+#: 4 DAgger rounds of 15k kitchen steps, 8 epochs, then one PPO rollout (``--timesteps 1``)
+CLONE_FEATURES = ["--bc", "greedy", "--bc-steps", "15000", "--bc-rounds", "4", "--bc-epochs",
+                  "8", "--obs", "features", "--anneal-fraction", "0"]
+
 RUNS: dict[str, list[str]] = {
+    "clonefeat_2agent_s0": ["--preset", PRESET, "--n-agents", "2", "--maps", maps(2),
+                            "--timesteps", "1", "--seed", "0", *CLONE_FEATURES, *FAST],
     **{f"clone_2agent_s{s}": _run(2, s, True) for s in (0, 1, 2)},
     **{f"scratch_2agent_s{s}": _run(2, s, False) for s in (0, 1, 2)},
     "clone_1agent_s0": _run(1, 0, True),

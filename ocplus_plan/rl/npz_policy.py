@@ -42,7 +42,7 @@ class NpzPolicy:
         self.meta: dict[str, Any] = {
             "obs": obs, "obs_radius": int(info.get("obs_radius", 0)),
             "obs_size": int(info["obs_size"]), "n_agents": int(info["n_agents"]),
-            "map": info.get("map"), "act": "sample",
+            "map": info.get("map"), "act": info.get("act") or "sample",
             "engine": "jax" if obs == "vector" else "sb3"}
 
     def probs(self, x: np.ndarray) -> np.ndarray:
