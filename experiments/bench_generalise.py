@@ -33,6 +33,7 @@ sys.path.insert(0, str(ROOT))
 
 from ocplus_plan.eval.generalise import (  # noqa: E402
     cells, crossplay_pairs, crossplay_table, generalisation_table, markdown, play)
+from ocplus_plan.errors import OcplusError  # noqa: E402
 from ocplus_plan.sim.generate import FAMILIES  # noqa: E402
 
 PLANNER = "planner:fast-downward-wastar"
@@ -102,7 +103,13 @@ def run(args: argparse.Namespace) -> list[dict]:
 
 def _play(work: tuple) -> dict:
     (cell, agent, label, partner), preset, horizon, timeout = work
-    return play(cell, agent, label, preset, horizon, partner, _factory(timeout))
+    try:
+        return play(cell, agent, label, preset, horizon, partner, _factory(timeout))
+    except OcplusError as exc:  # e.g. a bare ppo with no generalist for this cook count
+        family, split, index, cooks, seed = cell
+        return {"family": family, "split": split, "index": index, "cooks": cooks,
+                "seed": seed, "agent": label, "partner": partner[1] if partner else None,
+                "skipped": str(exc)}
 
 
 def _commit() -> str:

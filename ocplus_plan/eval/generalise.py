@@ -90,10 +90,10 @@ def _mean(xs: list[float]) -> float | None:
 
 def generalisation_table(rows: list[dict[str, Any]], reference: str = "greedy",
                          ) -> list[dict[str, Any]]:
-    """Per (cooks, family, agent) and overall per (cooks, agent): mean dishes on train and
-    test kitchens, the train-test gap, the ratio to ``reference`` on the test episodes both
+    """Per (cooks, family, agent) and overall per (cooks, agent) (rows marked ``skipped``
+    are left out): mean dishes on train and test kitchens, the train-test gap, the ratio to ``reference`` on the test episodes both
     played, and the share of test kitchens (over seeds: mean dishes > 0) it served in."""
-    solo = [r for r in rows if r.get("partner") is None]
+    solo = [r for r in rows if r.get("partner") is None and "skipped" not in r]
     dishes: dict[tuple, list[int]] = defaultdict(list)
     for r in solo:
         for family in (r["family"], "all"):
@@ -128,7 +128,7 @@ def crossplay_table(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """Mean dishes per (first agent, partner) pair over the rows with a partner."""
     pairs: dict[tuple[str, str], list[int]] = defaultdict(list)
     for r in rows:
-        if r.get("partner") is not None:
+        if r.get("partner") is not None and "skipped" not in r:
             pairs[(r["agent"], r["partner"])].append(r["dishes"])
     return [{"agent": a, "partner": p, "dishes": _mean(v), "episodes": len(v)}
             for (a, p), v in sorted(pairs.items())]

@@ -63,3 +63,10 @@ def test_an_episode_with_a_partner_drives_the_last_cook_with_it():
                partner=("stay", "stay"), factory=factory)
     assert seen == ["greedy", "stay"] and row["partner"] == "stay" and row["steps"] == 30
     assert row["kitchen"] == "gen:open:test:0:medium" and row["dishes"] >= 0
+
+
+def test_skipped_rows_are_left_out_of_both_tables():
+    rows = [_row("greedy", "test", "k1", 4), dict(_row("gen", "test", "k1", 0), skipped="none"),
+            dict(_row("gen", "test", "k1", 0, partner="greedy"), skipped="none")]
+    assert {r["agent"] for r in generalisation_table(rows)} == {"greedy"}
+    assert crossplay_table(rows) == []
