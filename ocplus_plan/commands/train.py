@@ -65,7 +65,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "medium:steak/tomato (one-ingredient orders teach the pan)")
     g.add_argument("--curriculum-fraction", type=_FRACTION, default=0.3)
     g.add_argument("--init", default=None, help="start from this checkpoint's weights")
-    g.add_argument("--resume", default=None, metavar="CHECKPOINT",
+    g.add_argument("--resume-from", dest="resume", default=None, metavar="CHECKPOINT",
                    help="continue a run from its policy.zip or checkpoints/step_*.zip: weights, "
                         "optimiser state and step count (the schedules go on from there)")
     g.add_argument("--tensorboard", default=None, metavar="DIR",

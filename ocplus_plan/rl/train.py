@@ -395,17 +395,17 @@ def _resume(model: Any, venv: Any, config: TrainConfig) -> None:
 
     meta = load_policy(config.resume).meta
     if meta["obs"] != config.obs or meta["obs_size"] != venv.obs_size:
-        raise ConfigError(f"--resume {config.resume}: its observations ({meta['obs']}, "
+        raise ConfigError(f"--resume-from {config.resume}: its observations ({meta['obs']}, "
                           f"{meta['obs_size']}) differ from this run's ({config.obs}, "
                           f"{venv.obs_size}); resume with the run's own options")
     data, _, _ = load_from_zip_file(config.resume, device=model.device)
     try:
         model.set_parameters(config.resume, exact_match=True, device=model.device)
     except (RuntimeError, ValueError) as exc:
-        raise ConfigError(f"--resume {config.resume}: network shapes differ ({exc})") from exc
+        raise ConfigError(f"--resume-from {config.resume}: network shapes differ ({exc})") from exc
     model.num_timesteps = int(data["num_timesteps"])
     if model.num_timesteps >= config.steps:
-        raise ConfigError(f"--resume {config.resume}: it has {model.num_timesteps} steps "
+        raise ConfigError(f"--resume-from {config.resume}: it has {model.num_timesteps} steps "
                           f"already; raise --timesteps above that")
 
 
