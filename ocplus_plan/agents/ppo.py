@@ -34,6 +34,8 @@ if TYPE_CHECKING:
     from importlib.resources.abc import Traversable
 
 _MODES = ("sample", "greedy")
+#: shipped checkpoints this process has said it plays
+_ANNOUNCED: set[str] = set()
 
 
 def parse_spec(arg: str | None) -> tuple[str | None, str | None]:
@@ -141,7 +143,8 @@ class PPOAgent(Controller):
             with resources.as_file(shipped) as file:  # a real file for stable-baselines3
                 chosen = str(file)
                 if self.policy is None or self.policy.path != Path(chosen):
-                    if chosen not in self._loaded:
+                    if chosen not in _ANNOUNCED:  # once per process and file
+                        _ANNOUNCED.add(chosen)
                         print(f"ppo: kitchen {state.rules.layout.name!r} with {state.n_agents} "
                               f"cook(s) plays the shipped checkpoint {chosen}", file=sys.stderr)
                     self.policy = self._load(chosen)
