@@ -62,3 +62,16 @@ def test_the_weights_only_export_plays_the_same_probabilities(tmp_path: Path):
     rules = make_rules("easy", map="gen:split:test:0:easy", n_agents=2, horizon=20)
     stats = run_episode(new_state(rules, 0), PPOAgent(str(npz), seed=0))
     assert stats["t"] == 20
+
+
+def test_a_bare_ppo_plays_the_shipped_generalist_on_a_generated_kitchen_and_says_so(capsys):
+    from ocplus_plan.agents import ppo
+    from ocplus_plan.agents.base import run_episode
+    from ocplus_plan.sim import make_rules, new_state
+
+    ppo._ANNOUNCED.clear()
+    agent = ppo.PPOAgent(None, seed=0)
+    rules = make_rules("medium", map="gen:open:test:0:medium", n_agents=2, horizon=5)
+    run_episode(new_state(rules, 0), agent)
+    assert agent.info()["checkpoint"].endswith("generalist_2agent/policy.npz")
+    assert "generalist_2agent" in capsys.readouterr().err
