@@ -118,11 +118,16 @@ def _commit() -> str:
 
 
 def tables(paths: list[Path]) -> str:
-    rows, headers = [], []
-    for path in paths:
+    cells, headers = {}, []
+    for path in paths:  # one row per episode: a cell played in several files counts once
         for line in path.read_text().splitlines():
             r = json.loads(line)
-            (headers if r.get("header") else rows).append(r)
+            if r.get("header"):
+                headers.append(r)
+            else:
+                cells[(r["family"], r["split"], r["index"], r["cooks"], r["seed"], r["agent"],
+                       r.get("partner"))] = r
+    rows = list(cells.values())
     text = [f"conditions: {json.dumps(h)}" for h in headers]
     text += ["", "generalisation (mean dishes per episode):", "",
              markdown(generalisation_table(rows)), "cross-play (2 cooks, test kitchens; "
