@@ -69,9 +69,11 @@ RUNS: dict[str, list[str]] = {
     "clone_1agent_s0": _run(1, 0, True),
     "clone_3agent_s0": _run(3, 0, True),
 }
-#: run -> the shipped generalist it becomes
-SHIPPED = {"clone_1agent_s0": "generalist_1agent", "clone_2agent_s0": "generalist_2agent",
-           "clone_3agent_s0": "generalist_3agent"}
+#: run -> (the shipped generalist it becomes, the policy of the run exported). For 2 cooks
+#: the features clone served most on the test split (README): its clone ships.
+SHIPPED = {"clone_1agent_s0": ("generalist_1agent", "policy.zip"),
+           "clonefeat_2agent_s0": ("generalist_2agent", "bc_policy.zip"),
+           "clone_3agent_s0": ("generalist_3agent", "policy.zip")}
 
 
 def train(name: str) -> dict:
@@ -100,8 +102,10 @@ def train(name: str) -> dict:
     if name in SHIPPED:
         from ocplus_plan.rl.npz_export import export_npz
 
-        export_npz(out / "policy.zip", CKPT / SHIPPED[name],
-                   {"record": f"experiments/checkpoints/generalists/{name}.json"})
+        target, policy = SHIPPED[name]
+        export_npz(out / policy, CKPT / target,
+                   {"record": f"experiments/checkpoints/generalists/{name}.json",
+                    "policy": f"{policy} of that run"})
     return record
 
 
