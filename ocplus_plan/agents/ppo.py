@@ -10,16 +10,19 @@ error names the ``rl`` extra.
 
 A checkpoint is a weights-only ``.npz`` (:mod:`ocplus_plan.rl.weights`: arrays and a JSON
 description, read with sizes checked and nothing unpickled), played with numpy alone;
-``ppo:OUT/policy.npz`` of ``ocplus train --engine jax`` likewise
-(:mod:`ocplus_plan.rl.npz_policy`). An SB3 ``.zip`` runs code when loaded (pickle) and is
-refused unless ``--trust-pickled-checkpoint`` is given. ``ppo`` without a path picks a
-shipped checkpoint (package data built from ``experiments/checkpoints/``) by the kitchen's
-preset and agent count: ``{preset}_{n}agent.npz``, else ``{preset}_1agent.npz`` (the
-features policy is shared, so it drives any number of agents).
+``ppo:OUT/policy.npz`` of ``ocplus train`` likewise (:mod:`ocplus_plan.rl.npz_policy`). An
+SB3 ``.zip`` runs code when loaded (pickle) and is refused unless
+``--trust-pickled-checkpoint`` is given. ``ppo`` without a path picks a shipped checkpoint
+(package data built from ``experiments/checkpoints/``) by the kitchen and its cook count:
+``{preset}_{n}agent.npz`` on the preset's own map, else the generalist trained on the
+generator's kitchens for ``n`` cooks (``generalist_{n}agent/policy.npz``). It says on stderr
+which one it loaded, and never plays a checkpoint trained for another number of cooks:
+without one for ``n`` cooks it is refused, naming the cook counts that have one.
 """
 
 from __future__ import annotations
 
+import sys
 from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -34,6 +37,8 @@ if TYPE_CHECKING:
     from importlib.resources.abc import Traversable
 
 _MODES = ("sample", "greedy")
+#: shipped checkpoints this process has said it plays
+_ANNOUNCED: set[str] = set()
 
 
 def parse_spec(arg: str | None) -> tuple[str | None, str | None]:
@@ -47,26 +52,37 @@ def parse_spec(arg: str | None) -> tuple[str | None, str | None]:
     return arg, None
 
 
-def shipped_checkpoint(preset: str, n_agents: int,
-                       directory: Traversable | None = None) -> Traversable:
-    """The shipped checkpoint for a preset and agent count (``ConfigError`` if none);
-    ``directory`` defaults to the package data ``checkpoints``."""
+def shipped_checkpoint(preset: str, n_agents: int, directory: Traversable | None = None,
+                       map_name: str | None = None) -> Traversable:
+    """The shipped checkpoint for a kitchen with ``n_agents`` cooks: the preset's own on its
+    map (``map_name`` None or the preset's), else the generalist for ``n_agents`` cooks
+    (``ConfigError`` if neither: never one trained for another cook count); ``directory``
+    defaults to the package data ``checkpoints``."""
+    from ..sim.rules import PRESETS
+
     if directory is None:
         from ..data import data_files
 
         directory = data_files("checkpoints")
-    for name in (f"{preset}_{n_agents}agent.npz", f"{preset}_1agent.npz"):
-        if (directory / name).is_file():
-            return directory / name
-    have = sorted(p.name for p in directory.iterdir() if p.name.endswith(".npz")) \
+    names = [f"generalist_{n_agents}agent/policy.npz"]
+    if preset in PRESETS and map_name in (None, PRESETS[preset].map):
+        names.insert(0, f"{preset}_{n_agents}agent.npz")
+    for name in names:
+        if (directory.joinpath(*name.split("/"))).is_file():
+            return directory.joinpath(*name.split("/"))
+    have = sorted(p.name for p in directory.iterdir()
+                  if p.name.endswith(".npz") or p.name.startswith("generalist_")) \
         if directory.is_dir() else []
     raise ConfigError(
-        f"no shipped PPO checkpoint for preset {preset!r} in {directory} (have: "
-        f"{', '.join(have) or 'none'}); pass one explicitly as ppo:PATH"
+        f"no shipped PPO checkpoint for {n_agents} cook(s) on preset {preset!r}"
+        f"{'' if map_name is None else f' map {map_name!r}'} in {directory} (have: "
+        f"{', '.join(have) or 'none'}; a checkpoint for another number of cooks is never "
+        "played in its place); pass one explicitly as ppo:PATH"
     )
 
 
-def missing_checkpoint(arg: str | None, preset: str, n_agents: int) -> str | None:
+def missing_checkpoint(arg: str | None, preset: str, n_agents: int,
+                       map_name: str | None = None) -> str | None:
     """Why ``ppo[:arg]`` cannot play ``preset`` with ``n_agents`` cooks (a bare ``ppo`` with
     no shipped checkpoint for that kitchen), or None. Needs no torch: the evaluation
     runner asks before any episode, so such kitchens become skipped rows, not errors."""
@@ -74,7 +90,7 @@ def missing_checkpoint(arg: str | None, preset: str, n_agents: int) -> str | Non
     if path is not None:
         return None
     try:
-        shipped_checkpoint(preset, n_agents)
+        shipped_checkpoint(preset, n_agents, map_name=map_name)
     except ConfigError as exc:
         return str(exc)
     return None
@@ -114,10 +130,15 @@ class PPOAgent(Controller):
         from ..rl.obs import make_encoder
 
         if self.path is None:  # a shipped checkpoint, chosen per kitchen
-            shipped = shipped_checkpoint(state.rules.preset, state.n_agents)
+            shipped = shipped_checkpoint(state.rules.preset, state.n_agents,
+                                         map_name=state.rules.layout.name)
             with resources.as_file(shipped) as file:  # a real file, sizes checked by stat
                 chosen = str(file)
                 if self.policy is None or self.policy.path != Path(chosen):
+                    if chosen not in _ANNOUNCED:  # once per process and file
+                        _ANNOUNCED.add(chosen)
+                        print(f"ppo: kitchen {state.rules.layout.name!r} with {state.n_agents} "
+                              f"cook(s) plays the shipped checkpoint {chosen}", file=sys.stderr)
                     self.policy = self._load(chosen)
                     self._encoders = {}
         meta = self.policy.meta

@@ -40,10 +40,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_deprecated_alias(p, "--steps", "--timesteps", takes_value=True, dest="steps",
                          type=_POSITIVE)
     g = p.add_argument_group("learning")
-    g.add_argument("--obs", default="features", choices=("features", "grid"),
-                   help="egocentric path features, or the SPEC vector (one-hot grid) encoding")
+    g.add_argument("--maps", default=None, metavar="KITCHENS",
+                   help="train on a kitchen distribution, a new kitchen drawn per episode: "
+                        "comma-separated gen:FAMILY:SPLIT:A-B ranges or map names, e.g. "
+                        "gen:open:train:0-19,gen:split:train:0-19 (replaces --map)")
+    g.add_argument("--map-stages", type=_POSITIVE, default=1,
+                   help="with --maps: a curriculum that widens the pool from the smallest "
+                        "kitchens to all in this many stages over --curriculum-fraction")
+    g.add_argument("--obs", default="auto", choices=("auto", "features", "grid", "window"),
+                   help="egocentric path features, the SPEC vector (one-hot grid) encoding, or "
+                        "window: features + a grid window (the same size on every map); "
+                        "auto: window with --maps, else features")
     g.add_argument("--obs-radius", type=_types.whole("--obs-radius", 0, 64), default=0,
-                   help="grid window radius (0 = whole map)")
+                   help="grid window radius (0 = whole map; window observations: 0 means 2)")
     g.add_argument("--n-kitchens", type=_types.whole("--n-kitchens", 1, 65536), default=8,
                    help="kitchens simulated in parallel")
     g.add_argument("--n-steps", type=_POSITIVE, default=128, help="rollout length per agent slot")
@@ -66,6 +75,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--init", default=None,
                    help="start from this checkpoint's weights (a .npz; an SB3 .zip needs "
                         "--trust-pickled-checkpoint)")
+    g.add_argument("--resume-from", dest="resume", default=None, metavar="CHECKPOINT",
+                   help="continue a run from its policy.zip or checkpoints/step_*.zip: weights, "
+                        "optimiser state and step count (the schedules go on from there); the "
+                        "zip pickles, so it needs --trust-pickled-checkpoint")
+    g.add_argument("--tensorboard", default=None, metavar="DIR",
+                   help="also log training metrics as TensorBoard event files in DIR "
+                        "(tensorboard extra)")
     g.add_argument("--checkpoint-every", type=_POSITIVE, default=None,
                    help="steps between checkpoints (default: steps / 5)")
     b = p.add_argument_group("imitation warm start")
@@ -134,7 +150,8 @@ def _run_jax(args: argparse.Namespace) -> int:
                        hidden=hidden.pop(), lr=args.lr, gamma=args.gamma,
                        ent_coef=args.ent_coef)
     command = "ocplus " + shlex.join(sys.argv[1:]) if sys.argv[1:2] == ["train"] else None
-    summary = train_to_folder(env, config, args.out, args.seed, command)
+    summary = train_to_folder(env, config, args.out, args.seed, command,
+                              stream=None if args.quiet else sys.stderr)
     emit({k: summary[k] for k in ("policy", "timesteps", "wall_time_s", "steps_per_s",
                                   "device")}, args)
     return 0
@@ -147,6 +164,7 @@ def run(args: argparse.Namespace) -> int:
 
     config = TrainConfig(
         preset=args.preset, n_agents=args.n_agents, map=args.map, steps=args.steps,
+        maps=args.maps, map_stages=args.map_stages,
         seed=args.seed, out=args.out, obs=args.obs, obs_radius=args.obs_radius,
         n_kitchens=args.n_kitchens, n_steps=args.n_steps, batch_size=args.batch_size,
         n_epochs=args.n_epochs, learning_rate=args.lr, gamma=args.gamma,
@@ -155,6 +173,7 @@ def run(args: argparse.Namespace) -> int:
         curriculum=tuple(p.strip() for p in args.curriculum.split(",") if p.strip()),
         curriculum_fraction=args.curriculum_fraction, init=args.init,
         checkpoint_every=args.checkpoint_every, engine=args.engine,
+        resume=args.resume, tensorboard=args.tensorboard,
         torch_threads=args.torch_threads, max_wall_s=args.max_wall,
         bc=args.bc, bc_steps=args.bc_steps, bc_rounds=args.bc_rounds, bc_epochs=args.bc_epochs,
         algo=args.algo, precision=args.precision, device=args.device,
@@ -172,6 +191,8 @@ def run(args: argparse.Namespace) -> int:
                  str(args.seed), "--out", args.out]
         if args.n_agents is not None:
             parts += ["--n-agents", str(args.n_agents)]
+        if args.maps is not None:
+            parts += ["--maps", args.maps]
         command = "ocplus " + shlex.join(parts)
     summary = train(config, command=command, progress=not args.quiet, teacher=teacher)
     emit({k: summary[k] for k in (

@@ -59,17 +59,20 @@ def parallel_env(preset: str = "hard", **kwargs: Any) -> Any:
 
 
 def make_jax_env(preset: str = "hard", *, reward_scope: str = "team", checked: bool = False,
-                 **kwargs: Any) -> Any:
+                 sparse_reward: bool = False, **kwargs: Any) -> Any:
     """The kitchen in JAX behind JaxMARL's ``MultiAgentEnv`` interface (the ``jax`` extra),
     from the Gymnasium env's keywords (:class:`ocplus_plan.sim.fast.jax_env.JaxKitchenEnv`).
     ``checked=True`` checks every action on the host before the jitted step (a debugging
-    mode: an integer outside 0..4 is then refused instead of acting as stay)."""
+    mode: an integer outside 0..4 is then refused instead of acting as stay);
+    ``sparse_reward=True`` leaves the subtask part, ``infos["shaped_reward"]``, out of the
+    rewards."""
     from ..sim.fast.jax_env import JaxKitchenEnv  # needs jax: DependencyNotInstalled names the extra
 
     rules, config = parse_env_kwargs(preset, **kwargs)
     return JaxKitchenEnv.from_options(
         rules, mode=config.mode, obs_radius=config.obs_radius, comm=config.comm,
-        render_mode=config.render_mode, reward_scope=reward_scope, checked=checked)
+        render_mode=config.render_mode, reward_scope=reward_scope, checked=checked,
+        sparse_reward=sparse_reward)
 
 
 def __getattr__(name: str) -> Any:

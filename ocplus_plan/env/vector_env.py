@@ -18,11 +18,15 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from ..errors import ConfigError
+from ..sim.fast.arrays import C_T as _C_T
+from ..sim.fast.arrays import STAT_NAMES
 from ..sim.fast.batch import BatchSim
 from .core import parse_env_kwargs, whole_numbers
 
 #: the most kitchens one vector env holds (each keeps its grids and observations in memory)
 MAX_NUM_ENVS = 1 << 16
+
+_STAT = {name: i for i, name in enumerate(STAT_NAMES)}
 
 
 class BatchedBox(spaces.Box):
@@ -89,8 +93,13 @@ class OvercookedPlusVectorEnv(VectorEnv):
     ``copy=True`` returns fresh arrays each step, at the price of copying every
     kitchen's observations (2.5x slower at 1,024 kitchens in ``docs/speed.md``).
 
+    **Seeds** follow ``SyncVectorEnv``: ``reset(seed=s)`` starts kitchen ``e`` on seed
+    ``s + e``; ``reset(seed=[s0, s1, ...])`` takes one per kitchen. **Episode statistics**
+    (return, length, dishes, orders, expired orders, burns) come in ``info["episode"]``
+    when a kitchen's episode ends (see :meth:`step`).
+
     Only the ``vector`` mode without communication or rendering is batched; the engine
-    reports no per-step events (``info`` is empty); use the single env for those.
+    reports no per-step events; use the single env for those.
     """
 
     def __init__(self, num_envs: int = 1, preset: str = "hard", *,
@@ -134,48 +143,114 @@ class OvercookedPlusVectorEnv(VectorEnv):
         self.reward_scope = reward_scope
         self._needs_reset = np.zeros(num_envs, bool)
         self._seeded = False
+        shape = (num_envs, self.n_agents) if reward_scope == "per_agent" else (num_envs,)
+        self._returns = np.zeros(shape)
         self._shared = rules.reward_mode == "shared"
 
-    def reset(self, *, seed: int | list[int] | None = None,
+    def reset(self, *, seed: int | list[int | None] | None = None,
               options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
-        """Start every kitchen anew. ``seed`` (an int) reseeds the kitchens' episode-seed
-        sequences (kitchen ``e`` draws from ``default_rng([seed, e])``)."""
-        super().reset(seed=seed)
-        if isinstance(seed, list):
-            raise ConfigError("seed must be one int for all kitchens (each gets its own stream)")
-        if seed is None and not self._seeded:  # a first reset without a seed: draw one
-            seed = int(self.np_random.integers(2**31 - 1))
-        if seed is not None:
-            self.sim.reseed(seed)
+        """Start every kitchen anew, seeded as Gymnasium's ``SyncVectorEnv`` seeds its envs:
+        an int ``seed`` starts kitchen ``e`` on episode seed ``seed + e``; a list gives
+        kitchen ``e`` the seed ``seed[e]`` (one per kitchen; ``None`` entries draw one).
+        Later episodes of kitchen ``e`` draw their seeds from ``default_rng(seed + e)``
+        (resp. ``seed[e]``), as that env's own generator would: kitchen ``e`` plays the
+        same episodes as ``gymnasium.make("OvercookedPlus-v0")`` reset with that seed."""
+        seeds = self._seed_list(seed)
+        super().reset(seed=None)  # Gymnasium's own check refuses lists with a generic error
+        if seeds is not None:
+            seeds = [int(self.np_random.integers(2**31 - 1)) if s is None else s for s in seeds]
+        elif not self._seeded:  # a first reset without a seed: draw one
+            start = int(self.np_random.integers(2**31 - 1))
+            seeds = [start + e for e in range(self.num_envs)]
+        if seeds is not None:
+            self.sim.reseed_each(seeds)
             self._seeded = True
-        self.sim.reset()
+            self.sim.reset(seeds)
+        else:
+            self.sim.reset()
         self._needs_reset[:] = False
+        self._returns[:] = 0.0
         return self._obs(), {}
 
+    def _seed_list(self, seed: Any) -> list[int | None] | None:
+        """``seed`` as one seed (or None) per kitchen; a bad value is refused here, naming
+        what is accepted."""
+        usage = (f"seed must be None, an int (kitchen e gets seed + e) or a list of "
+                 f"{self.num_envs} ints or None (one per kitchen)")
+        if seed is None:
+            return None
+        if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+            if seed < 0:
+                raise ConfigError(f"{usage}; got the negative seed {seed}")
+            return [int(seed) + e for e in range(self.num_envs)]
+        if isinstance(seed, (list, tuple)):
+            if len(seed) != self.num_envs:
+                raise ConfigError(f"{usage}; got a list of {len(seed)}")
+            for s in seed:
+                if s is not None and (isinstance(s, bool) or not isinstance(s, (int, np.integer))
+                                      or s < 0):
+                    raise ConfigError(f"{usage}; got {s!r} in the list")
+            return [None if s is None else int(s) for s in seed]
+        raise ConfigError(f"{usage}; got {type(seed).__name__}")
+
     def step(self, actions: Any) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, dict]:
+        """Step every kitchen. A kitchen whose episode ends reports its statistics as
+        Gymnasium's ``RecordEpisodeStatistics`` does: ``info["episode"]`` holds arrays
+        ``r`` (return), ``l`` (length), ``dishes``, ``orders`` (completed), ``expired``,
+        ``burns`` over all kitchens, each with its ``_key`` mask, and ``info["_episode"]``
+        marks the kitchens that ended. With ``SAME_STEP`` autoreset they sit in
+        ``info["final_info"]`` (masked by ``info["_final_info"]``), as ``SyncVectorEnv``
+        puts an ended env's info."""
         acts = np.asarray(actions)
         if acts.dtype.kind not in "iu":  # 1.7 or NaN is refused, never truncated
             acts = whole_numbers(actions).reshape(acts.shape)
         info: dict[str, Any] = {}
         if self.metadata["autoreset_mode"] == AutoresetMode.NEXT_STEP:
             restart = np.flatnonzero(self._needs_reset)
+            if len(restart):
+                self._returns[restart] = 0.0
             terminated, truncated = self.sim.step_active(acts, ~self._needs_reset)
             if len(restart):
                 self.sim.reset_envs(restart)
             rewards = self._rewards()
             rewards[restart] = 0.0
-            self._needs_reset = terminated | truncated
+            self._returns += rewards
+            self._needs_reset = ended = terminated | truncated
+            if ended.any():
+                info = self._episode_info(ended)
         else:
-            out = self.sim.step(acts)
-            terminated, truncated, rewards = out.terminated, out.truncated, self._rewards()
-            if out.final_obs:
-                mask = np.zeros(self.num_envs, bool)
-                mask[list(out.final_obs)] = True
+            terminated, truncated = self.sim.step_active(acts)
+            rewards = self._rewards()
+            self._returns += rewards
+            ended = terminated | truncated
+            if ended.any():
+                done = np.flatnonzero(ended)
                 final = np.empty(self.num_envs, object)
-                for e, o in out.final_obs.items():
-                    final[e] = tuple(o.copy())
-                info = {"final_obs": final, "_final_obs": mask}
+                last = self.sim.obs[done].copy()
+                for j, e in enumerate(done.tolist()):
+                    final[e] = tuple(last[j])
+                info = {"final_obs": final, "_final_obs": ended.copy(),
+                        "final_info": self._episode_info(ended), "_final_info": ended.copy()}
+                self.sim.reset_envs(done)
+                self.sim.episodes[done] += 1
+                self._returns[done] = 0.0
         return self._obs(), rewards, terminated, truncated, info
+
+    def _episode_info(self, ended: np.ndarray) -> dict[str, Any]:
+        """The statistics of the episodes that ``ended`` (Gymnasium's masked-array form)."""
+        stats = self.sim.arrays.stats
+        names = {"dishes": "dishes_served", "orders": "orders_completed",
+                 "expired": "orders_expired", "burns": "burns"}
+        mask = ended.copy()
+        episode: dict[str, Any] = {
+            "r": np.where(ended if self._returns.ndim == 1 else ended[:, None],
+                          self._returns, 0.0),
+            "l": np.where(ended, self.sim.arrays.clock[:, _C_T], 0).astype(np.int64)}
+        for key, stat in names.items():
+            episode[key] = np.where(ended, stats[:, _STAT[stat]], 0).astype(np.int64)
+        for key in list(episode):
+            episode["_" + key] = mask
+        return {"episode": episode, "_episode": mask}
 
     def close_extras(self, **kwargs: Any) -> None:
         self.sim.close()

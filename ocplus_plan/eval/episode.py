@@ -161,15 +161,16 @@ def check_partner(partner: str | None, cooks: list[int]) -> None:
                           f"needs at least 2 cooks, one has {min(cooks)} (raise --n-agents)")
 
 
-def kitchen_unavailable(spec: str, preset: str, n_agents: int) -> str | None:
+def kitchen_unavailable(spec: str, preset: str, n_agents: int,
+                        map_name: str | None = None) -> str | None:
     """The reason an agent that runs here cannot play this kitchen (a bare ``ppo`` with no
-    shipped checkpoint for the preset and cook count), or None."""
+    shipped checkpoint for the kitchen and cook count), or None."""
     kind, _, arg = spec.partition(":")
     if kind != "ppo":
         return None
     from ..agents.ppo import missing_checkpoint
 
-    return missing_checkpoint(arg or None, preset, n_agents)
+    return missing_checkpoint(arg or None, preset, n_agents, map_name)
 
 
 def _planner_unavailable(name: str) -> str | None:

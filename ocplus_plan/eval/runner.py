@@ -132,7 +132,8 @@ def plan_episodes(cfg: EvalConfig) -> tuple[list[EpisodeSpec], list[dict[str, An
     episodes, skipped = [], []
     for preset, map_name, n_agents in kitchens:
         for agent in cfg.agents:
-            reason = skip_reason[agent] or kitchen_unavailable(agent, preset, n_agents)
+            reason = skip_reason[agent] or kitchen_unavailable(
+                agent, preset, n_agents, map_name)
             base = EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, -1, cfg.horizon,
                                faults=str(fault), rules=tuple(sorted(cfg.rules.items())),
                                partner=cfg.partner)

@@ -21,7 +21,7 @@ per episode while collecting, fit accuracy) and written to ``OUT/train.json``.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -87,23 +87,29 @@ def discounted(rewards: np.ndarray, gamma: float) -> np.ndarray:
     return out
 
 
-def collect(rules: Rules, obs_kind: str, obs_radius: int, teacher: Teacher, steps: int,
+def collect(rules: Rules | Sequence[Rules], obs_kind: str, obs_radius: int, teacher: Teacher, steps: int,
             seed: int, *, learner: LoadedPolicy | None = None, beta: float = 1.0,
             gamma: float = 0.99, reward_scale: float = 0.02,
             team_reward: bool = True) -> tuple[Dataset, list[int]]:
     """Play whole episodes until ``steps`` kitchen steps are recorded; each step the
     teacher labels every cook, and the teacher's (probability ``beta``) or the learner's
-    sampled actions are played. Returns the data and the dishes of each episode. The
+    sampled actions are played; with a list of rule sets (a kitchen distribution) each
+    episode plays one drawn uniformly. Returns the data and the dishes of each episode. The
     reward behind the returns is the one PPO trains on once the shaping is 0 (true game
     reward, the team's sum when ``team_reward``, times ``reward_scale``)."""
-    encoder = make_encoder(obs_kind, rules, obs_radius)
+    pool = [rules] if isinstance(rules, Rules) else list(rules)
+    encoders: dict[int, Any] = {}
     rng = np.random.default_rng([seed, 7])
     data = Dataset([], [], [])
     dishes: list[int] = []
     shaper = RewardShaper(Shaping())
     done_steps, episode = 0, 0
     while done_steps < steps:
-        state = new_state(rules, seed * 1_000_003 + episode)
+        kitchen = pool[int(rng.integers(len(pool)))] if len(pool) > 1 else pool[0]
+        encoder = encoders.get(id(kitchen))
+        if encoder is None:
+            encoder = encoders[id(kitchen)] = make_encoder(obs_kind, kitchen, obs_radius)
+        state = new_state(kitchen, seed * 1_000_003 + episode)
         ctrl = teacher(seed + episode)
         ctrl.reset(state)
         shaper.reset(state)
@@ -168,7 +174,7 @@ def fit(policy: Any, data: Dataset, cfg: Imitation, seed: int) -> dict[str, floa
             "accuracy": round(hits / n, 4)}
 
 
-def pretrain(model: Any, rules: Rules, obs_kind: str, obs_radius: int, teacher: Teacher,
+def pretrain(model: Any, rules: Rules | Sequence[Rules], obs_kind: str, obs_radius: int, teacher: Teacher,
              cfg: Imitation, *, seed: int, gamma: float, reward_scale: float,
              team_reward: bool) -> list[dict[str, Any]]:
     """Behaviour-clone ``teacher`` into ``model.policy`` (an SB3 PPO model), DAgger rounds

@@ -45,11 +45,13 @@ class NpzPolicy:
             raise ConfigError(f"{str(self.path)!r}: not a readable JAX policy ({exc})") from None
         if {f"{p}{i}" for p in "wb" for i in range(3)} - set(self.weights):
             raise ConfigError(f"{str(self.path)!r}: expected weights w0-w2 and b0-b2")
+        obs = info.get("obs", "vector")  # features/window: a policy exported from the trainer
         try:
             self.meta: dict[str, Any] = {
-                "obs": "vector", "obs_radius": int(info.get("obs_radius", 0)),
+                "obs": obs, "obs_radius": int(info.get("obs_radius", 0)),
                 "obs_size": int(info["obs_size"]), "n_agents": int(info["n_agents"]),
-                "map": info.get("map"), "act": "sample", "engine": "jax"}
+                "map": info.get("map"), "act": info.get("act") or "sample",
+                "engine": "jax" if obs == "vector" else "sb3"}
         except (KeyError, TypeError, ValueError) as exc:
             raise ConfigError(f"{str(self.path)!r}: train.json lacks a valid {exc}") from None
 

@@ -1,5 +1,7 @@
 """Which observation a policy sees: ``features`` (this package's egocentric encoder, the
-default) or ``grid`` (the SPEC section 8 ``vector`` encoding of :mod:`ocplus_plan.sim.observe`).
+default), ``grid`` (the SPEC section 8 ``vector`` encoding of :mod:`ocplus_plan.sim.observe`)
+or ``window`` (both: the features, then the grid encoding of an ``obs_radius`` window around
+the cook, whose size is the same on every map: the default for a kitchen distribution).
 
 Both are wrapped to one small interface, :class:`ObsEncoder`: ``size`` and
 ``encode_all(state, agents)`` -> ``(len(agents), size)`` float32.
@@ -17,7 +19,9 @@ from ..sim.rules import Rules
 from ..sim.state import State
 from .features import FeatureEncoder
 
-OBS_KINDS: tuple[str, ...] = ("features", "grid")
+OBS_KINDS: tuple[str, ...] = ("features", "grid", "window")
+#: the window radius of ``window`` observations when none is given
+DEFAULT_WINDOW = 2
 
 
 class ObsEncoder(Protocol):
@@ -44,13 +48,33 @@ class GridEncoder:
         return obs if agents is None else obs[list(agents)]
 
 
+class WindowEncoder:
+    """The path features followed by the scaled grid encoding of a radius-``obs_radius``
+    window (the same size on every map and cook count)."""
+
+    def __init__(self, rules: Rules, obs_radius: int) -> None:
+        if obs_radius < 1:
+            raise ConfigError(f"window observations need obs_radius >= 1 (0 is the whole map, "
+                              f"whose size differs between maps), got {obs_radius}")
+        self._features = FeatureEncoder(rules)
+        self._grid = GridEncoder(rules, obs_radius)
+        self.size = self._features.size + self._grid.size
+
+    def encode_all(self, state: State, agents: Sequence[int] | None = None) -> np.ndarray:
+        return np.concatenate([self._features.encode_all(state, agents),
+                               self._grid.encode_all(state, agents)], axis=1)
+
+
 def make_encoder(kind: str, rules: Rules, obs_radius: int = 0) -> ObsEncoder:
     """The encoder named ``kind`` for ``rules`` (``ConfigError`` for an unknown kind)."""
     if kind == "features":
         return FeatureEncoder(rules)
     if kind == "grid":
         return GridEncoder(rules, obs_radius)
+    if kind == "window":
+        return WindowEncoder(rules, obs_radius)
     raise ConfigError(f"unknown observation kind {kind!r}; choose one of {', '.join(OBS_KINDS)}")
 
 
-__all__ = ["OBS_KINDS", "GridEncoder", "ObsEncoder", "make_encoder"]
+__all__ = ["DEFAULT_WINDOW", "OBS_KINDS", "GridEncoder", "ObsEncoder", "WindowEncoder",
+           "make_encoder"]

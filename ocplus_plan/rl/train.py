@@ -29,7 +29,8 @@ from ..errors import ConfigError
 from ..sim.rules import Rules, make_rules
 from .imitation import Imitation, Teacher, pretrain
 from .lean import PRECISIONS
-from .obs import OBS_KINDS
+from .kitchens import curriculum_stages, distribution_rules, parse_maps
+from .obs import DEFAULT_WINDOW, OBS_KINDS
 from .policy import load_policy, require_rl, write_meta
 from .shaping import Shaping
 from .weights import WeightsPolicy, pickled_trusted, refuse_pickled, save_weights
@@ -45,10 +46,17 @@ class TrainConfig:
     preset: str = "easy"
     n_agents: int | None = None
     map: str | None = None
+    #: a kitchen distribution (rl/kitchens.py): ``gen:FAMILY:SPLIT:A-B[,...]``; each
+    #: episode draws one of its kitchens (exclusive with ``map`` and ``curriculum``)
+    maps: str | None = None
+    #: with ``maps``: grow the pool from the smallest kitchens to all of them in this many
+    #: stages over the first ``curriculum_fraction`` of training (1: no curriculum)
+    map_stages: int = 1
     steps: int = 300_000
     seed: int = 0
     out: str = "runs/ppo"
-    obs: str = "features"
+    #: "features", "grid", "window", or "auto": window (radius 2) with ``maps``, else features
+    obs: str = "auto"
     obs_radius: int = 0
     n_kitchens: int = 8
     n_steps: int = 128
@@ -86,11 +94,22 @@ class TrainConfig:
     algo: str = "sb3"
     #: the lean loop's matrix products: "fp32" or "bf16" (autocast; weights stay float32)
     precision: str = "fp32"
+    #: continue this checkpoint's run (a ``policy.zip`` or ``checkpoints/step_*.zip``): its
+    #: weights, Adam state and step count, so the learning-rate schedule, the shaping anneal
+    #: and the checkpoints go on where they stopped
+    resume: str | None = None
+    #: also log SB3's training metrics as TensorBoard event files in this folder (the
+    #: ``tensorboard`` extra)
+    tensorboard: str | None = None
     #: torch device of the SB3 trainer: "cpu", "cuda", "cuda:N" or "auto" (cuda when
     #: torch sees one); the lean loop runs on the CPU
     device: str = "cpu"
 
     def __post_init__(self) -> None:
+        if self.obs == "auto":
+            object.__setattr__(self, "obs", "window" if self.maps else "features")
+        if self.obs == "window" and self.obs_radius == 0:
+            object.__setattr__(self, "obs_radius", DEFAULT_WINDOW)
         if self.engine == "auto":
             from ..sim.fast.batch import numba_available
 
@@ -122,8 +141,20 @@ class TrainConfig:
             raise ConfigError(f"hidden layer sizes must be positive, got {self.hidden}")
         if self.init is not None and not self.init.endswith(".npz") and not pickled_trusted():
             raise refuse_pickled(self.init)
+        if self.resume is not None and not pickled_trusted():  # an SB3 zip: optimiser state
+            raise refuse_pickled(self.resume)
         if self.bc is not None:
             self.imitation().validate()
+        if self.resume is not None and (self.init or self.bc or self.curriculum
+                                        or self.map_stages > 1 or self.algo != "sb3"):
+            raise ConfigError("resume continues a plain sb3 run: drop init, bc, the curricula "
+                              "and --algo lean (they belong to the run being resumed)")
+        if self.maps is not None and (self.map is not None or self.curriculum):
+            raise ConfigError("maps (a kitchen distribution) replaces map and curriculum: "
+                              "give one of them")
+        if isinstance(self.map_stages, bool) or not isinstance(self.map_stages, int) \
+                or self.map_stages < 1:
+            raise ConfigError(f"map_stages must be a positive integer, got {self.map_stages!r}")
         if self.algo not in ALGOS:
             raise ConfigError(f"algo must be one of {', '.join(ALGOS)}, got {self.algo!r}")
         if self.precision not in PRECISIONS:
@@ -155,6 +186,16 @@ def _rules(config: TrainConfig, preset: str, with_map: bool) -> Rules:
     return make_rules(preset, map=config.map if with_map else None, **kw)
 
 
+def _pool(config: TrainConfig) -> list[Rules]:
+    """The kitchens of ``config.maps`` as training rules (empty without ``maps``)."""
+    if config.maps is None:
+        return []
+    kw: dict[str, Any] = {"reward_mode": "individual"}
+    if config.n_agents is not None:
+        kw["n_agents"] = config.n_agents
+    return distribution_rules(parse_maps(config.maps, config.preset), config.preset, **kw)
+
+
 def _lr_schedule(initial: float):
     def schedule(progress_remaining: float) -> float:
         # linear decay to 10 % of the initial rate: late updates refine, not rewrite
@@ -167,9 +208,18 @@ def build(config: TrainConfig) -> tuple[Any, Any, list[Rules], Rules]:
     """The PPO model and its vec env for ``config`` (no training yet): ``(model, venv,
     curriculum stages, target rules)``. Also used by experiments/bench_train.py."""
     config.validate()
-    target = _rules(config, config.preset, with_map=True)
+    pool = _pool(config)
+    target = pool[0] if pool else _rules(config, config.preset, with_map=True)
     stages = [_rules(config, p, with_map=config.map is not None) for p in config.curriculum]
     require_rl()
+    if config.tensorboard:
+        import importlib.util
+
+        from ..errors import DependencyNotInstalled
+
+        if importlib.util.find_spec("tensorboard") is None:
+            raise DependencyNotInstalled("--tensorboard needs the tensorboard package: pip "
+                                         "install 'ocplus-plan[tensorboard]'")
     import torch
     from stable_baselines3 import PPO
 
@@ -181,10 +231,10 @@ def build(config: TrainConfig) -> tuple[Any, Any, list[Rules], Rules]:
         raise ConfigError(f"device {config.device!r}: torch sees no CUDA device here; "
                           "use --device cpu (or auto)")
     venv = KitchenVecEnv(
-        [target, *stages] if stages else target, config.n_kitchens, config.seed,
+        pool or ([target, *stages] if stages else target), config.n_kitchens, config.seed,
         obs=config.obs, obs_radius=config.obs_radius, shaping=config.shaping,
         team_reward=config.team_reward, reward_scale=config.reward_scale, engine=config.engine,
-        threads=config.torch_threads,
+        threads=config.torch_threads, draw=bool(pool),
     )
     venv.rule_labels = {id(r): spec for r, spec in zip(stages, config.curriculum)}
     venv.rule_labels[id(target)] = config.preset
@@ -219,14 +269,18 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
     # nowhere, into the run's own folder (the monitor writes episodes.csv itself)
     from stable_baselines3.common.logger import configure
 
-    model.set_logger(configure(str(out), []))
+    model.set_logger(configure(config.tensorboard or str(out),
+                               ["tensorboard"] if config.tensorboard else []))
     if config.init:
         _start_from(model, venv, config)
+    if config.resume:
+        _resume(model, venv, config)
 
     meta_base = {
         "obs": config.obs, "obs_radius": config.obs_radius, "obs_size": venv.obs_size,
-        "preset": config.preset, "map": target.layout.name, "n_agents": target.n_agents,
-        "act": "sample",
+        "preset": config.preset, "map": config.maps or target.layout.name,
+        "n_agents": target.n_agents, "act": "sample",
+        **({"maps": config.maps, "kitchens": len(venv.rule_list)} if config.maps else {}),
     }
     t0 = time.perf_counter()
 
@@ -243,7 +297,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
     imitation = None
     if config.bc is not None:
         rounds = pretrain(
-            model, target, config.obs, config.obs_radius, teacher, config.imitation(),
+            model, list(venv.rule_list) if config.maps else target, config.obs, config.obs_radius, teacher, config.imitation(),
             seed=config.seed, gamma=config.gamma, reward_scale=config.reward_scale,
             team_reward=config.team_reward,
         )
@@ -263,17 +317,9 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         checkpoint_every=every, save=save, stream=sys.stderr if progress else None,
         max_wall_s=config.max_wall_s,
     )
+    monitor._next_checkpoint = (model.num_timesteps // every + 1) * every
     try:
-        if stages:
-            switch = int(config.steps * config.curriculum_fraction)
-            if switch:
-                learner.learn(switch, callback=monitor)
-            venv.set_rules(target)
-            if not monitor.out_of_time:
-                learner.learn(config.steps - switch, callback=monitor,
-                              reset_num_timesteps=False)
-        else:
-            learner.learn(config.steps, callback=monitor)
+        _learn(learner, venv, config, monitor, stages, target)
     finally:
         monitor.close()
     wall = time.perf_counter() - t0
@@ -303,6 +349,39 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
     return summary
 
 
+def _learn(learner: Any, venv: Any, config: TrainConfig, monitor: Any, stages: list[Rules],
+           target: Rules) -> None:
+    """PPO for ``config.steps``: through the kitchen curriculum, the preset curriculum
+    (``stages``, then ``target``), or plainly."""
+    if config.maps and config.map_stages > 1:
+        _learn_widening(learner, venv, config, monitor)
+    elif stages:
+        switch = int(config.steps * config.curriculum_fraction)
+        if switch:
+            learner.learn(switch, callback=monitor)
+        venv.set_rules(target)
+        if not monitor.out_of_time:
+            learner.learn(config.steps - switch, callback=monitor, reset_num_timesteps=False)
+    else:
+        done = learner.num_timesteps if config.resume else 0
+        learner.learn(max(config.steps - done, 1), callback=monitor,
+                      reset_num_timesteps=not config.resume)
+
+
+def _learn_widening(learner: Any, venv: Any, config: TrainConfig, monitor: Any) -> None:
+    """The kitchen curriculum: the pools of :func:`curriculum_stages`, each for an equal
+    share of the first ``curriculum_fraction`` of training, then every kitchen."""
+    pools = curriculum_stages(list(venv.rule_list), config.map_stages)
+    share = int(config.steps * config.curriculum_fraction) // (len(pools) - 1)
+    done = 0
+    for k, pool in enumerate(pools):
+        steps = share if k < len(pools) - 1 else config.steps - done
+        venv.set_rules(pool)
+        if steps > 0 and not monitor.out_of_time:
+            learner.learn(steps, callback=monitor, reset_num_timesteps=k == 0)
+        done += steps
+
+
 def _start_from(model: Any, venv: Any, config: TrainConfig) -> None:
     """Load ``config.init``'s weights into ``model`` (same observations and shapes)."""
     import numpy as np
@@ -326,6 +405,26 @@ def _start_from(model: Any, venv: Any, config: TrainConfig) -> None:
         model.policy.load_state_dict(state)
     except RuntimeError as exc:
         raise ConfigError(f"--init {config.init}: network shapes differ ({exc})") from exc
+
+
+def _resume(model: Any, venv: Any, config: TrainConfig) -> None:
+    """Load ``config.resume``'s weights, Adam state and step count into ``model``."""
+    from stable_baselines3.common.save_util import load_from_zip_file
+
+    meta = load_policy(config.resume).meta
+    if meta["obs"] != config.obs or meta["obs_size"] != venv.obs_size:
+        raise ConfigError(f"--resume-from {config.resume}: its observations ({meta['obs']}, "
+                          f"{meta['obs_size']}) differ from this run's ({config.obs}, "
+                          f"{venv.obs_size}); resume with the run's own options")
+    data, _, _ = load_from_zip_file(config.resume, device=model.device)
+    try:
+        model.set_parameters(config.resume, exact_match=True, device=model.device)
+    except (RuntimeError, ValueError) as exc:
+        raise ConfigError(f"--resume-from {config.resume}: network shapes differ ({exc})") from exc
+    model.num_timesteps = int(data["num_timesteps"])
+    if model.num_timesteps >= config.steps:
+        raise ConfigError(f"--resume-from {config.resume}: it has {model.num_timesteps} steps "
+                          f"already; raise --timesteps above that")
 
 
 def _cpus() -> int:

@@ -44,7 +44,9 @@ class KitchenVecEnv(VecEnv):
     """``n_kitchens`` kitchens x ``n_agents`` agents as one vectorised env.
 
     ``rules`` may be one rule set or a list (a curriculum mixture: kitchen ``j`` uses
-    ``rules[j % len(rules)]``); all must have the same number of agents.
+    ``rules[j % len(rules)]``; with ``draw=True`` each episode of kitchen ``j`` plays a
+    rule set drawn uniformly from the list by kitchen ``j``'s own generator: a kitchen
+    distribution); all must have the same number of agents.
     ``team_reward``: each agent receives the team's summed true reward (plus its own
     shaping), so the agent that chops shares the delivery. ``reward_scale`` multiplies
     everything the learner sees (the logged game reward is unscaled). ``threads``: the
@@ -64,6 +66,7 @@ class KitchenVecEnv(VecEnv):
         reward_scale: float = 0.02,
         engine: str = "loop",
         threads: int | None = None,
+        draw: bool = False,
     ) -> None:
         rule_list = [rules] if isinstance(rules, Rules) else list(rules)
         if not rule_list:
@@ -90,7 +93,7 @@ class KitchenVecEnv(VecEnv):
         if len(sizes) != 1:
             raise ConfigError(
                 f"the rule sets give observations of different sizes {sorted(sizes)}; "
-                "use obs='features' (map-independent) for a curriculum over maps"
+                "use obs='features' or 'window' (map-independent) for a curriculum over maps"
             )
         self.obs_size = sizes.pop()
         self.team_reward = team_reward
@@ -98,6 +101,8 @@ class KitchenVecEnv(VecEnv):
         self.shaping_coef = 1.0
         self.base_seed = int(seed)
         self._seed_rngs = [seed_sequence(self.base_seed, j) for j in range(n_kitchens)]
+        self.draw = bool(draw)
+        self._draw_rngs = [np.random.default_rng([self.base_seed, j, 1]) for j in range(n_kitchens)]
         self.finished: list[dict[str, Any]] = []
         #: id(rules) -> a name for the episode log (curriculum stages); default: the preset
         self.rule_labels: dict[int, str] = {}
@@ -134,11 +139,18 @@ class KitchenVecEnv(VecEnv):
 
     def _new_episode(self, kitchen: int) -> State:
         seed = next_seed(self._seed_rngs[kitchen])
-        state = new_state(self.rule_list[kitchen % len(self.rule_list)], seed)
+        state = new_state(self._pick(kitchen), seed)
         self.shapers[kitchen].reset(state)
         self._game_return[kitchen] = 0.0
         self._train_return[kitchen] = 0.0
         return state
+
+    def _pick(self, kitchen: int) -> Rules:
+        """The rules of kitchen ``kitchen``'s next episode."""
+        rules = self.rule_list
+        if self.draw:
+            return rules[int(self._draw_rngs[kitchen].integers(len(rules)))]
+        return rules[kitchen % len(rules)]
 
     def _encode(self, kitchen: int) -> np.ndarray:
         state = self.states[kitchen]
@@ -153,17 +165,19 @@ class KitchenVecEnv(VecEnv):
         from .fast.batch_kitchens import BatchKitchens
 
         scale = None
-        if self._obs_kind == "grid":
+        if self._obs_kind in ("grid", "window"):
             def scale(rules: Rules) -> np.ndarray:
-                return self._encoder(rules)._scale
-        return BatchKitchens(self.n_kitchens, seed, shaping, self._obs_radius, scale, threads)
+                enc = self._encoder(rules)
+                return (enc._grid if self._obs_kind == "window" else enc)._scale
+        return BatchKitchens(self.n_kitchens, seed, shaping, self._obs_radius, scale, threads,
+                             features=self._obs_kind != "grid")
 
     def _batch_obs(self) -> np.ndarray:
         """Every slot's observation (a new array: SB3 keeps the last one across a step)."""
         return self.batch.obs().reshape(self.num_envs, self.obs_size)
 
     def _start_batch(self, kitchens: list[int]) -> None:
-        rules = [self.rule_list[j % len(self.rule_list)] for j in kitchens]
+        rules = [self._pick(j) for j in kitchens]
         self.batch.start(kitchens, rules, [next_seed(self._seed_rngs[j]) for j in kitchens])
         for j in kitchens:
             self._game_return[j] = 0.0

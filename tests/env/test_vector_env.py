@@ -170,3 +170,64 @@ def test_the_batched_box_pickles_without_repeating_its_bounds():
     np.testing.assert_array_equal(back.sample(), box.sample())
     with pytest.raises(ConfigError, match="positive number"):
         BatchedBox(box.single, 0)
+
+
+# ---------------------------------------------------------------- Gymnasium conventions
+
+def test_an_int_seed_starts_kitchen_e_like_a_sync_vector_env_seeded_seed_plus_e():
+    kw = dict(preset="hard", n_agents=2, horizon=5, obs_radius=2)
+    venv = OvercookedPlusVectorEnv(3, compiled=False, **kw)
+    sync = gym.make_vec("OvercookedPlus-v0", num_envs=3, vectorization_mode="sync", **kw)
+    obs, _ = venv.reset(seed=7)
+    ref, _ = sync.reset(seed=7)
+    assert venv.sim.seeds == [7, 8, 9]
+    rng = np.random.default_rng(2)
+    for _ in range(13):  # two autoresets: later episodes draw seeds as each env would
+        for a in range(2):
+            np.testing.assert_array_equal(obs[a], ref[a])
+        acts = rng.integers(0, 5, size=(3, 2))
+        obs, r, te, tr, _ = venv.step(acts)
+        ref, r2, te2, tr2, _ = sync.step(acts)
+        np.testing.assert_array_equal(r, r2)
+        np.testing.assert_array_equal(te | tr, te2 | tr2)
+
+
+def test_a_list_of_seeds_gives_one_seed_per_kitchen():
+    venv = OvercookedPlusVectorEnv(3, **KW)
+    venv.reset(seed=[4, 40, None])
+    assert venv.sim.seeds[:2] == [4, 40] and isinstance(venv.sim.seeds[2], int)
+
+
+@pytest.mark.parametrize("seed", [[1, 2], [1, "x", 3], -1, 1.5, [True, 1, 2]])
+def test_a_bad_seed_is_refused_with_the_packages_message(seed):
+    venv = OvercookedPlusVectorEnv(3, **KW)
+    with pytest.raises(ConfigError, match="one per kitchen"):
+        venv.reset(seed=seed)
+
+
+@pytest.mark.parametrize("mode", [AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP])
+def test_finished_episodes_report_dishes_orders_and_burns_in_info(mode):
+    venv = OvercookedPlusVectorEnv(2, autoreset_mode=mode, **KW)
+    venv.reset(seed=3)
+    rng = np.random.default_rng(0)
+    total = np.zeros(2)
+    for t in range(12):
+        _, r, te, tr, info = venv.step(rng.integers(0, 5, size=(2, 2)))
+        total += r
+        if t < 11:
+            assert "episode" not in info and "final_info" not in info
+    stats = info["final_info"] if mode == AutoresetMode.SAME_STEP else info
+    assert mode == AutoresetMode.NEXT_STEP or info["_final_info"].all()
+    ep = stats["episode"]
+    assert stats["_episode"].all() and ep["_dishes"].all()
+    np.testing.assert_array_equal(ep["l"], [12, 12])
+    np.testing.assert_allclose(ep["r"], total)
+    for key in ("dishes", "orders", "expired", "burns"):
+        assert ep[key].shape == (2,) and ep[key].dtype == np.int64 and (ep[key] >= 0).all()
+    if mode == AutoresetMode.NEXT_STEP:  # the ended kitchens are not restarted yet
+        for e in range(2):
+            s = venv.sim.state(e).stats
+            assert (ep["dishes"][e], ep["orders"][e], ep["expired"][e], ep["burns"][e]) == (
+                s["dishes_served"], s["orders_completed"], s["orders_expired"], s["burns"])
+    next_info = venv.step(np.zeros((2, 2), int))[4]
+    assert "episode" not in next_info

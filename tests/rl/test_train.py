@@ -233,7 +233,7 @@ def test_bare_ppo_without_a_checkpoint_for_the_kitchen_is_a_skipped_row(tmp_path
     from ocplus_plan.eval.results import read_results
     from ocplus_plan.eval.runner import EvalConfig, run_eval
 
-    def nothing_shipped(preset: str, n_agents: int):
+    def nothing_shipped(preset: str, n_agents: int, **kw):
         raise ConfigError(f"no shipped PPO checkpoint for preset {preset!r}")
 
     monkeypatch.setattr(ppo, "shipped_checkpoint", nothing_shipped)

@@ -25,17 +25,20 @@ from ..shaping import Shaping
 class BatchKitchens:
     """``n_kitchens`` kitchens, each playing an episode of one of several rule sets.
 
-    ``grid_scale(rules)``: the factor of ``grid`` observations (None: ``features``).
+    ``grid_scale(rules)``: the factor of ``grid`` observations (None: ``features``);
+    ``features`` with a ``grid_scale``: both, features first (``window`` observations).
     ``threads``: the engines' threads (:class:`BatchSim`'s; None: the cores available).
     """
 
     def __init__(self, n_kitchens: int, seed: int, shaping: Shaping, obs_radius: int = 0,
-                 grid_scale: Any = None, threads: int | None = None) -> None:
+                 grid_scale: Any = None, threads: int | None = None,
+                 features: bool | None = None) -> None:
         self.n_kitchens = n_kitchens
         self.seed = seed
         self.shaping = shaping
         self.obs_radius = obs_radius
         self.grid_scale = grid_scale
+        self.features = grid_scale is None if features is None else features
         self.threads = threads
         #: id(rules) -> (rules, engine, features, kitchens active in it)
         self.engines: dict[int, tuple[Rules, BatchSim, BatchFeatures, np.ndarray]] = {}
@@ -85,10 +88,10 @@ class BatchKitchens:
         for rules, sim, feats, active in self.engines.values():
             if not active.any():
                 continue
-            if self.grid_scale is None:
-                part = feats.encode(active)
-            else:
-                part = sim.obs * self.grid_scale(rules)
+            parts = [feats.encode(active)] if self.features else []
+            if self.grid_scale is not None:
+                parts.append(sim.obs * self.grid_scale(rules))
+            part = parts[0] if len(parts) == 1 else np.concatenate(parts, axis=2)
             if out is None:
                 out = np.empty((self.n_kitchens, *part.shape[1:]), np.float32)
             out[active] = part[active]

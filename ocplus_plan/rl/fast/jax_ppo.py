@@ -6,6 +6,11 @@ a rollout steps ``n_envs`` kitchens ``n_steps`` times with ``vmap``, then GAE an
 ``n_epochs`` passes of clipped-PPO minibatch updates; ``lax.scan`` runs ``n_updates``
 such updates inside one ``jit``. The network and Adam are written out in ``jax.numpy``
 (no flax or optax). :func:`save_npz` writes the weights as a ``.npz``.
+
+:func:`train_to_folder` (``ocplus train --engine jax``) runs the updates in jitted chunks
+(:func:`make_chunks`): after each it prints a progress line (updates, agent-steps,
+steps/s, reward per step, dishes per finished episode) and writes a checkpoint
+(``OUT/checkpoints/update_NNNNNN.npz`` with its ``train.json``).
 """
 
 from __future__ import annotations
@@ -62,6 +67,19 @@ def _adam(params: Any, grads: Any, opt: Any, lr: float) -> tuple[Any, Any]:
 
 def make_train(env: Any, config: PPOConfig) -> Any:
     """``train(key) -> (params, mean team reward per update)``: the whole run, jittable."""
+    init, run = make_chunks(env, config, config.n_updates)
+
+    def train(key: Any) -> tuple[Any, Any]:
+        carry, (rewards, _) = run(init(key))
+        return carry[0], rewards
+
+    return train
+
+
+def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
+    """``(init(key) -> carry, run(carry) -> (carry, (reward per step, dishes per finished
+    episode) per update))``: ``run`` does ``chunk`` updates; both jittable, and ``carry[0]``
+    is the parameters."""
     n, e, t_len = env.num_agents, config.n_envs, config.n_steps
     agent_ids = jnp.eye(n)
 
@@ -77,9 +95,10 @@ def make_train(env: Any, config: PPOConfig) -> Any:
         act = jax.random.categorical(k_act, logits)
         logp = jnp.take_along_axis(jax.nn.log_softmax(logits), act[..., None], -1)[..., 0]
         acts = {a: act[:, i] for i, a in enumerate(env.agents)}
-        obs, state, rew, dones, _ = jax.vmap(env.step)(jax.random.split(k_step, e), state, acts)
+        obs, state, rew, dones, info = jax.vmap(env.step)(jax.random.split(k_step, e), state,
+                                                          acts)
         r = rew[env.agents[0]] * config.reward_scale
-        step = (x, act, logp, value, r, dones["__all__"])
+        step = (x, act, logp, value, r, dones["__all__"], info["dishes"][:, 0])
         return (params, state, obs, key), step
 
     def gae(values: Any, rewards: Any, dones: Any, last: Any) -> tuple[Any, Any]:
@@ -111,7 +130,7 @@ def make_train(env: Any, config: PPOConfig) -> Any:
         params, opt, state, obs, key = carry
         (params, state, obs, key), traj = jax.lax.scan(
             rollout, (params, state, obs, key), None, length=t_len)
-        x, act, logp, value, r, done = traj
+        x, act, logp, value, r, done, dishes = traj
         _, last = forward(params, actor_inputs(obs))
         adv, ret = gae(value, r, done.astype(jnp.float32), last)
         flat = [a.reshape(t_len * e * n, *a.shape[3:]) for a in (x, act, logp, adv, ret)]
@@ -134,18 +153,21 @@ def make_train(env: Any, config: PPOConfig) -> Any:
 
         (params, opt, key), _ = jax.lax.scan(epoch, (params, opt, key), None,
                                              length=config.n_epochs)
-        return (params, opt, state, obs, key), r.mean() / config.reward_scale
+        ended = done.sum()
+        served = jnp.where(ended > 0, (dishes * done).sum() / jnp.maximum(ended, 1), jnp.nan)
+        return (params, opt, state, obs, key), (r.mean() / config.reward_scale, served)
 
-    def train(key: Any) -> tuple[Any, Any]:
+    def init(key: Any) -> tuple:
         k_init, k_reset, key = jax.random.split(key, 3)
         obs, state = jax.vmap(env.reset)(jax.random.split(k_reset, e))
         params = init_params(k_init, env.obs_size + n, config.hidden)
         zeros = jax.tree_util.tree_map(jnp.zeros_like, params)
-        carry = (params, (zeros, zeros, 0), state, obs, key)
-        (params, *_), rewards = jax.lax.scan(update, carry, None, length=config.n_updates)
-        return params, rewards
+        return (params, (zeros, zeros, 0), state, obs, key)
 
-    return train
+    def run(carry: tuple) -> tuple:
+        return jax.lax.scan(update, carry, None, length=chunk)
+
+    return init, run
 
 
 def agent_steps(config: PPOConfig, n_agents: int) -> int:
@@ -158,34 +180,58 @@ def save_npz(path: str, params: dict[str, Any]) -> None:
 
 
 def train_to_folder(env: Any, config: PPOConfig, out: str, seed: int = 0,
-                    command: str | None = None) -> dict[str, Any]:
-    """Train (one jitted call), write ``OUT/policy.npz`` and ``OUT/train.json``; returns
-    the summary (``ocplus train --engine jax``)."""
+                    command: str | None = None, chunk: int | None = None,
+                    stream: Any = None) -> dict[str, Any]:
+    """Train in jitted chunks of ``chunk`` updates (default: about ten chunks), printing a
+    progress line to ``stream`` and writing ``OUT/checkpoints/update_NNNNNN.npz`` after
+    each; then ``OUT/policy.npz`` and ``OUT/train.json``. Returns the summary
+    (``ocplus train --engine jax``)."""
     import json
     import time
     from pathlib import Path
 
     folder = Path(out)
-    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "checkpoints").mkdir(parents=True, exist_ok=True)
+    chunk = max(1, min(chunk or -(-config.n_updates // 10), config.n_updates))
+    per_update = agent_steps(config._replace(n_updates=1), env.num_agents)
+    record = {"engine": "jax", "preset": env.rules.preset, "map": env.rules.layout.name,
+              "n_agents": env.num_agents, "obs_size": env.obs_size,
+              "obs_radius": env.obs_radius, "config": config._asdict(), "command": command}
+    (folder / "checkpoints" / "train.json").write_text(json.dumps(record, indent=2) + "\n")
     t0 = time.perf_counter()
-    params, rewards = jax.block_until_ready(jax.jit(make_train(env, config))(
-        jax.random.PRNGKey(seed)))
+    init, run = make_chunks(env, config, chunk)
+    carry = jax.jit(init)(jax.random.PRNGKey(seed))
+    run = jax.jit(run)
+    rewards: list[float] = []
+    dishes: list[float] = []
+    done = 0
+    while done < config.n_updates:
+        carry, (r, d) = jax.block_until_ready(run(carry))
+        done += chunk
+        rewards += [float(x) for x in np.asarray(r)]
+        dishes += [float(x) for x in np.asarray(d)]
+        save_npz(str(folder / "checkpoints" / f"update_{done:06d}.npz"), carry[0])
+        if stream is not None:
+            wall = time.perf_counter() - t0
+            recent = [x for x in dishes[-chunk:] if x == x]
+            print(f"update {done}/{config.n_updates * 1}  {done * per_update} agent-steps  "
+                  f"{done * per_update / wall:.0f} steps/s  reward/step {rewards[-1]:.3f}  "
+                  f"dishes/episode {np.mean(recent) if recent else float('nan'):.2f}  "
+                  f"{wall:.0f}s", file=stream, flush=True)
     wall = time.perf_counter() - t0
-    save_npz(str(folder / "policy.npz"), params)
-    steps = agent_steps(config, env.num_agents)
+    save_npz(str(folder / "policy.npz"), carry[0])
+    steps = done * per_update
     summary = {
-        "command": command, "engine": "jax", "policy": str(folder / "policy.npz"),
-        "timesteps": steps, "wall_time_s": round(wall, 1),
-        "steps_per_s": round(steps / wall, 1), "config": config._asdict(),
-        "preset": env.rules.preset, "map": env.rules.layout.name, "n_agents": env.num_agents,
-        "obs_size": env.obs_size, "obs_radius": env.obs_radius,
-        "team_reward_per_step_by_update":
-            [round(float(r), 4) for r in np.asarray(rewards)],
+        **record, "policy": str(folder / "policy.npz"), "timesteps": steps,
+        "wall_time_s": round(wall, 1), "steps_per_s": round(steps / wall, 1),
+        "team_reward_per_step_by_update": [round(r, 4) for r in rewards],
+        "dishes_per_episode_by_update": [None if d != d else round(d, 3) for d in dishes],
         "device": str(jax.devices()[0].device_kind),
     }
     (folder / "train.json").write_text(json.dumps(summary, indent=2) + "\n")
     return summary
 
 
-__all__ = ["PPOConfig", "agent_steps", "forward", "init_params", "make_train", "save_npz",
+__all__ = ["PPOConfig", "agent_steps", "forward", "init_params", "make_chunks", "make_train",
+           "save_npz",
            "train_to_folder"]

@@ -222,15 +222,23 @@ class BatchSim:
         """Restart the kitchens' episode-seed sequences from ``seed`` (next resets use it)."""
         self._seed_rngs = [seed_sequence(seed, i) for i in range(self.n_envs)]
 
+    def reseed_each(self, seeds: list[int]) -> None:
+        """Kitchen ``e``'s episode seeds now come from ``default_rng(seeds[e])``: the
+        generator a Gymnasium env reseeded with ``seeds[e]`` draws its next seeds from."""
+        if len(seeds) != self.n_envs:
+            raise ConfigError(f"reseed_each needs {self.n_envs} seeds, got {len(seeds)}")
+        self._seed_rngs = [np.random.default_rng(int(s)) for s in seeds]
+
     @property
     def obs(self) -> np.ndarray:
         """``(n_envs, n_agents, size)`` float32: every agent's current observation (live:
         the next step rewrites it; copy what you keep)."""
         return self.arrays.obs
 
-    def reset(self) -> np.ndarray:
-        """Start a new episode everywhere; returns :attr:`obs`."""
-        self.reset_envs(np.arange(self.n_envs))
+    def reset(self, seeds: list[int] | None = None) -> np.ndarray:
+        """Start a new episode everywhere (seeded ``seeds[e]``, or from each kitchen's
+        sequence); returns :attr:`obs`."""
+        self.reset_envs(np.arange(self.n_envs), seeds)
         self.episodes[:] = 0
         return self.arrays.obs
 

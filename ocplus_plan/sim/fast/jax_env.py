@@ -59,13 +59,21 @@ class JaxKitchenEnv:
     2 left, 3 up, 4 stay). Rewards: ``reward_scope="team"`` gives every cook the team's
     reward (the Gymnasium env's scalar), ``"per_agent"`` each cook its own. ``step``
     restarts a finished episode at once (the returned observation is the new episode's);
-    ``infos`` holds per cook ``terminated``, ``truncated`` and the cook's own reward.
+    ``infos`` holds per cook ``terminated``, ``truncated``, the cook's own reward and the
+    dishes the episode has served (before any restart), and
+    ``infos["shaped_reward"]``, keyed by cook like the rewards: the part of the reward paid
+    for subtasks (a chop, a wash, a cooked steak; the rules' ``subtask_finished``), as
+    JaxMARL's Overcooked reports its dense shaping, so JaxMARL's ``ippo_ff_overcooked``
+    (which adds it, annealed, to the reward) runs unchanged. The rewards include that part
+    unless ``sparse_reward=True``, which leaves it out of them (as JaxMARL's Overcooked
+    does: then the shaping is only what the trainer adds back).
     """
 
     def __init__(self, rules: Rules, obs_radius: int = 0, reward_scope: str = "team",
-                 checked: bool = False) -> None:
+                 checked: bool = False, sparse_reward: bool = False) -> None:
         if reward_scope not in ("team", "per_agent"):
             raise ConfigError(f"reward_scope must be 'team' or 'per_agent', got {reward_scope!r}")
+        self.sparse_reward = bool(sparse_reward)
         self.rules = rules
         self.reward_scope = reward_scope
         self.obs_radius = obs_radius
@@ -105,7 +113,8 @@ class JaxKitchenEnv:
     @classmethod
     def from_options(cls, rules: Rules, *, mode: str = "vector", obs_radius: int = 0,
                      comm: Any = None, render_mode: str | None = None,
-                     reward_scope: str = "team", checked: bool = False) -> JaxKitchenEnv:
+                     reward_scope: str = "team", checked: bool = False,
+                     sparse_reward: bool = False) -> JaxKitchenEnv:
         """The env for the Gymnasium env's parsed options; refuses what it cannot do."""
         if mode != "vector":
             raise ConfigError(f"the JAX kitchen observes vectors only, got mode={mode!r}; "
@@ -116,7 +125,7 @@ class JaxKitchenEnv:
         if render_mode is not None:
             raise ConfigError(f"the JAX kitchen draws nothing (render_mode={render_mode!r}); "
                               "render a state with the Gymnasium env instead")
-        return cls(rules, obs_radius, reward_scope, checked)
+        return cls(rules, obs_radius, reward_scope, checked, sparse_reward)
 
     def observation_space(self, agent: str) -> Box:
         return self.observation_spaces[agent]
@@ -147,6 +156,7 @@ class JaxKitchenEnv:
         """One step; a finished episode restarts (from ``reset_state`` or a fresh reset
         with a key split from ``key``) and the observation is the new episode's first."""
         key, key_reset = jax.random.split(key)
+        before = state
         out = self._advance(state, actions)
         done = out.terminated | out.truncated
         if reset_state is None:
@@ -154,21 +164,39 @@ class JaxKitchenEnv:
         else:
             fresh = reset_state._replace(params=None)
         state = jax.tree_util.tree_map(lambda r, s: jnp.where(done, r, s), fresh, out.state)
-        return self.get_obs(state), state, *self._report(out)
+        return self.get_obs(state), state, *self._report(out, before, actions)
 
     def step_env(self, key: Any, state: jk.KitchenState, actions: dict[str, Any],
                  ) -> tuple[Any, ...]:
         """One step without the restart."""
         out = self._advance(state, actions)
-        return self.get_obs(out.state), out.state, *self._report(out)
+        return self.get_obs(out.state), out.state, *self._report(out, state, actions)
 
     # ------------------------------------------------------------ internals
-    def _advance(self, state: jk.KitchenState, actions: dict[str, Any]) -> jk.StepOut:
+    def _advance(self, state: jk.KitchenState, actions: dict[str, Any],
+                 rewards: Any = None) -> jk.StepOut:
         joint = jnp.stack([jnp.asarray(actions[a]).reshape(()) for a in self.agents])
-        out = jk.step(None, self.kitchen_state(state), joint)
+        kitchen = self.kitchen_state(state)
+        if rewards is not None:  # the same step paying other reward values
+            kitchen = kitchen._replace(params=kitchen.params._replace(rewards=rewards))
+        out = jk.step(None, kitchen, joint)
         return out._replace(state=out.state._replace(params=None))
 
-    def _report(self, out: jk.StepOut) -> tuple[dict, dict, dict]:
+    def _shaping(self, out: jk.StepOut, before: jk.KitchenState, actions: dict[str, Any]) -> Any:
+        """Per cook, the subtask part of what :meth:`_report` pays. The team's is the
+        subtasks done this step (chops, washes, cooked steaks: the stats) times their
+        reward; a cook's own is the same step replayed paying only subtasks."""
+        value = float(self.rules.rewards.subtask_finished)
+        n = self.num_agents
+        if self.reward_scope == "team":
+            done = (out.state.stats - before.stats)[jnp.array([jk.S_CHOPS, jk.S_COOKS,
+                                                               jk.S_WASHES])].sum()
+            return jnp.full(n, value * done, jnp.float32)
+        unit = jnp.zeros(6, jnp.float32).at[jk.R_SUBTASK].set(value)
+        return self._advance(before, actions, unit).rewards
+
+    def _report(self, out: jk.StepOut, before: jk.KitchenState, actions: dict[str, Any],
+                ) -> tuple[dict, dict, dict]:
         n = self.num_agents
         own = out.rewards
         if self.reward_scope == "team":
@@ -177,11 +205,15 @@ class JaxKitchenEnv:
             paid = jnp.full(n, team)
         else:
             paid = own
+        shaped = self._shaping(out, before, actions)
+        if self.sparse_reward:
+            paid = paid - shaped
         rewards = {a: paid[i] for i, a in enumerate(self.agents)}
         done = out.terminated | out.truncated
         dones = {a: done for a in self.agents} | {"__all__": done}
         infos = {"terminated": jnp.full(n, out.terminated), "truncated": jnp.full(n, out.truncated),
-                 "own_reward": own}
+                 "own_reward": own, "dishes": jnp.full(n, out.state.stats[jk.S_DISHES]),
+                 "shaped_reward": {a: shaped[i] for i, a in enumerate(self.agents)}}
         return rewards, dones, infos
 
 

@@ -89,3 +89,21 @@ def test_a_jax_policy_refuses_a_kitchen_of_another_shape(tmp_path: Path):
     from ocplus_plan.sim import make_rules
     with pytest.raises(ConfigError, match="size 7"):
         NpzInputs(make_rules("easy", n_agents=1), meta)
+
+
+def test_the_jax_trainer_prints_progress_and_writes_periodic_checkpoints(tmp_path: Path, capsys):
+    from ocplus_plan.cli import main
+    from ocplus_plan.rl.npz_policy import NpzPolicy
+
+    code = main(["train", "--engine", "jax", "--preset", "easy", "--steps", "24",
+                 "--n-kitchens", "2", "--n-steps", "4", "--n-epochs", "1", "--hidden", "8,8",
+                 "--obs-radius", "1", "--out", str(tmp_path)])
+    assert code == 0
+    lines = [x for x in capsys.readouterr().err.splitlines() if x.startswith("update ")]
+    assert [x.split()[1] for x in lines] == ["1/3", "2/3", "3/3"]
+    assert "steps/s" in lines[0] and "dishes/episode" in lines[0]
+    saved = sorted(p.name for p in (tmp_path / "checkpoints").glob("update_*.npz"))
+    assert saved == ["update_000001.npz", "update_000002.npz", "update_000003.npz"]
+    assert NpzPolicy(tmp_path / "checkpoints" / saved[0]).meta["n_agents"] == 1
+    summary = json.loads((tmp_path / "train.json").read_text())
+    assert len(summary["dishes_per_episode_by_update"]) == 3

@@ -89,3 +89,41 @@ def test_without_jax_the_extra_is_named(monkeypatch):
         ocplus_plan.make_jax_env("hard")
     monkeypatch.undo()
     sys.modules.update(saved)
+
+
+def test_infos_report_the_subtask_part_as_shaped_reward_keyed_by_cook():
+    from ocplus_plan.agents import make_controller
+    from ocplus_plan.sim import make_rules, new_state, transition
+
+    rules = make_rules("easy", n_agents=2, horizon=60)
+    state, greedy = new_state(rules, 0), make_controller("greedy", 0)
+    greedy.reset(state)
+    joint = []
+    while not state.done:  # the greedy cook's actions, played on the reference simulator
+        acts = greedy.act(state)
+        greedy.observe(state, transition(state, acts).events)
+        joint.append(acts)
+    from ocplus_plan.sim.fast import jax_kitchen as jk
+
+    team = ocplus_plan.make_jax_env("easy", n_agents=2, horizon=60)
+    own = ocplus_plan.make_jax_env("easy", n_agents=2, horizon=60, reward_scope="per_agent",
+                                   sparse_reward=True)
+    totals = {}
+    for name, env in (("team", team), ("own", own)):
+        _, s = env.reset(jax.random.PRNGKey(0))
+        shaped = paid = full = 0.0
+        for t, acts in enumerate(joint[:-1]):  # the last step restarts the episode
+            _, s, rew, _, infos = env.step(jax.random.PRNGKey(t), s,
+                                           {"agent_0": acts[0], "agent_1": acts[1]})
+            assert set(infos["shaped_reward"]) == set(env.agents)
+            shaped += sum(float(infos["shaped_reward"][a]) for a in env.agents)
+            paid += sum(float(rew[a]) for a in env.agents)
+            full += float(np.asarray(infos["own_reward"]).sum())
+        subtasks = int(sum(s.stats[k] for k in (jk.S_CHOPS, jk.S_COOKS, jk.S_WASHES)))
+        totals[name] = (shaped, paid, full, subtasks)
+    value = rules.rewards.subtask_finished
+    subtasks = totals["team"][3]
+    assert subtasks > 0 and totals["own"][3] == subtasks
+    assert totals["team"][0] == pytest.approx(2 * value * subtasks)  # each cook gets the team's
+    assert totals["own"][0] == pytest.approx(value * subtasks)
+    assert totals["own"][1] == pytest.approx(totals["own"][2] - totals["own"][0])  # sparse
