@@ -19,16 +19,16 @@ def _shelf(tmp_path: Path, *names: str) -> Path:
 
 
 def test_a_bare_ppo_never_plays_a_checkpoint_of_another_cook_count(tmp_path: Path):
-    shelf = _shelf(tmp_path, "hard_1agent.zip", "hard_2agent.zip")
-    assert shipped_checkpoint("hard", 2, shelf).name == "hard_2agent.zip"
+    shelf = _shelf(tmp_path, "hard_1agent.npz", "hard_2agent.npz")
+    assert shipped_checkpoint("hard", 2, shelf).name == "hard_2agent.npz"
     with pytest.raises(ConfigError, match="another number of cooks is never played"):
         shipped_checkpoint("hard", 3, shelf)
 
 
 def test_a_kitchen_without_its_own_checkpoint_gets_the_generalist_for_its_cooks(tmp_path):
-    shelf = _shelf(tmp_path, "medium_2agent.zip", "generalist_2agent/policy.npz")
+    shelf = _shelf(tmp_path, "medium_2agent.npz", "generalist_2agent/policy.npz")
     own = shipped_checkpoint("medium", 2, shelf, map_name="medium_kitchen")
-    assert own.name == "medium_2agent.zip"
+    assert own.name == "medium_2agent.npz"
     other = shipped_checkpoint("medium", 2, shelf, map_name="gen:open:test:3:medium")
     assert other.parent.name == "generalist_2agent" and other.name == "policy.npz"
     with pytest.raises(ConfigError, match="no shipped PPO checkpoint for 1 cook"):
