@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from .codes import READY_STATE, Item, ItemState, Where
+from .codes import Item, ItemState, Where
+from .processes import READY_STATE
 from .records import Event, Order
 
 if TYPE_CHECKING:

@@ -15,8 +15,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import ConfigError, MapFormatError
-from .codes import ITEM_NAMES, PROCESS_STATION, VEGETABLES, Cell, Item
+from .codes import ITEM_NAMES, VEGETABLES, Cell, Item
 from .maps import Layout, load_map
+from .processes import PROCESSES, Process, ingredient_process
 
 Recipe = tuple[Item, ...]  # sorted multiset of ingredient kinds, each to be processed
 
@@ -83,6 +84,9 @@ class Rules:
     #: fixed orders (the paper's ``fixed_task``): exactly these are open in every episode,
     #: and a served or expired order is replaced by one with the same recipe
     fixed_orders: tuple[Recipe, ...] | None = None
+    #: the process stations' rules (:mod:`.processes`); durations named by a record's
+    #: ``duration_param`` / ``overrun_param`` are read from the fields above
+    processes: tuple[Process, ...] = PROCESSES
 
     def recipe_name(self, recipe: Recipe) -> str:
         return recipe_name(recipe)
@@ -127,7 +131,7 @@ PRESETS: dict[str, Preset] = {
 
 _RULE_FIELDS = {
     f.name for f in fields(Rules)
-    if f.name not in ("preset", "layout", "recipes", "rewards", "fixed_orders")
+    if f.name not in ("preset", "layout", "recipes", "rewards", "fixed_orders", "processes")
 }
 _OVERRIDES = _RULE_FIELDS | {"map", "rewards", "recipes", "recipe_sizes", "fixed_orders"}
 #: the generator seed of ``fixed_orders=True`` (a constant: the same orders in every episode)
@@ -144,8 +148,8 @@ def recipe_pool(
     ``required`` (exactly one steak) or ``allowed``.
     """
     supply = {}
-    for item in (Item.TOMATO, Item.LETTUCE, Item.ONION, Item.STEAK):
-        if layout.cells_of(PROCESS_STATION[item]):
+    for item, process in sorted(ingredient_process().items()):
+        if layout.cells_of(process.station):
             supply[item] = len(layout.cells_of(Cell(int(item))))
     kinds = sorted(k for k, n in supply.items() if n > 0)
     pool: list[Recipe] = []

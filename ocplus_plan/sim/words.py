@@ -15,7 +15,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from .codes import READY_STATE, Action, Item, ItemState, Where
+from .codes import Action, Item, ItemState, Where
+from .processes import READY_STATE
 from .orders import matching_order, plate_recipe
 from .queries import Bump, bump_effect
 from .stations import CELL_KINDS
