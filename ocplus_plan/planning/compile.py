@@ -331,9 +331,10 @@ def _agent_facts(builder: _Builder, state: State, spots: SpotGraph, objects: _Ob
 
 
 def _rule_numbers(builder: _Builder, state: State) -> None:
-    rules = state.rules
-    builder.num("chop_full", rules.chop_steps)
-    builder.num("wash_full", rules.wash_steps)
+    rules, tables = state.rules, state.geo.proc
+    for j, p in enumerate(tables.processes):  # chop_full, wash_full
+        if not p.timed:
+            builder.num(f"{p.verb}_full", tables.duration[j])
     builder.num("cook_cost_full", rules.cook_time + 1)
     builder.num("cook_lo_full", rules.cook_time)
     builder.num("cook_hi_full", max(rules.cook_time, rules.burn_time - 1))
@@ -372,10 +373,10 @@ def _item_facts(builder: _Builder, state: State, objects: _Objects,
             builder.num("cook_lo", max(1, rules.cook_time - progress), name)
             builder.num("cook_hi", max(1, rules.cook_time - progress,
                                        rules.burn_time - progress - 1), name)
-        elif partial and kind == Item.PLATE:
-            builder.num("wash_left", max(1, rules.wash_steps - progress), name)
-        elif partial:
-            builder.num("chop_left", max(1, rules.chop_steps - progress), name)
+        elif partial:  # chop_left, wash_left
+            j = next(j for j, p in enumerate(geo.proc.processes) if kind in p.takes)
+            builder.num(f"{geo.proc.processes[j].verb}_left",
+                        max(1, geo.proc.duration[j] - progress), name)
         if where == Where.PLATE:
             builder.true("on_plate", name, objects.items[loc])
         elif where == Where.WAITING:

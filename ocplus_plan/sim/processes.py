@@ -45,6 +45,8 @@ class Process:
 
     #: the verb of one unit of work: event names are ``<verb>`` and ``<verb>_done``
     verb: str
+    #: its past participle ("chopped"): names the planning model's ``pick_<past>``
+    past: str
     station: Cell
     #: the item kinds it takes, and the state they must be in
     takes: tuple[Item, ...]
@@ -77,11 +79,11 @@ class Process:
 
 #: the shipped process stations (the presets' rules)
 PROCESSES: tuple[Process, ...] = (
-    Process("chop", Cell.BOARD, (Item.TOMATO, Item.LETTUCE, Item.ONION), ItemState.FRESH,
+    Process("chop", "chopped", Cell.BOARD, (Item.TOMATO, Item.LETTUCE, Item.ONION), ItemState.FRESH,
             ItemState.CHOPPED, "bump", 3, "chop_steps", stat="chops"),
-    Process("cook", Cell.PAN, (Item.STEAK,), ItemState.FRESH, ItemState.COOKED, "time", 10,
+    Process("cook", "cooked", Cell.PAN, (Item.STEAK,), ItemState.FRESH, ItemState.COOKED, "time", 10,
             "cook_time", ItemState.BURNT, 20, "burn_time", stat="cooks"),
-    Process("wash", Cell.SINK, (Item.PLATE,), ItemState.DIRTY, ItemState.CLEAN, "bump", 3,
+    Process("wash", "washed", Cell.SINK, (Item.PLATE,), ItemState.DIRTY, ItemState.CLEAN, "bump", 3,
             "wash_steps", stat="washes", plates=False),
 )
 
