@@ -132,6 +132,31 @@ class ProcessTables:
         i = self.by_code.get(code, -1)
         return self.processes[i] if i >= 0 else None
 
+    def index_of(self, kind: int) -> int:
+        """The process that takes item kind ``kind`` (-1: none)."""
+        return next((j for j, p in enumerate(self.processes) if kind in p.takes), -1)
+
+    def work(self, kind: int) -> int:
+        """Units of work (bumps or ticks) that finish item kind ``kind``'s process (0: none)."""
+        j = self.index_of(kind)
+        return self.duration[j] if j >= 0 else 0
+
+    def progress_scale(self, kind: int) -> int:
+        """What an item's progress is divided by to lie in [0, 1]: its overrun tick + 1 on a
+        station that overruns (the pan's ``burn_time + 1``), else its duration (1: none)."""
+        j = self.index_of(kind)
+        if j < 0:
+            return 1
+        return self.overrun[j] + 1 if self.overrun_state[j] >= 0 else self.duration[j]
+
+    def duration_at(self, code: int) -> int:
+        """The duration of station ``code``'s process."""
+        return self.duration[self.by_code[code]]
+
+    def overrun_at(self, code: int) -> int:
+        """The overrun tick of station ``code``'s process (-1: it never overruns)."""
+        return self.overrun[self.by_code[code]]
+
 
 def _param(rules: Rules | None, name: str, default: int) -> int:
     return int(getattr(rules, name)) if rules is not None and name else default

@@ -54,7 +54,7 @@ _CELL, _HAND, _PLATE, _WAITING = (int(w) for w in (Where.CELL, Where.HAND, Where
                                                     Where.WAITING))
 _NOWHERE = -1  # padded item slots
 _FRESH, _CLEAN, _DIRTY = int(ItemState.FRESH), int(ItemState.CLEAN), int(ItemState.DIRTY)
-_PLATE_KIND, _STEAK = int(Item.PLATE), int(Item.STEAK)
+_PLATE_KIND = int(Item.PLATE)
 _COUNTER, _BLOCK = int(Cell.COUNTER), int(Cell.BLOCK)
 _DELIVERY, _TRASH = int(Cell.DELIVERY), int(Cell.TRASH)
 #: per cell code + 1 (BLOCK is -1): is it a counter (spawn tiles are counters)
@@ -185,8 +185,7 @@ def kitchen_params(rules: Rules, obs_radius: int = 0, *, max_items: int | None =
     home = np.zeros(max_items, np.int32)
     home[:n_items] = [pad_cell(h, cols) for h in geo.item_home]
     den = np.ones(max_items, np.float32)
-    den[:n_items] = [rules.burn_time + 1 if k == _STEAK else rules.wash_steps
-                     if k == _PLATE_KIND else rules.chop_steps for k in geo.item_kind]
+    den[:n_items] = [geo.proc.progress_scale(k) for k in geo.item_kind]
     ingredients = ITEM_KINDS[:4]
     recipes = np.zeros((max_recipes, 4), np.int32)
     recipes[: len(rules.recipes)] = [[r.count(k) for k in ingredients] for r in rules.recipes]
