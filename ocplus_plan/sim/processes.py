@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..errors import ConfigError
 from .codes import Cell, Item, ItemState
 
 if TYPE_CHECKING:
@@ -86,6 +87,44 @@ PROCESSES: tuple[Process, ...] = (
     Process("wash", "washed", Cell.SINK, (Item.PLATE,), ItemState.DIRTY, ItemState.CLEAN, "bump", 3,
             "wash_steps", stat="washes", plates=False),
 )
+
+
+#: the counters a record may count into (the stats every engine keeps)
+COUNTERS = ("chops", "cooks", "washes", "burns")
+
+
+def check_processes(processes: tuple[Process, ...], durations: dict[str, int] | None = None,
+                    ) -> None:
+    """Raise :class:`ConfigError` naming the record and the fix for a rule set of process
+    records that no engine could run (``durations``: the rule parameters a record names)."""
+    seen: dict[Cell, str] = {}
+    for p in processes:
+        what = f"process {p.verb!r}"
+        if not isinstance(p, Process):
+            raise ConfigError(f"processes must be Process records, got {p!r}")
+        if p.station in seen:
+            raise ConfigError(f"{what}: station {p.station.name.lower()} already runs "
+                              f"{seen[p.station]!r}; give each station one process")
+        seen[p.station] = p.verb
+        if p.drive not in DRIVES:
+            raise ConfigError(f"{what}: drive {p.drive!r} is not one of {', '.join(DRIVES)}")
+        if not p.takes or p.takes_state == p.makes_state:
+            raise ConfigError(f"{what} must take at least one item kind and change its state")
+        for name in (p.stat, p.overrun_stat):
+            if name not in COUNTERS:
+                raise ConfigError(f"{what}: counter {name!r} is not one of {', '.join(COUNTERS)}")
+        duration = (durations or {}).get(p.duration_param, p.duration)
+        if isinstance(duration, bool) or not isinstance(duration, int) or duration < 1:
+            raise ConfigError(f"{what}: duration must be a positive integer, got {duration!r}")
+        if p.overrun_state is not None:
+            overrun = (durations or {}).get(p.overrun_param, p.overrun)
+            if not p.timed or overrun < duration:
+                raise ConfigError(f"{what}: an overrun needs a time-driven station and an "
+                                  f"overrun time >= its duration ({overrun} < {duration})")
+    kinds = [k for p in processes for k in p.takes]
+    dup = sorted({k.name.lower() for k in kinds if kinds.count(k) > 1})
+    if dup:
+        raise ConfigError(f"item kind(s) {dup} are taken by two processes; one each")
 
 
 def ingredient_process(processes: tuple[Process, ...] = PROCESSES) -> dict[Item, Process]:
@@ -195,5 +234,5 @@ def _compile(procs: tuple[Process, ...], durations: tuple[tuple[int, int], ...])
         accepts, works, plateable, accepts.tolist(), works.tolist(), plateable.tolist())
 
 
-__all__ = ["DRIVES", "N_KINDS", "N_STATES", "PROCESSES", "PROCESS_STATION", "READY_STATE", "Process", "ProcessTables",
+__all__ = ["COUNTERS", "DRIVES", "check_processes", "N_KINDS", "N_STATES", "PROCESSES", "PROCESS_STATION", "READY_STATE", "Process", "ProcessTables",
            "ingredient_process", "process_tables", "ready_state"]

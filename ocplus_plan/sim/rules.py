@@ -17,7 +17,7 @@ import numpy as np
 from ..errors import ConfigError, MapFormatError
 from .codes import ITEM_NAMES, VEGETABLES, Cell, Item
 from .maps import Layout, load_map
-from .processes import PROCESSES, Process, ingredient_process
+from .processes import PROCESSES, Process, check_processes, ingredient_process
 
 Recipe = tuple[Item, ...]  # sorted multiset of ingredient kinds, each to be processed
 
@@ -322,6 +322,8 @@ def _check(rules: Rules) -> None:
             f"burn_time ({rules.burn_time}) must be >= cook_time ({rules.cook_time}), "
             "or a steak would burn before it is cooked"
         )
+    if rules.processes is not PROCESSES:
+        check_processes(rules.processes, {f.name: getattr(rules, f.name) for f in fields(rules)})
     for name in ("order_time_limit", "stop_after_orders"):
         v = getattr(rules, name)
         if v is not None and (isinstance(v, bool) or not isinstance(v, int) or v < 1):

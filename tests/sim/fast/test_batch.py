@@ -16,6 +16,9 @@ from ocplus_plan.errors import ConfigError, DependencyNotInstalled, InvalidActio
 from ocplus_plan.sim import make_rules, new_state, transition
 from ocplus_plan.sim.fast.batch import BatchSim, compile_kernels, kernels, numba_available
 from ocplus_plan.sim.observe import VectorEncoder
+from ocplus_plan.sim.processes import PROCESSES
+from ocplus_plan.sim.rules import with_overrides
+from tests.sim.test_processes import KNEAD, MARINATE, ROAST, SEAR
 
 needs_numba = pytest.mark.skipif(not numba_available(),
                                  reason="numba is not installed (the 'fast' extra)")
@@ -105,6 +108,20 @@ def test_the_differential_run_reaches_every_rule():
     seen = {k for k, v in totals.items() if v}
     assert {"dishes_served", "washes", "chops", "cooks", "burns", "layout_switches",
             "orders_expired"} <= seen, totals
+
+
+@pytest.mark.parametrize("compiled", [pytest.param(True, marks=needs_numba), False])
+def test_other_process_records_step_the_same_as_transition(compiled):
+    """The kernels index the records' tables: a board kneaded by bumps of another verb and
+    a pan with other times, then a time-driven board that spoils (marinate) and a
+    bump-driven pan (sear), run as in the reference step."""
+    hard = make_rules("hard", **dict(QUICK, horizon=40))
+    totals = compare(with_overrides(hard, processes=(KNEAD, ROAST, PROCESSES[2])), 0, 3,
+                     steps=80, n_envs=3, compiled=compiled, noise=0.2)
+    assert totals["chops"] and totals["cooks"] and totals["burns"], totals
+    totals = compare(with_overrides(hard, processes=(MARINATE, SEAR, PROCESSES[2])), 0, 4,
+                     steps=80, n_envs=3, compiled=compiled, noise=0.3)
+    assert totals["chops"] and totals["burns"], totals
 
 
 @pytest.mark.parametrize("compiled", [pytest.param(True, marks=needs_numba), False])

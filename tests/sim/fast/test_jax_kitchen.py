@@ -24,7 +24,10 @@ from ocplus_plan.sim.orders import draw_order  # noqa: E402
 from ocplus_plan.sim.state import geometry_for  # noqa: E402
 
 # the numba engine's test draws the same rule variations (short processes and horizons)
+from ocplus_plan.sim.processes import PROCESSES  # noqa: E402
+from ocplus_plan.sim.rules import with_overrides  # noqa: E402
 from tests.sim.fast.test_batch import QUICK, draw_overrides  # noqa: E402
+from tests.sim.test_processes import KNEAD, MARINATE, ROAST, SEAR  # noqa: E402
 
 MAX_ITEMS, MAX_RECIPES = 8, 12  # one padded shape for every preset: few compilations
 BATCH = 4  # kitchens per compared batch (one batch size: one compilation per view)
@@ -196,6 +199,18 @@ def test_the_differential_run_reaches_every_rule():
     seen = {k for k, v in totals.items() if v}
     assert {"dishes_served", "washes", "chops", "cooks", "burns", "layout_switches",
             "orders_expired"} <= seen, totals
+
+
+def test_other_process_records_step_the_same_as_transition():
+    """The JAX kitchen gathers the records' tables: kitchens with other records (a board
+    kneaded by bumps of another verb, a pan with other times; a time-driven board that
+    spoils, a bump-driven pan) next to the shipped records, in one batch."""
+    hard = make_rules("hard", **dict(QUICK, horizon=40))
+    wash = PROCESSES[2]
+    kitchens = [with_overrides(hard, processes=(KNEAD, ROAST, wash)), hard,
+                with_overrides(hard, processes=(MARINATE, SEAR, wash))]
+    totals = compare(kitchens, 0, 3, steps=80, noise=0.2)
+    assert totals["chops"] and totals["cooks"] and totals["burns"], totals
 
 
 def test_one_compiled_step_serves_kitchens_of_different_layouts():

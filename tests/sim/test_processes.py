@@ -1,0 +1,118 @@
+"""Process records are the rules' single source: the shipped ones compile to the presets'
+rules, other records change what every engine does, bad records are refused. Map G (3x7):
+
+    row 0:  counter steak counter pan  counter tomato counter
+    row 1:  plate   .     .       .    .       .      delivery
+    row 2:  counter trash board   sink counter counter counter
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import pytest
+
+from ocplus_plan.errors import ConfigError
+from ocplus_plan.sim import Item, ItemState, Where, new_state
+from ocplus_plan.sim.codes import Action, Cell
+from ocplus_plan.sim.processes import PROCESSES, READY_STATE, Process, process_tables
+from ocplus_plan.sim.queries import Bump, bump_effect
+from ocplus_plan.sim.rules import with_overrides
+
+from .conftest import kitchen
+from .helpers import give, item_of, kinds, place, run, set_pos
+
+R, D, L, U, S = (int(a) for a in (Action.RIGHT, Action.DOWN, Action.LEFT, Action.UP, Action.STAY))
+G = [
+    [1, 10, 1, 9, 1, 3, 1],
+    [5, 0, 0, 0, 0, 0, 7],
+    [1, 12, 6, 11, 1, 1, 1],
+]
+CHOP, COOK, WASH = PROCESSES
+#: a pan driven by bumps: two sears cook a steak
+SEAR = Process("sear", "seared", Cell.PAN, (Item.STEAK,), ItemState.FRESH, ItemState.COOKED,
+               "bump", 2, stat="cooks")
+#: a board driven by time: a vegetable is ready after 2 ticks and spoils (burnt) after 4
+MARINATE = Process("marinate", "marinated", Cell.BOARD, (Item.TOMATO, Item.LETTUCE, Item.ONION),
+                   ItemState.FRESH, ItemState.CHOPPED, "time", 2, "", ItemState.BURNT, 4,
+                   stat="chops")
+
+#: what the greedy cooks use unchanged: a board kneaded by four bumps of another verb (so
+#: each is a Bump.WORK) and a pan that roasts in 2 ticks and burns after 5
+KNEAD = replace(CHOP, verb="knead", past="kneaded", duration=4, duration_param="")
+ROAST = replace(COOK, verb="roast", past="roasted", duration=2, duration_param="", overrun=5,
+                overrun_param="")
+
+
+def g_kitchen(processes=PROCESSES, **kw):
+    kw.setdefault("recipes", ["tomato+steak"])
+    rules, _ = kitchen(G, [[1, 1]], preset="medium", **kw)
+    rules = with_overrides(rules, processes=processes)
+    return rules, new_state(rules, 0)
+
+
+def test_the_shipped_records_are_the_presets_rules():
+    t = process_tables()
+    assert [p.verb for p in t.processes] == ["chop", "cook", "wash"]
+    assert READY_STATE == {Item.TOMATO: ItemState.CHOPPED, Item.LETTUCE: ItemState.CHOPPED,
+                           Item.ONION: ItemState.CHOPPED, Item.STEAK: ItemState.COOKED}
+    board, pan, sink = (t.by_code[int(c)] for c in (Cell.BOARD, Cell.PAN, Cell.SINK))
+    assert t.works[board, Item.TOMATO, ItemState.FRESH]
+    assert not t.works[board, Item.TOMATO, ItemState.CHOPPED]
+    assert t.accepts[pan, Item.STEAK, ItemState.FRESH] and t.accepts[pan, Item.STEAK, ItemState.COOKED]
+    assert not t.accepts[pan, Item.STEAK, ItemState.BURNT] and not t.works[pan].any()
+    assert t.works[sink, Item.PLATE, ItemState.DIRTY] and not t.plates[sink] and t.plates[pan]
+    assert (t.duration, t.overrun) == ((3, 10, 3), (-1, 20, -1))
+
+
+def test_durations_come_from_the_rule_parameters_a_record_names():
+    rules, _ = g_kitchen(chop_steps=5, cook_time=4, burn_time=7)
+    assert process_tables(rules).duration == (5, 4, 3)
+    assert process_tables(rules).overrun == (-1, 7, -1)
+
+
+def test_a_bump_driven_record_makes_the_pan_work_by_bumps():
+    rules, s = g_kitchen((CHOP, SEAR, WASH))
+    steak = item_of(s, Item.STEAK)
+    give(s, 0, steak)
+    set_pos(s, 0, (1, 3))
+    run(s, U)  # onto the pan
+    assert s.item_where[steak] == Where.CELL
+    assert bump_effect(s, -1, s.geo.flat(0, 3)) == Bump.WORK
+    ev, _ = run(s, S, S, S)  # time does nothing on a bump-driven pan
+    assert s.item_state[steak] == ItemState.FRESH and s.item_progress[steak] == 0
+    ev, rw = run(s, U)
+    assert kinds(ev) == ["sear"]
+    ev, rw = run(s, U)
+    assert "sear_done" in kinds(ev) and s.item_state[steak] == ItemState.COOKED
+    assert s.stats["cooks"] == 1 and rw[-1][0] == pytest.approx(rules.rewards.subtask_finished
+                                                                + rules.rewards.step_penalty)
+    run(s, U)  # nothing left to sear: picked up
+    assert s.agent_hand[0] == steak
+
+
+def test_a_time_driven_record_makes_the_board_work_and_spoil_by_itself():
+    _, s = g_kitchen((MARINATE, COOK, WASH))
+    tomato = item_of(s, Item.TOMATO)
+    place(s, tomato, (2, 2))
+    ev, _ = run(s, S)
+    assert s.item_state[tomato] == ItemState.FRESH and s.item_progress[tomato] == 1
+    ev, _ = run(s, S)
+    assert "marinate_done" in kinds(ev) and s.item_state[tomato] == ItemState.CHOPPED
+    ev, _ = run(s, S, S, S)
+    assert "burnt" in kinds(ev) and s.item_state[tomato] == ItemState.BURNT
+    assert s.stats["burns"] == 1 and s.stats["chops"] == 1
+
+
+@pytest.mark.parametrize("bad, message", [
+    ((CHOP, replace(COOK, station=Cell.BOARD), WASH), "already runs"),
+    ((replace(CHOP, drive="magic"), COOK, WASH), "drive"),
+    ((replace(CHOP, duration=0, duration_param=""), COOK, WASH), "positive integer"),
+    ((CHOP, replace(COOK, overrun=3, overrun_param=""), WASH), "overrun"),
+    ((replace(CHOP, stat="dances"), COOK, WASH), "counter"),
+    ((CHOP, replace(COOK, takes=(Item.STEAK, Item.TOMATO)), WASH), "two processes"),
+])
+def test_a_record_no_engine_could_run_is_refused_naming_it(bad, message):
+    rules, _ = g_kitchen()
+    with pytest.raises(ConfigError, match=message):
+        with_overrides(rules, processes=bad)
