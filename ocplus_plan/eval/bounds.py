@@ -343,7 +343,7 @@ class _ItemCosts:
 
     def ingredient(self, i: int) -> tuple[int, int, float]:
         """(classical work, temporal work, chain) of getting item ``i`` onto the dish."""
-        state, rules, geo, paths = self.state, self.rules, self.geo, self.paths
+        state, geo, paths = self.state, self.geo, self.paths
         kind, st, prog = geo.item_kind[i], state.item_state[i], state.item_progress[i]
         where, tile = state.item_where[i], self.tile_of(i)
         holder = state.item_loc[i] if where == Where.HAND else -1
@@ -376,7 +376,7 @@ class _ItemCosts:
 
     def plate(self, q: int) -> tuple[int, float]:
         """(work, chain) of bringing plate ``q`` to the window (plating not included)."""
-        state, rules, geo, paths = self.state, self.rules, self.geo, self.paths
+        state, geo, paths = self.state, self.geo, self.paths
         where, tile = state.item_where[q], self.tile_of(q)
         holder = state.item_loc[q] if where == Where.HAND else -1
         got = 0.0 if tile is None else self.reach(tile) + 1

@@ -330,14 +330,21 @@ def _agent_facts(builder: _Builder, state: State, spots: SpotGraph, objects: _Ob
             builder.true("holding", name, objects.items[held])
 
 
+def _pan_times(state: State) -> tuple[int, int]:
+    """(cook, burn) ticks of the pan's record (the model's cooking is the pan's)."""
+    tables = state.geo.proc
+    return tables.duration_at(Cell.PAN), tables.overrun_at(Cell.PAN)
+
+
 def _rule_numbers(builder: _Builder, state: State) -> None:
     rules, tables = state.rules, state.geo.proc
     for j, p in enumerate(tables.processes):  # chop_full, wash_full
         if not p.timed:
             builder.num(f"{p.verb}_full", tables.duration[j])
-    builder.num("cook_cost_full", rules.cook_time + 1)
-    builder.num("cook_lo_full", rules.cook_time)
-    builder.num("cook_hi_full", max(rules.cook_time, rules.burn_time - 1))
+    cook, burn = _pan_times(state)
+    builder.num("cook_cost_full", cook + 1)
+    builder.num("cook_lo_full", cook)
+    builder.num("cook_hi_full", max(cook, burn - 1))
     builder.true("plates_get_dirty" if rules.dirty_plates else "plates_stay_clean")
 
 
@@ -345,7 +352,7 @@ def _item_facts(builder: _Builder, state: State, objects: _Objects,
                 initial_contents: dict[int, tuple[Item, ...]]) -> list[tuple[int, int]]:
     """Each item's kind, state, progress and where it is; returns the steaks heating on a
     pan (their facts come from :func:`_pans`)."""
-    geo, rules = state.geo, state.rules
+    geo = state.geo
     terrain = geo.terrains[state.layout_index]
     by_kind = sorted(range(state.n_items), key=lambda i: (geo.item_kind[i], i))
     for x, y in itertools.combinations(by_kind, 2):
@@ -369,10 +376,10 @@ def _item_facts(builder: _Builder, state: State, objects: _Objects,
         if not heating:  # a steak cooking on a pan gets its state flag in _pans()
             builder.true(_STATE_FLAG[item_state], name)
         if partial and kind == Item.STEAK:
-            builder.num("cook_cost_left", rules.cook_time - progress + 1, name)
-            builder.num("cook_lo", max(1, rules.cook_time - progress), name)
-            builder.num("cook_hi", max(1, rules.cook_time - progress,
-                                       rules.burn_time - progress - 1), name)
+            cook, burn = _pan_times(state)
+            builder.num("cook_cost_left", cook - progress + 1, name)
+            builder.num("cook_lo", max(1, cook - progress), name)
+            builder.num("cook_hi", max(1, cook - progress, burn - progress - 1), name)
         elif partial:  # chop_left, wash_left
             j = next(j for j, p in enumerate(geo.proc.processes) if kind in p.takes)
             builder.num(f"{geo.proc.processes[j].verb}_left",
@@ -426,7 +433,7 @@ def _switch_literals(builder: _Builder, state: State, spot_name: dict[int, str])
 def _pans(builder: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, int]],
           objects: _Objects) -> None:
     """Steaks on a pan at compile time (not burnt yet): see the model's docstring."""
-    rules = state.rules
+    cook, burn = _pan_times(state)
     occupied = {state.agent_pos[a] for a in objects.agents}
     doomed = set()
     if comp.encoding == "temporal":
@@ -436,8 +443,8 @@ def _pans(builder: _Builder, state: State, comp: Compiled, cooking: list[tuple[i
             ticks = state.item_progress[i]
             builder.true("on_heat", objects.items[i], objects.places[pan])
             builder.true(_STATE_FLAG[ItemState(state.item_state[i])], objects.items[i])
-            opens = max(0, rules.cook_time - ticks)
-            closes = rules.burn_time - ticks + 1
+            opens = max(0, cook - ticks)
+            closes = burn - ticks + 1
             steak = builder.objects[objects.items[i]]
             fl = builder.dom.fluents
             if opens == 0:
@@ -463,9 +470,9 @@ def _pans(builder: _Builder, state: State, comp: Compiled, cooking: list[tuple[i
                     if p != pan or (s in occupied and s != here):
                         continue
                     d = walk_distance(state, here, s, others)
-                    if d is None or ticks + d > rules.burn_time:
+                    if d is None or ticks + d > burn:
                         continue
-                    wait = max(0, rules.cook_time - ticks - d)
+                    wait = max(0, cook - ticks - d)
                     offers.append((d + wait + 1, a, s))
         best: dict[int, tuple[int, int, int]] = {}
         for cost, a, s in sorted(offers):

@@ -16,8 +16,8 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from .codes import Action, Item, ItemState, Where
-from .processes import READY_STATE
 from .orders import matching_order, plate_recipe
+from .processes import READY_STATE
 from .queries import Bump, bump_effect
 from .stations import CELL_KINDS
 

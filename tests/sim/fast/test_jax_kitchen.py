@@ -21,11 +21,11 @@ from ocplus_plan.sim.fast import jax_kitchen as jk  # noqa: E402
 from ocplus_plan.sim.fast.jax_observe import N_CHANNELS, observe  # noqa: E402
 from ocplus_plan.sim.observe import VectorEncoder  # noqa: E402
 from ocplus_plan.sim.orders import draw_order  # noqa: E402
-from ocplus_plan.sim.state import geometry_for  # noqa: E402
 
 # the numba engine's test draws the same rule variations (short processes and horizons)
 from ocplus_plan.sim.processes import PROCESSES  # noqa: E402
 from ocplus_plan.sim.rules import with_overrides  # noqa: E402
+from ocplus_plan.sim.state import geometry_for  # noqa: E402
 from tests.sim.fast.test_batch import QUICK, draw_overrides  # noqa: E402
 from tests.sim.test_processes import KNEAD, MARINATE, ROAST, SEAR  # noqa: E402
 
