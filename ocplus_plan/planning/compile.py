@@ -18,6 +18,7 @@ from typing import Any
 from ..errors import CompileError
 from ..sim.codes import COUNTERS, Cell, Item, ItemState, Where
 from ..sim.state import Order, State
+from ..sim.processes import PROCESSES
 from ..sim.stations import PLACE_FLAGS
 from ._build import Builder as _Builder
 from ._build import new_problem as _new_problem
@@ -141,6 +142,7 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
             "anticipate_switches needs encoding='temporal': the coming layout switches are "
             "timed initial literals, which classical PDDL cannot express"
         )
+    _check_processes(state)
     cooks = _cooks(state, agents)
     goal, model_orders = _goal_orders(state, orders, max_orders)
     geo = state.geo
@@ -170,6 +172,24 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
         _switch_literals(builder, state, objects.spots)
     builder.flush()
     return comp
+
+
+def _check_processes(state: State) -> None:
+    """The model's schemas are written for the shipped process records (any durations; a
+    time-driven station may have another verb): refuse records of another shape rather
+    than plan with wrong rules."""
+    def shape(p: Any) -> tuple:
+        return (p.station, p.drive, p.takes, p.takes_state, p.makes_state, p.overrun_state,
+                p.plates, "" if p.timed else p.verb)
+
+    shipped = {p.station: p for p in PROCESSES}
+    for p in state.rules.processes:
+        if p.station not in shipped or shape(p) != shape(shipped[p.station]):
+            covered = ", ".join(f"{q.verb} on the {q.station.name.lower()}" for q in PROCESSES)
+            raise CompileError(
+                f"the planning model covers the shipped process stations ({covered}, any "
+                f"durations); {p.verb!r} on the {p.station.name.lower()} of map "
+                f"{state.rules.layout.name!r} differs: plan with the shipped records")
 
 
 def _cooks(state: State, agents: Sequence[int] | None) -> tuple[int, ...]:

@@ -118,9 +118,12 @@ def check_processes(processes: tuple[Process, ...], durations: dict[str, int] | 
             raise ConfigError(f"{what}: duration must be a positive integer, got {duration!r}")
         if p.overrun_state is not None:
             overrun = (durations or {}).get(p.overrun_param, p.overrun)
-            if not p.timed or overrun < duration:
-                raise ConfigError(f"{what}: an overrun needs a time-driven station and an "
-                                  f"overrun time >= its duration ({overrun} < {duration})")
+            if not p.timed:
+                raise ConfigError(f"{what}: only a time-driven station overruns; drop the "
+                                  "overrun or make the drive time")
+            if overrun < duration:
+                raise ConfigError(f"{what}: its overrun time ({overrun}) comes before its "
+                                  f"duration ({duration}); make it at least the duration")
     kinds = [k for p in processes for k in p.takes]
     dup = sorted({k.name.lower() for k in kinds if kinds.count(k) > 1})
     if dup:

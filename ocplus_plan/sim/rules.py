@@ -253,6 +253,8 @@ def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, 
     params: dict[str, Any] = (
         {"map_switch_step": layout.map_switch_step} if layout.map_switch_step > 0 else {})
     params.update(overrides)
+    if layout.processes is not None:  # the kitchen file's own process records
+        params["processes"] = layout.processes
     rules = Rules(
         preset=preset,
         layout=layout,

@@ -8,13 +8,16 @@ rules, other records change what every engine does, bad records are refused. Map
 
 from __future__ import annotations
 
+import re
 from dataclasses import replace
 
 import pytest
 
-from ocplus_plan.errors import ConfigError
-from ocplus_plan.sim import Item, ItemState, Where, new_state
+from ocplus_plan.cli import main
+from ocplus_plan.errors import CompileError, ConfigError, MapFormatError
+from ocplus_plan.sim import Item, ItemState, Where, make_rules, new_state
 from ocplus_plan.sim.codes import Action, Cell
+from ocplus_plan.sim.maps import load_map
 from ocplus_plan.sim.processes import PROCESSES, READY_STATE, Process, process_tables
 from ocplus_plan.sim.queries import Bump, bump_effect
 from ocplus_plan.sim.rules import with_overrides
@@ -108,7 +111,7 @@ def test_a_time_driven_record_makes_the_board_work_and_spoil_by_itself():
     ((CHOP, replace(COOK, station=Cell.BOARD), WASH), "already runs"),
     ((replace(CHOP, drive="magic"), COOK, WASH), "drive"),
     ((replace(CHOP, duration=0, duration_param=""), COOK, WASH), "positive integer"),
-    ((CHOP, replace(COOK, overrun=3, overrun_param=""), WASH), "overrun"),
+    ((CHOP, replace(COOK, overrun=3, overrun_param=""), WASH), "overrun time"),
     ((replace(CHOP, stat="dances"), COOK, WASH), "counter"),
     ((CHOP, replace(COOK, takes=(Item.STEAK, Item.TOMATO)), WASH), "two processes"),
 ])
@@ -116,3 +119,68 @@ def test_a_record_no_engine_could_run_is_refused_naming_it(bad, message):
     rules, _ = g_kitchen()
     with pytest.raises(ConfigError, match=message):
         with_overrides(rules, processes=bad)
+
+
+# ---------------------------------------------------------------- a kitchen file's records
+ROAST_PAN = {"station": "pan", "verb": "roast", "takes": ["steak"], "from": "raw",
+             "to": "cooked", "drive": "time", "duration": 6,
+             "overrun": {"state": "burnt", "after": 9}}
+
+
+def roast_map(**entry):
+    return {"name": "roast", "game_map": G, "agent_spawn_points": [[1, 1]],
+            "processes": [dict(ROAST_PAN, **entry)]}
+
+
+def test_a_kitchen_file_gives_its_pan_another_record_and_the_step_follows_it():
+    rules = make_rules("medium", map=roast_map(), recipes=["tomato+steak"])
+    assert [p.verb for p in rules.processes] == ["chop", "roast", "wash"]  # others kept
+    s = new_state(rules, 0)
+    steak = item_of(s, Item.STEAK)
+    place(s, steak, (0, 3))
+    ev, _ = run(s, *[S] * 6)
+    assert "roast_done" in kinds(ev) and s.item_state[steak] == ItemState.COOKED
+    ev, _ = run(s, *[S] * 4)
+    assert "burnt" in kinds(ev) and s.item_state[steak] == ItemState.BURNT
+
+
+@pytest.mark.parametrize("entry, message", [
+    ({"station": "oven"}, "station 'oven' is not one of board, pan, sink"),
+    ({"drive": "bump"}, "only a time-driven station overruns"),
+    ({"duration": 0}, "'duration' must be an integer from 1 to 1000"),
+    ({"duration": "6"}, "'duration' must be an integer"),
+    ({"takes": ["bread"]}, "takes 'bread' is not one of"),
+    ({"overrun": {"state": "burnt"}}, "'overrun' must be a mapping"),
+    ({"verb": "Roast it"}, "'verb' must be one lower-case word"),
+    ({"colour": "red"}, "unknown key 'colour'"),
+    ({"takes": ["tomato"]}, "taken by two processes"),
+])
+def test_a_bad_record_in_a_kitchen_file_is_refused_naming_the_file_and_entry(entry, message):
+    with pytest.raises(MapFormatError, match=re.escape(message)) as err:
+        load_map(roast_map(**entry))
+    assert "processes" in str(err.value)
+
+
+def test_the_planning_model_refuses_records_it_does_not_cover():
+    pytest.importorskip("unified_planning")
+    from ocplus_plan.planning import compile
+
+    rules = make_rules("medium", map=roast_map(), recipes=["tomato+steak"])
+    compile(new_state(rules, 0))  # another verb and times on the pan: covered
+    rules = make_rules("medium", map=roast_map(drive="bump", overrun=None, verb="sear"),
+                       recipes=["tomato+steak"])
+    with pytest.raises(CompileError, match="covers the shipped process stations"):
+        compile(new_state(rules, 0))
+
+
+def test_check_map_lists_a_kitchen_files_records_and_refuses_a_bad_one(tmp_path, capsys):
+    import yaml
+
+    good, bad = tmp_path / "roast.yaml", tmp_path / "bad.yaml"
+    good.write_text(yaml.safe_dump(roast_map()))
+    bad.write_text(yaml.safe_dump(roast_map(duration=0)))
+    assert main(["check-map", str(good)]) == 0
+    assert "pan: roast steak fresh -> cooked by time, 6, burnt after 9" in capsys.readouterr().out
+    assert main(["check-map", str(bad)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "bad.yaml: processes[0]: 'duration'" in err and "\n" not in err
