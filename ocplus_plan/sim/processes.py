@@ -23,15 +23,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
 from ..errors import ConfigError
 from .codes import Cell, Item, ItemState
-
-if TYPE_CHECKING:
-    from .rules import Rules
 
 #: how a process advances
 DRIVES = ("bump", "time")
@@ -200,12 +197,14 @@ class ProcessTables:
         return self.overrun[self.by_code[code]]
 
 
-def _param(rules: Rules | None, name: str, default: int) -> int:
+def _param(rules: Any, name: str, default: int) -> int:
     return int(getattr(rules, name)) if rules is not None and name else default
 
 
-def process_tables(rules: Rules | None = None) -> ProcessTables:
-    """The tables of ``rules``' processes (durations from its parameters), cached."""
+def process_tables(rules: Any = None) -> ProcessTables:
+    """The tables of a :class:`~.rules.Rules`' processes (durations from its parameters),
+    cached; None: the shipped records with their default durations. (``rules`` is not
+    annotated with the class: this module sits below ``rules.py``, which imports it.)"""
     procs = PROCESSES if rules is None else rules.processes
     durations = tuple((_param(rules, p.duration_param, p.duration),
                        _param(rules, p.overrun_param, p.overrun) if p.overrun_state is not None
