@@ -6,7 +6,8 @@ import argparse
 from typing import Any
 
 from ..sim.codes import SPAWN_TILES, Cell
-from ..sim.maps import Layout, load_map, station_reachability
+from ..sim.kitchens import load_kitchen
+from ..sim.maps import Layout, station_reachability
 from ..sim.processes import Process
 from ._common import HelpFormatter, add_output_args, emit
 
@@ -62,7 +63,7 @@ def _cells(cells: list[Any]) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    layout = load_map(args.map)
+    layout = load_kitchen(args.map)
     info = summary(layout)
     if args.json:
         emit(info, args)

@@ -126,10 +126,9 @@ def load_map(spec: str | os.PathLike[str] | dict[str, Any], *, source: str | Non
     if isinstance(spec, dict):
         return _parse(spec, source or "<dict>")
     text_spec = os.fspath(spec)
-    if text_spec.startswith("gen:"):  # a generated kitchen: gen:FAMILY:SPLIT:INDEX[:PRESET]
-        from .generate import map_from_name
-
-        return _parse(map_from_name(text_spec), source or text_spec)
+    if text_spec.startswith("gen:"):  # generated kitchens load one floor up
+        raise MapFormatError(f"map {text_spec!r} is a generated kitchen: load it with "
+                             "sim.kitchens.load_kitchen (make_rules and the CLI do)")
     path: Traversable = Path(text_spec)
     if not path.is_file():
         registry = available_maps()

@@ -16,7 +16,8 @@ import numpy as np
 
 from ..errors import ConfigError, MapFormatError
 from .codes import ITEM_NAMES, VEGETABLES, Cell, Item
-from .maps import Layout, load_map
+from .kitchens import load_kitchen
+from .maps import Layout
 from .processes import PROCESSES, Process, check_processes, ingredient_process
 
 Recipe = tuple[Item, ...]  # sorted multiset of ingredient kinds, each to be processed
@@ -197,7 +198,7 @@ def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, 
         raise ConfigError(f"unknown rule parameter(s) {bad}; known: {sorted(_OVERRIDES)}")
 
     try:
-        layout = map if isinstance(map, Layout) else load_map(map if map is not None else p.map)
+        layout = load_kitchen(map if map is not None else p.map)
     except MapFormatError:
         raise
     n_agents = overrides.pop("n_agents", p.n_agents)
