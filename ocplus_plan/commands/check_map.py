@@ -8,7 +8,7 @@ from typing import Any
 from ..sim.codes import SPAWN_TILES, Cell
 from ..sim.kitchens import load_kitchen
 from ..sim.maps import Layout, station_reachability
-from ..sim.processes import Process
+from ..sim.process_yaml import process_to_dict
 from ._common import HelpFormatter, add_output_args, emit
 
 
@@ -36,18 +36,7 @@ def summary(layout: Layout) -> dict[str, Any]:
            "switching_cells": [list(c) for c in layout.switching_cells()],
            "unreachable": unreachable}
     if layout.processes is not None:  # the kitchen file's own process records
-        out["processes"] = [_process(p) for p in layout.processes]
-    return out
-
-
-def _process(p: Process) -> dict[str, Any]:
-    """One process record, as data (the kitchen file's spelling)."""
-    out: dict[str, Any] = {
-        "station": p.station.name.lower(), "verb": p.verb,
-        "takes": [k.name.lower() for k in p.takes], "from": p.takes_state.name.lower(),
-        "to": p.makes_state.name.lower(), "drive": p.drive, "duration": p.duration}
-    if p.overrun_state is not None:
-        out["overrun"] = {"state": p.overrun_state.name.lower(), "after": p.overrun}
+        out["processes"] = [process_to_dict(p) for p in layout.processes]
     return out
 
 

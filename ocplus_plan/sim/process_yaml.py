@@ -46,6 +46,24 @@ def parse_processes(value: Any, src: str) -> tuple[Process, ...]:
     return out
 
 
+def process_to_dict(p: Process) -> dict[str, Any]:
+    """A record as a kitchen file's entry (what :func:`parse_processes` reads back into the
+    same record, durations included)."""
+    out: dict[str, Any] = {
+        "station": p.station.name.lower(), "verb": p.verb, "past": p.past,
+        "takes": [k.name.lower() for k in p.takes], "from": p.takes_state.name.lower(),
+        "to": p.makes_state.name.lower(), "drive": p.drive, "duration": p.duration}
+    if p.overrun_state is not None:
+        out["overrun"] = {"state": p.overrun_state.name.lower(), "after": p.overrun}
+    out["plates"], out["counter"] = p.plates, p.stat
+    return out
+
+
+def own_processes(processes: tuple[Process, ...] | None) -> list[dict[str, Any]]:
+    """The entries of a kitchen's records that are not the shipped ones (its ``processes``)."""
+    return [process_to_dict(p) for p in processes or () if p not in PROCESSES]
+
+
 def _record(entry: Any, where: str) -> Process:
     if not isinstance(entry, dict):
         raise MapFormatError(f"{where} must be a mapping such as {{station: pan, verb: roast, "
@@ -107,4 +125,5 @@ def _count(value: Any, where: str, key: str) -> int:
     return value
 
 
-__all__ = ["KEYS", "MAX_DURATION", "MAX_PROCESSES", "parse_processes"]
+__all__ = ["KEYS", "MAX_DURATION", "MAX_PROCESSES", "own_processes", "parse_processes",
+           "process_to_dict"]

@@ -184,3 +184,13 @@ def test_check_map_lists_a_kitchen_files_records_and_refuses_a_bad_one(tmp_path,
     assert main(["check-map", str(bad)]) == 2
     err = capsys.readouterr().err.strip()
     assert "bad.yaml: processes[0]: 'duration'" in err and "\n" not in err
+
+
+def test_a_recording_keeps_a_kitchen_files_records_and_replays_them():
+    from ocplus_plan.render.replay import layout_to_dict, rules_from_dict, rules_to_dict
+
+    rules = make_rules("medium", map=roast_map(), recipes=["tomato+steak"])
+    again = rules_from_dict("medium", layout_to_dict(rules), rules_to_dict(rules))
+    assert again.processes == rules.processes
+    with pytest.raises(ConfigError, match="declare them under the map's 'processes'"):
+        rules_to_dict(with_overrides(rules, processes=(KNEAD, ROAST, WASH)))
