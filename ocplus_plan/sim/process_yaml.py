@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import Any
 
 from ..errors import ConfigError, MapFormatError
-from .codes import ITEM_NAMES, Cell, ItemState
+from .codes import ITEM_NAMES, ItemState
 from .processes import COUNTERS, DRIVES, PROCESSES, Process, check_processes
 
 #: at most this many entries (one per process station)
@@ -90,7 +90,7 @@ def _record(entry: Any, where: str) -> Process:
                                  "{state: burnt, after: 20} (the state, and after how many steps)")
         overrun_state = _choice(spec["state"], STATES, where, "overrun state")
         overrun = _count(spec["after"], where, "overrun after")
-    plates = entry.get("plates", station != Cell.SINK)
+    plates = entry.get("plates", _SHIPPED[station].plates)
     if not isinstance(plates, bool):
         raise MapFormatError(f"{where}: 'plates' must be true or false, got {plates!r:.40}")
     return Process(
