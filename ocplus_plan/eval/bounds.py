@@ -354,18 +354,18 @@ class _ItemCosts:
             st = ItemState.FRESH
         on = self.terrain[tile] if tile is not None and where == Where.CELL else -1
         if on == Cell.PAN and kind == Item.STEAK:  # heating: take it off in its window
-            wait = max(0, geo.proc.work(kind) - prog)
+            wait = max(0, self.rules.tables.work(kind) - prog)
             return 2, 2, max(self.reach(tile), wait) + 2 + self.to_window(tile, holder) + 1
         got = 0.0 if tile is None else self.reach(tile)
         if st in (ItemState.CHOPPED, ItemState.COOKED):
             return 1, 1, got + 1 + self.to_window(tile, holder) + 1
         pick = 0 if tile is None or on == Cell.BOARD else 1
         if kind == Item.STEAK:
-            left = max(0, geo.proc.work(kind) - prog)  # classical cook: left + 1 steps
+            left = max(0, self.rules.tables.work(kind) - prog)  # classical cook: left + 1 steps
             chains = [got + pick + self.carry(tile, holder, p) + max(1, left) + 1 + 1
                       + paths.carry_between(p, d) + 1 for p in geo.pans for d in self.delivery]
             return pick + left + 1 + 1, pick + 2 + 1, min(chains, default=_INF)
-        full = geo.proc.work(kind)
+        full = self.rules.tables.work(kind)
         chop = max(1, full - prog) if prog > 0 else full
         boards = [tile] if on == Cell.BOARD else _cells(geo, Cell.BOARD)
         put = 0 if on == Cell.BOARD else 1
@@ -384,7 +384,7 @@ class _ItemCosts:
         if state.item_state[q] != ItemState.DIRTY:
             return pick + 1, got + self.to_window(tile, holder) + 1
         prog = state.item_progress[q]
-        full = geo.proc.work(Item.PLATE)
+        full = self.rules.tables.work(Item.PLATE)
         wash = max(1, full - prog) if prog > 0 else full
         in_sink = tile is not None and where == Where.CELL and self.terrain[tile] == Cell.SINK
         if in_sink:

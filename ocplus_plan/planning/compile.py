@@ -352,12 +352,12 @@ def _agent_facts(builder: _Builder, state: State, spots: SpotGraph, objects: _Ob
 
 def _pan_times(state: State) -> tuple[int, int]:
     """(cook, burn) ticks of the pan's record (the model's cooking is the pan's)."""
-    tables = state.geo.proc
+    tables = state.rules.tables
     return tables.duration_at(Cell.PAN), tables.overrun_at(Cell.PAN)
 
 
 def _rule_numbers(builder: _Builder, state: State) -> None:
-    rules, tables = state.rules, state.geo.proc
+    rules, tables = state.rules, state.rules.tables
     for j, p in enumerate(tables.processes):  # chop_full, wash_full
         if not p.timed:
             builder.num(f"{p.verb}_full", tables.duration[j])
@@ -401,9 +401,10 @@ def _item_facts(builder: _Builder, state: State, objects: _Objects,
             builder.num("cook_lo", max(1, cook - progress), name)
             builder.num("cook_hi", max(1, cook - progress, burn - progress - 1), name)
         elif partial:  # chop_left, wash_left
-            j = next(j for j, p in enumerate(geo.proc.processes) if kind in p.takes)
-            builder.num(f"{geo.proc.processes[j].verb}_left",
-                        max(1, geo.proc.duration[j] - progress), name)
+            tables = state.rules.tables
+            j = next(j for j, p in enumerate(tables.processes) if kind in p.takes)
+            builder.num(f"{tables.processes[j].verb}_left",
+                        max(1, tables.duration[j] - progress), name)
         if where == Where.PLATE:
             builder.true("on_plate", name, objects.items[loc])
         elif where == Where.WAITING:

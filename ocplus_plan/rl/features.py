@@ -359,7 +359,7 @@ class FeatureEncoder:
         if rules.dynamic:
             switch_in = min(max(state.next_switch - state.t, 0) / rules.map_switch_step, 1.0)
         cooking = best_cell[_T["cooking_steak"]]
-        tables = state.geo.proc  # the pan's record: cook and burn times
+        tables = rules.tables  # the pan's record: cook and burn times
         cook, burn = tables.duration_at(_PAN), tables.overrun_at(_PAN)
         cook_prog = progress[cell_item[cooking]] / cook if cooking >= 0 else 0.0
         cooked = best_cell[_T["cooked_steak"]]

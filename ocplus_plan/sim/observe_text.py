@@ -92,9 +92,9 @@ def _timers(state: State) -> list[str]:
             else:
                 out.append(f"- {what}: burnt in {burn} steps unless taken off")
         elif progress and kind != Item.STEAK and kind != Item.PLATE and st == ItemState.FRESH:
-            out.append(f"- {what}: chopped {progress} of {geo.proc.work(kind)} times")
+            out.append(f"- {what}: chopped {progress} of {rules.tables.work(kind)} times")
         elif progress and kind == Item.PLATE and st == ItemState.DIRTY:
-            out.append(f"- {what}: washed {progress} of {geo.proc.work(kind)} times")
+            out.append(f"- {what}: washed {progress} of {rules.tables.work(kind)} times")
     if rules.dynamic and len(geo.terrains) > 1:
         due = max(0, state.next_switch - state.t)
         out.append(f"- the walls switch in {due} steps (walls move between "

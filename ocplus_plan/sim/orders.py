@@ -35,7 +35,7 @@ def plate_recipe(state: State, plate: int) -> tuple[Item, ...] | None:
     or holding an ingredient that is not in its ready state)."""
     if state.item_state[plate] != ItemState.CLEAN:
         return None
-    kinds, ready = state.geo.item_kind, state.geo.proc.plateable_list
+    kinds, ready = state.geo.item_kind, state.rules.tables.plateable_list
     where, loc, st = state.item_where, state.item_loc, state.item_state
     contents = []
     for i in range(len(where)):

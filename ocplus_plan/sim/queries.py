@@ -21,7 +21,6 @@ from typing import TYPE_CHECKING, NamedTuple
 
 from ..errors import ConfigError
 from .codes import COUNTERS, STATIONS, Action, Cell, Item, ItemState
-from .processes import process_tables
 
 if TYPE_CHECKING:
     from .rules import Rules
@@ -274,7 +273,7 @@ _NOTHING, _PICK_UP, _PUT_DOWN = Bump.NOTHING, Bump.PICK_UP, Bump.PUT_DOWN
 def is_plateable(state: State, item: int) -> bool:
     """An ingredient in the state its process makes (a chopped vegetable, a cooked steak):
     the only things a plate takes."""
-    return state.geo.proc.plateable_list[state.geo.item_kind[item]][state.item_state[item]]
+    return state.rules.tables.plateable_list[state.geo.item_kind[item]][state.item_state[item]]
 
 
 #: the bump of each shipped bump-driven process; any other one is :attr:`Bump.WORK`
@@ -290,7 +289,7 @@ def bump_effect(state: State, held: int, cell: int) -> Bump:
         if held < 0:
             return _PICK_UP if here >= 0 else _NOTHING
         return _PUT_DOWN if here < 0 else _plate_exchange(state, held, here)
-    tables = state.geo.proc
+    tables = state.rules.tables
     p = tables.by_code.get(code, -1)
     if p >= 0:  # a process station: its record's tables say
         kinds = state.geo.item_kind
@@ -330,7 +329,7 @@ def bumps_needed(rules: Rules, effect: Bump, verb: str = "") -> int:
     name = {Bump.CHOP: "chop", Bump.WASH: "wash"}.get(effect, verb if effect == Bump.WORK else "")
     if not name:
         return 1
-    tables = process_tables(rules)
+    tables = rules.tables
     return next(tables.duration[i] for i, p in enumerate(tables.processes) if p.verb == name)
 
 
@@ -338,14 +337,14 @@ def bumps_needed(rules: Rules, effect: Bump, verb: str = "") -> int:
 def ticks_until_done(rules: Rules, code: int, ticks: int) -> int:
     """Ticks still needed, after ``ticks`` on the time-driven station ``code``, before the
     item it takes is done (0: it is)."""
-    tables = process_tables(rules)
+    tables = rules.tables
     return max(0, tables.duration[tables.by_code[code]] - ticks)
 
 
 def ticks_until_overrun(rules: Rules, code: int, ticks: int) -> int:
     """Ticks, after ``ticks`` on the time-driven station ``code``, until the item overruns
     (0: it has): on the tick that takes it past the overrun time."""
-    tables = process_tables(rules)
+    tables = rules.tables
     return max(0, tables.overrun[tables.by_code[code]] + 1 - ticks)
 
 

@@ -18,7 +18,14 @@ from ..errors import ConfigError, MapFormatError
 from .codes import ITEM_NAMES, VEGETABLES, Cell, Item
 from .kitchens import load_kitchen
 from .maps import Layout
-from .processes import PROCESSES, Process, check_processes, ingredient_process
+from .processes import (
+    PROCESSES,
+    Process,
+    ProcessTables,
+    check_processes,
+    ingredient_process,
+    process_tables,
+)
 
 Recipe = tuple[Item, ...]  # sorted multiset of ingredient kinds, each to be processed
 
@@ -88,6 +95,16 @@ class Rules:
     #: the process stations' rules (:mod:`.processes`); durations named by a record's
     #: ``duration_param`` / ``overrun_param`` are read from the fields above
     processes: tuple[Process, ...] = PROCESSES
+
+    def __post_init__(self) -> None:
+        # the compiled process tables (durations from the fields above): a plain attribute,
+        # not a field, so every engine reads them at the cost of an attribute; a rule set
+        # whose numbers are not integers gets None here and a ConfigError from the check
+        try:
+            tables: ProcessTables | None = process_tables(self)
+        except (TypeError, ValueError):
+            tables = None
+        object.__setattr__(self, "tables", tables)
 
     def recipe_name(self, recipe: Recipe) -> str:
         return recipe_name(recipe)

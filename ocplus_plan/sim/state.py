@@ -21,7 +21,6 @@ import numpy as np
 from .codes import ITEM_NAMES, SPAWN_TILES, WALKABLE, Cell, Item, ItemState, Where
 from .queries import grid_neighbors
 from .orders import draw_order
-from .processes import ProcessTables, process_tables
 from .records import Event, Order
 from .rules import Rules, recipe_name
 from .words import map_rows
@@ -44,8 +43,6 @@ class Geometry:
     item_kind: tuple[int, ...]
     item_home: tuple[int, ...]
     item_names: tuple[str, ...]
-    #: the rules' process tables (:mod:`.processes`)
-    proc: ProcessTables
     #: the cells of time-driven process stations (the pans), in cell order
     timed: tuple[int, ...]
 
@@ -68,11 +65,10 @@ class Geometry:
         switch = ()
         if len(terrains) > 1:
             switch = tuple(i for i, (a, b) in enumerate(zip(*terrains)) if a != b)
-        proc = process_tables(rules)
-        timed_codes = {p.station for p in proc.processes if p.timed}
+        timed_codes = {p.station for p in rules.processes if p.timed}
         timed = tuple(i for i, v in enumerate(terrains[0]) if v in timed_codes)
         return cls(rows, cols, terrains, walk, grid_neighbors(rows, cols), pans, switch,
-                   tuple(kinds), tuple(homes), tuple(names), proc, timed)
+                   tuple(kinds), tuple(homes), tuple(names), timed)
 
     def rc(self, flat: int) -> tuple[int, int]:
         return divmod(flat, self.cols)
@@ -282,7 +278,7 @@ def new_state(rules: Rules, seed: int | None = 0, *, geometry: Geometry | None =
         "dishes_served": 0, "orders_completed": 0, "orders_expired": 0, "burns": 0,
         "wrong_deliveries": 0,
     }
-    for p in geo.proc.processes:  # one counter per process (chops, cooks, washes)
+    for p in rules.processes:  # one counter per process (chops, cooks, washes)
         s.stats.setdefault(p.stat, 0)
         if p.overrun_state is not None:
             s.stats.setdefault(p.overrun_stat, 0)

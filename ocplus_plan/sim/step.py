@@ -178,7 +178,7 @@ def _advance(state: State, a: int, cell: int, item: int, rewards: list[float],
              events: list[Event]) -> None:
     """One unit of work of the bump-driven process of ``cell``'s station; its record's
     duration of them finishes it."""
-    tables = state.geo.proc
+    tables = state.rules.tables
     p = tables.by_code[state.geo.terrains[state.layout_index][cell]]
     process = tables.processes[p]
     state.item_progress[item] += 1
@@ -196,7 +196,7 @@ def _advance(state: State, a: int, cell: int, item: int, rewards: list[float],
 def _tick(state: State, item: int, cell: int, rewards: list[float], events: list[Event]) -> None:
     """One tick of the time-driven process of ``cell``'s station (the pan): done after its
     duration, overrun (burnt) on the tick that takes it past its overrun time."""
-    tables = state.geo.proc
+    tables = state.rules.tables
     p = tables.by_code[state.geo.terrains[0][cell]]
     process = tables.processes[p]
     r = state.rules.rewards

@@ -126,7 +126,7 @@ def _bump_words(state: State, effect: Bump, held: int, cell: int) -> str:
     if effect == Bump.TAKE_ONTO_PLATE:
         return f"take the {item_words(state, here)} from {place} onto your plate"
     if effect in (Bump.CHOP, Bump.WASH, Bump.WORK):  # the station's record: verb, duration
-        tables = state.geo.proc
+        tables = state.rules.tables
         j = tables.by_code[state.geo.terrains[state.layout_index][cell]]
         done, need, verb = state.item_progress[here], tables.duration[j], tables.processes[j].verb
         if effect == Bump.WASH:

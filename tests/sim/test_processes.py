@@ -194,3 +194,15 @@ def test_a_recording_keeps_a_kitchen_files_records_and_replays_them():
     assert again.processes == rules.processes
     with pytest.raises(ConfigError, match="declare them under the map's 'processes'"):
         rules_to_dict(with_overrides(rules, processes=(KNEAD, ROAST, WASH)))
+
+
+def test_a_state_given_other_rules_follows_their_durations():
+    rules, s = g_kitchen()
+    s.rules = with_overrides(rules, chop_steps=4)
+    tomato = item_of(s, Item.TOMATO)
+    place(s, tomato, (2, 2))
+    set_pos(s, 0, (1, 2))
+    run(s, D, D, D)
+    assert s.item_state[tomato] == ItemState.FRESH
+    ev, _ = run(s, D)
+    assert "chop_done" in kinds(ev)

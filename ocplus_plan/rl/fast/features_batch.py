@@ -36,7 +36,7 @@ def feature_tables(rules: Rules, shaping: Shaping) -> fk.FeatureTables:
     for lay, cells in enumerate(interact_cells):
         interact[lay, : len(cells)] = cells
     params = np.array([geo.rows, geo.cols, rules.horizon, rules.dynamic, rules.map_switch_step,
-                       geo.proc.duration_at(Cell.PAN), geo.proc.overrun_at(Cell.PAN)], i64)
+                       rules.tables.duration_at(Cell.PAN), rules.tables.overrun_at(Cell.PAN)], i64)
     is_counter = np.zeros(16, bool)
     is_counter[[int(c) for c in COUNTERS]] = True
     kind_index = np.full(16, 5, i64)

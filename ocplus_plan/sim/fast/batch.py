@@ -155,7 +155,7 @@ def static_arrays(rules: Rules, encoder: VectorEncoder, observe: bool = True,
         cells_w, encoder.window[1], _CH_KIND0, _CH_STATE0, CH_PROGRESS, CH_SELF, CH_OTHER,
         encoder.grid_size, encoder.grid_size + encoder._order0, static_size], i64)
     spawn = [geo.flat(r, c) for r, c in rules.layout.spawn_points[: rules.n_agents]]
-    t = geo.proc
+    t = rules.tables
     return ba.StaticArrays(
         params, rewards, np.array(geo.terrains, i64), np.array(geo.walkables, bool),
         np.array(geo.neighbors, i64), np.array(geo.timed, i64).reshape(-1),

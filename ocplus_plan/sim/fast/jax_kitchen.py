@@ -185,7 +185,7 @@ def kitchen_params(rules: Rules, obs_radius: int = 0, *, max_items: int | None =
     home = np.zeros(max_items, np.int32)
     home[:n_items] = [pad_cell(h, cols) for h in geo.item_home]
     den = np.ones(max_items, np.float32)
-    den[:n_items] = [geo.proc.progress_scale(k) for k in geo.item_kind]
+    den[:n_items] = [rules.tables.progress_scale(k) for k in geo.item_kind]
     ingredients = ITEM_KINDS[:4]
     recipes = np.zeros((max_recipes, 4), np.int32)
     recipes[: len(rules.recipes)] = [[r.count(k) for k in ingredients] for r in rules.recipes]
@@ -210,7 +210,7 @@ def kitchen_params(rules: Rules, obs_radius: int = 0, *, max_items: int | None =
     rw = rules.rewards
     rewards = np.array([rw.subtask_finished, rw.correct_delivery, rw.wrong_delivery,
                         rw.step_penalty, rw.burned_penalty, rw.order_expired], np.float32)
-    return Params(ints, rewards, terrain, walk, inside, timed, *_process_params(geo.proc),
+    return Params(ints, rewards, terrain, walk, inside, timed, *_process_params(rules.tables),
                   kind, kidx, home, np.arange(max_items) < n_items, den, recipes, fixed,
                   np.array(spawn, np.int32), np.array(view, np.int32))
 
