@@ -30,6 +30,11 @@ STATIONS = ("BOARD", "PAN", "SINK", "TRASH", "DELIVERY")
 CODE = r"(?:Cell\.|CELL_|\b_)({})\b"
 PRESENTATION = re.compile(CODE.format("|".join(STATIONS)) + r"(?:\)?: *[\"(]|, *\")")
 DRAWING = re.compile(r"code == " + CODE.format("|".join(STATIONS)) + r":$", re.MULTILINE)
+PROCESS_STATIONS = ("BOARD", "PAN", "SINK")
+_PROC = CODE.format("|".join(PROCESS_STATIONS))
+RULE = re.compile(rf"(?:==|!=)\s*{_PROC}|{_PROC}\s*(?:==|!=)|\bgeo\.pans\b"
+                  r"|\brules?\.(?:chop_steps|cook_time|burn_time|wash_steps)\b")
+RULE_HOMES = ("ocplus_plan/sim/rules.py", "ocplus_plan/sim/processes.py")
 
 
 def files_at(commit: str) -> dict[str, str]:
@@ -46,11 +51,14 @@ def counts(commit: str) -> dict:
                          if all(re.search(CODE.format(s), text) for s in STATIONS))
     presentation = sorted(n for n, text in files.items() if PRESENTATION.search(text) or (
         n.startswith("ocplus_plan/render/") and DRAWING.search(text)))
+    rule_code = sorted(n for n, text in files.items()
+                       if n not in RULE_HOMES and RULE.search(text))
     sha = subprocess.run(["git", "rev-parse", "--short", commit], capture_output=True,
                          text=True, check=True).stdout.strip()
     return {"commit": sha, "package_files": len(files), "enumerating": len(enumerating),
-            "presentation": len(presentation), "enumerating_files": enumerating,
-            "presentation_files": presentation}
+            "presentation": len(presentation), "rule_code": len(rule_code),
+            "enumerating_files": enumerating, "presentation_files": presentation,
+            "rule_code_files": rule_code}
 
 
 def main() -> None:

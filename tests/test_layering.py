@@ -8,6 +8,7 @@ import it (checked in their source), and nothing loads the optional heavy packag
 from __future__ import annotations
 
 import ast
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -58,7 +59,7 @@ PACKAGE_DIR = Path(ocplus_plan.__file__).parent
 
 #: the layer of every top-level folder (or module) of the package: a folder imports only
 #: folders of a lower layer. Derived from the imports themselves (module-level, inside
-#: functions and under ``TYPE_CHECKING`` alike) and documented in docs/house.md.
+#: functions and under ``TYPE_CHECKING`` alike) and documented in docs/architecture.md.
 LAYERS = {
     "errors": 0,
     "data": 1,
@@ -222,3 +223,18 @@ def test_the_package_has_no_import_cycle():
     hides a circle); imports under ``TYPE_CHECKING`` are annotations and do not."""
     found = [c for c in cycles(import_graph(typing_too=False)) if c not in KNOWN_CYCLES]
     assert not found, "import cycles: " + "; ".join(" <-> ".join(sorted(c)) for c in found)
+
+
+def test_the_architecture_page_lists_each_folders_imports_as_they_are():
+    """docs/architecture.md's layer table: one row per folder with its layer and exactly the
+    folders its modules import (annotation imports included)."""
+    text = (PACKAGE_DIR.parent / "docs" / "architecture.md").read_text()
+    rows = re.findall(r"^\| (\d+) \| `(\w+)` \| (.*) \|$", text, re.MULTILINE)
+    table = {folder: (int(layer), set(re.findall(r"`(\w+)`", imports)))
+             for layer, folder, imports in rows}
+    actual: dict[str, set[str]] = {folder: set() for folder in LAYERS}
+    for source, targets in import_graph(typing_too=True).items():
+        for target in targets:
+            if layer_of(source) != layer_of(target):
+                actual[layer_of(source)].add(layer_of(target))
+    assert table == {f: (LAYERS[f], actual[f]) for f in LAYERS}

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 from collections import Counter
 
-from ..sim.codes import COUNTERS, READY_STATE, Cell, Item, ItemState, Where
+from ..sim.codes import COUNTERS, Cell, Item, ItemState, Where
+from ..sim.processes import READY_STATE
 from ..sim.queries import distances, interaction_spots, plate_fits, walkable_in_any_layout
 from ..sim.state import State
 

@@ -139,7 +139,7 @@ def sweep_rules(args: argparse.Namespace) -> dict[str, Any]:
 
 def _rule_types() -> dict[str, str]:
     """Rules field -> its type as written (``int``, ``bool``, ``int | None``, ``str``)."""
-    skip = {"preset", "layout", "n_agents", "recipes", "rewards", "fixed_orders"}
+    skip = {"preset", "layout", "n_agents", "recipes", "rewards", "fixed_orders", "processes"}
     return {f.name: str(f.type) for f in fields(Rules) if f.name not in skip}
 
 

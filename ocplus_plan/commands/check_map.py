@@ -6,7 +6,9 @@ import argparse
 from typing import Any
 
 from ..sim.codes import SPAWN_TILES, Cell
-from ..sim.maps import Layout, load_map, station_reachability
+from ..sim.kitchens import load_kitchen
+from ..sim.maps import Layout, station_reachability
+from ..sim.process_yaml import process_to_dict
 from ._common import HelpFormatter, add_output_args, emit
 
 
@@ -25,14 +27,17 @@ def summary(layout: Layout) -> dict[str, Any]:
     unreachable = [{"layout": e["layout"], "station": Cell(e["code"]).name.lower(),
                     "cell": list(e["cell"])}
                    for e in station_reachability(layout) if not e["reachable_from"]]
-    return {"name": layout.name, "source": layout.source, "rows": layout.rows,
-            "cols": layout.cols, "max_agents": layout.max_agents,
-            "declared_max_agents": layout.declared_max_agents,
-            "spawn_points": [list(p) for p in layout.spawn_points], "stations": stations,
-            "dynamic": layout.is_dynamic,
-            "switch_every": layout.map_switch_step if layout.is_dynamic else None,
-            "switching_cells": [list(c) for c in layout.switching_cells()],
-            "unreachable": unreachable}
+    out = {"name": layout.name, "source": layout.source, "rows": layout.rows,
+           "cols": layout.cols, "max_agents": layout.max_agents,
+           "declared_max_agents": layout.declared_max_agents,
+           "spawn_points": [list(p) for p in layout.spawn_points], "stations": stations,
+           "dynamic": layout.is_dynamic,
+           "switch_every": layout.map_switch_step if layout.is_dynamic else None,
+           "switching_cells": [list(c) for c in layout.switching_cells()],
+           "unreachable": unreachable}
+    if layout.processes is not None:  # the kitchen file's own process records
+        out["processes"] = [process_to_dict(p) for p in layout.processes]
+    return out
 
 
 #: cells listed per line of the text summary (``--json`` lists them all)
@@ -47,7 +52,7 @@ def _cells(cells: list[Any]) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    layout = load_map(args.map)
+    layout = load_kitchen(args.map)
     info = summary(layout)
     if args.json:
         emit(info, args)
@@ -62,6 +67,10 @@ def run(args: argparse.Namespace) -> int:
     for name, cells in info["stations"].items():
         kind = "spawn tile" if Cell[name.upper()] in SPAWN_TILES else "station"
         print(f"  {name:9s} {kind:10s} x{len(cells)}: {_cells(cells)}")
+    for p in info.get("processes", ()):
+        over = f", {p['overrun']['state']} after {p['overrun']['after']}" if "overrun" in p else ""
+        print(f"  process   {p['station']}: {p['verb']} {'+'.join(p['takes'])} "
+              f"{p['from']} -> {p['to']} by {p['drive']}, {p['duration']}{over}")
     if layout.is_dynamic:
         print(f"dynamic: switches every {info['switch_every']} steps; cells that switch: "
               f"{_cells(info['switching_cells'])}")

@@ -44,7 +44,7 @@ import gymnasium
 import numpy as np
 
 from ..errors import ConfigError
-from ..sim import PRESETS, load_map
+from ..sim import PRESETS, load_kitchen
 from ..sim.codes import Cell
 from ..sim.maps import Layout
 
@@ -178,7 +178,7 @@ def paper_config(kwargs: dict[str, Any], preset: str | None = None) -> dict[str,
     if preset is not None:
         config.setdefault("preset", preset)
     elif "preset" not in config:
-        layout = load_map(config.get("map_name", config.get("map")))
+        layout = load_kitchen(config.get("map_name", config.get("map")))
         config["preset"] = preset_for_map(layout)
         if config.get("dynamic_map", config.get("dynamic")) is None:
             config["dynamic_map"] = layout.is_dynamic

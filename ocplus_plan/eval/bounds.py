@@ -45,6 +45,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 from ..sim.codes import COUNTERS, VEGETABLES, Cell, Item, ItemState, Where
+from ..sim.processes import process_tables
 from ..sim.queries import distances, interaction_spots, walkable_in_any_layout
 from ..sim.rules import Recipe, Rules
 from ..sim.state import Geometry, State, geometry_for
@@ -76,11 +77,13 @@ def _station_cells(geo: Geometry, kind: int) -> list[int]:
 
 def bumps_per_dish(rules: Rules, recipe: Recipe, dirty: bool) -> int:
     """The fewest bumps one dish of ``recipe`` takes (see the module docstring)."""
+    tables = process_tables(rules)  # bump-driven work counts; time-driven (cooking) is passive
     bumps = 2  # pick the plate, serve
     if dirty:
-        bumps += 2 + rules.wash_steps
+        bumps += 2 + tables.work(Item.PLATE)
     for kind in recipe:
-        bumps += 3 + (rules.chop_steps if kind in VEGETABLES else 0)
+        j = tables.index_of(kind)
+        bumps += 3 + (tables.duration[j] if j >= 0 and not tables.timed[j] else 0)
     return bumps
 
 
@@ -340,7 +343,7 @@ class _ItemCosts:
 
     def ingredient(self, i: int) -> tuple[int, int, float]:
         """(classical work, temporal work, chain) of getting item ``i`` onto the dish."""
-        state, rules, geo, paths = self.state, self.rules, self.geo, self.paths
+        state, geo, paths = self.state, self.geo, self.paths
         kind, st, prog = geo.item_kind[i], state.item_state[i], state.item_progress[i]
         where, tile = state.item_where[i], self.tile_of(i)
         holder = state.item_loc[i] if where == Where.HAND else -1
@@ -351,18 +354,19 @@ class _ItemCosts:
             st = ItemState.FRESH
         on = self.terrain[tile] if tile is not None and where == Where.CELL else -1
         if on == Cell.PAN and kind == Item.STEAK:  # heating: take it off in its window
-            wait = max(0, rules.cook_time - prog)
+            wait = max(0, self.rules.tables.work(kind) - prog)
             return 2, 2, max(self.reach(tile), wait) + 2 + self.to_window(tile, holder) + 1
         got = 0.0 if tile is None else self.reach(tile)
         if st in (ItemState.CHOPPED, ItemState.COOKED):
             return 1, 1, got + 1 + self.to_window(tile, holder) + 1
         pick = 0 if tile is None or on == Cell.BOARD else 1
         if kind == Item.STEAK:
-            left = max(0, rules.cook_time - prog)  # classical cook: left + 1 steps
+            left = max(0, self.rules.tables.work(kind) - prog)  # classical cook: left + 1 steps
             chains = [got + pick + self.carry(tile, holder, p) + max(1, left) + 1 + 1
                       + paths.carry_between(p, d) + 1 for p in geo.pans for d in self.delivery]
             return pick + left + 1 + 1, pick + 2 + 1, min(chains, default=_INF)
-        chop = max(1, rules.chop_steps - prog) if prog > 0 else rules.chop_steps
+        full = self.rules.tables.work(kind)
+        chop = max(1, full - prog) if prog > 0 else full
         boards = [tile] if on == Cell.BOARD else _cells(geo, Cell.BOARD)
         put = 0 if on == Cell.BOARD else 1
         chains = [got + pick + (0 if b == tile else self.carry(tile, holder, b)) + put + chop + 1
@@ -372,7 +376,7 @@ class _ItemCosts:
 
     def plate(self, q: int) -> tuple[int, float]:
         """(work, chain) of bringing plate ``q`` to the window (plating not included)."""
-        state, rules, geo, paths = self.state, self.rules, self.geo, self.paths
+        state, geo, paths = self.state, self.geo, self.paths
         where, tile = state.item_where[q], self.tile_of(q)
         holder = state.item_loc[q] if where == Where.HAND else -1
         got = 0.0 if tile is None else self.reach(tile) + 1
@@ -380,7 +384,8 @@ class _ItemCosts:
         if state.item_state[q] != ItemState.DIRTY:
             return pick + 1, got + self.to_window(tile, holder) + 1
         prog = state.item_progress[q]
-        wash = max(1, rules.wash_steps - prog) if prog > 0 else rules.wash_steps
+        full = self.rules.tables.work(Item.PLATE)
+        wash = max(1, full - prog) if prog > 0 else full
         in_sink = tile is not None and where == Where.CELL and self.terrain[tile] == Cell.SINK
         if in_sink:
             return wash + 2, self.reach(tile) + wash + 1 + self.to_window(tile, holder) + 1

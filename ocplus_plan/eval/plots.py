@@ -182,10 +182,10 @@ def _actions(plt: Any, ok: list[dict[str, Any]], out: Path) -> Path:
 def _terrain(row: dict[str, Any]) -> Any:
     """The kitchen's main grid for a row and the mask of its switching cells (or None),
     or (None, None) when the map cannot be found any more."""
-    from ..sim.maps import load_map
+    from ..sim.kitchens import load_kitchen
 
     try:
-        layout = load_map(row.get("map_source") or row["map"])
+        layout = load_kitchen(row.get("map_source") or row["map"])
     except Exception:
         return None, None
     switching = None if layout.switch_grid is None else layout.grid != layout.switch_grid

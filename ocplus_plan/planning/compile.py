@@ -18,6 +18,7 @@ from typing import Any
 from ..errors import CompileError
 from ..sim.codes import COUNTERS, Cell, Item, ItemState, Where
 from ..sim.state import Order, State
+from ..sim.processes import PROCESSES
 from ..sim.stations import PLACE_FLAGS
 from ._build import Builder as _Builder
 from ._build import new_problem as _new_problem
@@ -141,6 +142,7 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
             "anticipate_switches needs encoding='temporal': the coming layout switches are "
             "timed initial literals, which classical PDDL cannot express"
         )
+    _check_processes(state)
     cooks = _cooks(state, agents)
     goal, model_orders = _goal_orders(state, orders, max_orders)
     geo = state.geo
@@ -170,6 +172,24 @@ def compile(state: State, orders: Sequence[Order] | None = None, encoding: str =
         _switch_literals(builder, state, objects.spots)
     builder.flush()
     return comp
+
+
+def _check_processes(state: State) -> None:
+    """The model's schemas are written for the shipped process records (any durations; a
+    time-driven station may have another verb): refuse records of another shape rather
+    than plan with wrong rules."""
+    def shape(p: Any) -> tuple:
+        return (p.station, p.drive, p.takes, p.takes_state, p.makes_state, p.overrun_state,
+                p.plates, "" if p.timed else p.verb)
+
+    shipped = {p.station: p for p in PROCESSES}
+    for p in state.rules.processes:
+        if p.station not in shipped or shape(p) != shape(shipped[p.station]):
+            covered = ", ".join(f"{q.verb} on the {q.station.name.lower()}" for q in PROCESSES)
+            raise CompileError(
+                f"the planning model covers the shipped process stations ({covered}, any "
+                f"durations); {p.verb!r} on the {p.station.name.lower()} of map "
+                f"{state.rules.layout.name!r} differs: plan with the shipped records")
 
 
 def _cooks(state: State, agents: Sequence[int] | None) -> tuple[int, ...]:
@@ -330,13 +350,21 @@ def _agent_facts(builder: _Builder, state: State, spots: SpotGraph, objects: _Ob
             builder.true("holding", name, objects.items[held])
 
 
+def _pan_times(state: State) -> tuple[int, int]:
+    """(cook, burn) ticks of the pan's record (the model's cooking is the pan's)."""
+    tables = state.rules.tables
+    return tables.duration_at(Cell.PAN), tables.overrun_at(Cell.PAN)
+
+
 def _rule_numbers(builder: _Builder, state: State) -> None:
-    rules = state.rules
-    builder.num("chop_full", rules.chop_steps)
-    builder.num("wash_full", rules.wash_steps)
-    builder.num("cook_cost_full", rules.cook_time + 1)
-    builder.num("cook_lo_full", rules.cook_time)
-    builder.num("cook_hi_full", max(rules.cook_time, rules.burn_time - 1))
+    rules, tables = state.rules, state.rules.tables
+    for j, p in enumerate(tables.processes):  # chop_full, wash_full
+        if not p.timed:
+            builder.num(f"{p.verb}_full", tables.duration[j])
+    cook, burn = _pan_times(state)
+    builder.num("cook_cost_full", cook + 1)
+    builder.num("cook_lo_full", cook)
+    builder.num("cook_hi_full", max(cook, burn - 1))
     builder.true("plates_get_dirty" if rules.dirty_plates else "plates_stay_clean")
 
 
@@ -344,7 +372,7 @@ def _item_facts(builder: _Builder, state: State, objects: _Objects,
                 initial_contents: dict[int, tuple[Item, ...]]) -> list[tuple[int, int]]:
     """Each item's kind, state, progress and where it is; returns the steaks heating on a
     pan (their facts come from :func:`_pans`)."""
-    geo, rules = state.geo, state.rules
+    geo = state.geo
     terrain = geo.terrains[state.layout_index]
     by_kind = sorted(range(state.n_items), key=lambda i: (geo.item_kind[i], i))
     for x, y in itertools.combinations(by_kind, 2):
@@ -368,14 +396,15 @@ def _item_facts(builder: _Builder, state: State, objects: _Objects,
         if not heating:  # a steak cooking on a pan gets its state flag in _pans()
             builder.true(_STATE_FLAG[item_state], name)
         if partial and kind == Item.STEAK:
-            builder.num("cook_cost_left", rules.cook_time - progress + 1, name)
-            builder.num("cook_lo", max(1, rules.cook_time - progress), name)
-            builder.num("cook_hi", max(1, rules.cook_time - progress,
-                                       rules.burn_time - progress - 1), name)
-        elif partial and kind == Item.PLATE:
-            builder.num("wash_left", max(1, rules.wash_steps - progress), name)
-        elif partial:
-            builder.num("chop_left", max(1, rules.chop_steps - progress), name)
+            cook, burn = _pan_times(state)
+            builder.num("cook_cost_left", cook - progress + 1, name)
+            builder.num("cook_lo", max(1, cook - progress), name)
+            builder.num("cook_hi", max(1, cook - progress, burn - progress - 1), name)
+        elif partial:  # chop_left, wash_left
+            tables = state.rules.tables
+            j = next(j for j, p in enumerate(tables.processes) if kind in p.takes)
+            builder.num(f"{tables.processes[j].verb}_left",
+                        max(1, tables.duration[j] - progress), name)
         if where == Where.PLATE:
             builder.true("on_plate", name, objects.items[loc])
         elif where == Where.WAITING:
@@ -425,7 +454,7 @@ def _switch_literals(builder: _Builder, state: State, spot_name: dict[int, str])
 def _pans(builder: _Builder, state: State, comp: Compiled, cooking: list[tuple[int, int]],
           objects: _Objects) -> None:
     """Steaks on a pan at compile time (not burnt yet): see the model's docstring."""
-    rules = state.rules
+    cook, burn = _pan_times(state)
     occupied = {state.agent_pos[a] for a in objects.agents}
     doomed = set()
     if comp.encoding == "temporal":
@@ -435,8 +464,8 @@ def _pans(builder: _Builder, state: State, comp: Compiled, cooking: list[tuple[i
             ticks = state.item_progress[i]
             builder.true("on_heat", objects.items[i], objects.places[pan])
             builder.true(_STATE_FLAG[ItemState(state.item_state[i])], objects.items[i])
-            opens = max(0, rules.cook_time - ticks)
-            closes = rules.burn_time - ticks + 1
+            opens = max(0, cook - ticks)
+            closes = burn - ticks + 1
             steak = builder.objects[objects.items[i]]
             fl = builder.dom.fluents
             if opens == 0:
@@ -462,9 +491,9 @@ def _pans(builder: _Builder, state: State, comp: Compiled, cooking: list[tuple[i
                     if p != pan or (s in occupied and s != here):
                         continue
                     d = walk_distance(state, here, s, others)
-                    if d is None or ticks + d > rules.burn_time:
+                    if d is None or ticks + d > burn:
                         continue
-                    wait = max(0, rules.cook_time - ticks - d)
+                    wait = max(0, cook - ticks - d)
                     offers.append((d + wait + 1, a, s))
         best: dict[int, tuple[int, int, int]] = {}
         for cost, a, s in sorted(offers):

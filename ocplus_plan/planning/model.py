@@ -64,6 +64,9 @@ from functools import lru_cache
 from typing import Any
 
 from ..errors import CompileError
+from ..sim.codes import VEGETABLES, Item, ItemState
+from ..sim.processes import PROCESSES, Process
+from ..sim.stations import PLACE_FLAGS
 
 ENCODINGS = ("classical", "temporal")
 GRANULARITIES = ("stations", "cells")
@@ -102,15 +105,23 @@ FLUENTS: dict[str, tuple[str, ...]] = {
     "plates_stay_clean": (), "plates_get_dirty": (),
     "can_rescue": ("agent", "item", "spot"),
     # static numeric functions (costs and durations, in simulator steps)
-    "dist": ("spot", "spot"), "chop_full": (), "chop_left": ("item",),
-    "wash_full": (), "wash_left": ("item",), "cook_cost_full": (), "cook_cost_left": ("item",),
+    "dist": ("spot", "spot"),
+    **{f: sig for p in PROCESSES if not p.timed
+       for f, sig in ((f"{p.verb}_full", ()), (f"{p.verb}_left", ("item",)))},
+    "cook_cost_full": (), "cook_cost_left": ("item",),
     "cook_lo_full": (), "cook_hi_full": (), "cook_lo": ("item",), "cook_hi": ("item",),
     "rescue_cost": ("agent", "item"),
 }
 NUMERIC = frozenset({
-    "dist", "ldist", "chop_full", "chop_left", "wash_full", "wash_left", "cook_cost_full",
-    "cook_cost_left", "cook_lo_full", "cook_hi_full", "cook_lo", "cook_hi", "rescue_cost",
+    "dist", "ldist", "cook_cost_full", "cook_cost_left", "cook_lo_full", "cook_hi_full",
+    "cook_lo", "cook_hi", "rescue_cost",
+    *(f"{p.verb}_{end}" for p in PROCESSES if not p.timed for end in ("full", "left")),
 })
+#: the fluent that holds while an item is in a state
+STATE_FLUENT: dict[ItemState, str] = {
+    ItemState.FRESH: "fresh", ItemState.CHOPPED: "ready", ItemState.COOKED: "ready",
+    ItemState.BURNT: "burnt", ItemState.CLEAN: "clean", ItemState.DIRTY: "dirty",
+}
 for _k in range(1, 10):
     FLUENTS[f"size{_k}"] = ("content",)
 
@@ -174,32 +185,14 @@ def _hand_schemas() -> list[Schema]:
     return [
         _schema("pick", "pick", HAND, f"{AGENT_AT}; free_hand a; item_at i p; nowait p; grabbable p",
                 "holding a i; free p", "free_hand a; item_at i p"),
-        _schema("pick_chopped", "pick", HAND, f"{AGENT_AT}; free_hand a; item_at i p; board p; ready i",
-                "holding a i; free p", "free_hand a; item_at i p"),
-        _schema("pick_washed", "pick", HAND, f"{AGENT_AT}; free_hand a; item_at i p; sink p; clean i",
-                "holding a i; free p", "free_hand a; item_at i p"),
+        *(_pick_done(p) for p in _BUMPED),
         _schema("pick_release", "pick", f"{HAND} w:item",
                 f"{AGENT_AT}; free_hand a; item_at i p; holder p; waiting w; home w p",
                 "holding a i; item_at w p; nowait p", "free_hand a; item_at i p; waiting w"),
         _schema("put", "put", HAND, f"{AGENT_AT}; holding a i; free p; drop_ok i p",
                 "item_at i p; free_hand a", "holding a i; free p"),
-        _schema("put_board", "put", HAND,
-                f"{AGENT_AT}; holding a i; free p; board p; is_veg i; fresh i",
-                "item_at i p; free_hand a", "holding a i; free p"),
-        _schema("put_sink", "put", HAND, f"{AGENT_AT}; holding a i; free p; sink p; dirty i",
-                "item_at i p; free_hand a", "holding a i; free p"),
-        _schema("chop", "chop", HAND,
-                f"{AGENT_AT}; free_hand a; item_at i p; board p; is_veg i; fresh i; untouched i",
-                "ready i", "fresh i", "chop_full"),
-        _schema("chop_rest", "chop", HAND,
-                f"{AGENT_AT}; free_hand a; item_at i p; board p; is_veg i; fresh i; partly i",
-                "ready i; untouched i", "fresh i; partly i", "chop_left i"),
-        _schema("wash", "wash", HAND,
-                f"{AGENT_AT}; free_hand a; item_at i p; sink p; dirty i; untouched i",
-                "clean i", "dirty i", "wash_full"),
-        _schema("wash_rest", "wash", HAND,
-                f"{AGENT_AT}; free_hand a; item_at i p; sink p; dirty i; partly i",
-                "clean i; untouched i", "dirty i; partly i", "wash_left i"),
+        *(_put_station(p) for p in _BUMPED),
+        *(sch for p in _BUMPED for sch in _work(p)),
         # temporal: item_at q p is deleted at start and added back at end, so no other
         # agent picks the plate up while the ingredient goes on it (the simulator would put
         # the ingredient on the bare counter: found by the temporal fidelity replay)
@@ -217,6 +210,51 @@ def _hand_schemas() -> list[Schema]:
                 "free_hand a; item_at i h; fresh i; untouched i",
                 "holding a i; free h; ready i; burnt i; partly i"),
     ]
+
+
+#: the bump-driven process records: each has its own pick, put and work schemas
+_BUMPED: tuple[Process, ...] = tuple(p for p in PROCESSES if not p.timed)
+
+
+def _kind_guard(p: Process) -> str:
+    """The static fact that an item is of a kind the process takes ("" when its taken state
+    says so already: only plates get dirty)."""
+    if set(p.takes) <= VEGETABLES:
+        return "is_veg i; "
+    if set(p.takes) == {Item.STEAK}:
+        return "is_steak i; "
+    if set(p.takes) == {Item.PLATE}:
+        return ""
+    raise CompileError(f"the planning model has no kind fact for the items of {p.verb!r}")
+
+
+def _pick_done(p: Process) -> Schema:
+    """Picking up what the process made (the station holds it while it is worked)."""
+    return _schema(f"pick_{p.past}", "pick", HAND,
+                   f"{AGENT_AT}; free_hand a; item_at i p; {PLACE_FLAGS[int(p.station)]} p; "
+                   f"{STATE_FLUENT[p.makes_state]} i",
+                   "holding a i; free p", "free_hand a; item_at i p")
+
+
+def _put_station(p: Process) -> Schema:
+    """Putting down an item to be worked on at the process's station."""
+    place = PLACE_FLAGS[int(p.station)]
+    return _schema(f"put_{place}", "put", HAND,
+                   f"{AGENT_AT}; holding a i; free p; {place} p; {_kind_guard(p)}"
+                   f"{STATE_FLUENT[p.takes_state]} i",
+                   "item_at i p; free_hand a", "holding a i; free p")
+
+
+def _work(p: Process) -> tuple[Schema, Schema]:
+    """The whole work (``<verb>``, costing ``<verb>_full``) and its rest once started
+    (``<verb>_rest``, costing ``<verb>_left``): one action each."""
+    pre = (f"{AGENT_AT}; free_hand a; item_at i p; {PLACE_FLAGS[int(p.station)]} p; "
+           f"{_kind_guard(p)}{STATE_FLUENT[p.takes_state]} i")
+    made, taken = STATE_FLUENT[p.makes_state], STATE_FLUENT[p.takes_state]
+    return (_schema(p.verb, p.verb, HAND, f"{pre}; untouched i", f"{made} i", f"{taken} i",
+                    f"{p.verb}_full"),
+            _schema(f"{p.verb}_rest", p.verb, HAND, f"{pre}; partly i", f"{made} i; untouched i",
+                    f"{taken} i; partly i", f"{p.verb}_left i"))
 
 
 def _plate_schemas(k_max: int) -> list[Schema]:

@@ -31,6 +31,8 @@ import numpy as np
 
 from ..errors import ConfigError, DependencyNotInstalled, OcplusError
 from ..sim import Action, Event, Rules, State, make_rules, new_state, recipe_name, transition
+from ..sim.process_yaml import own_processes
+from ..sim.processes import PROCESSES
 from ..sim.rules import OPTIONAL_RULE_LIMITS, RULE_LIMITS, Rewards
 
 FORMAT = "ocplus-replay"
@@ -55,14 +57,21 @@ def layout_to_dict(rules: Rules) -> dict[str, Any]:
     }
     if lay.switch_grid is not None:
         d["switch_map"] = lay.switch_grid.astype(int).tolist()
+    if own_processes(lay.processes):  # the kitchen file's own process records
+        d["processes"] = own_processes(lay.processes)
     return d
 
 
 def rules_to_dict(rules: Rules) -> dict[str, Any]:
-    """Every rule parameter except the preset and the map, JSON-able."""
+    """Every rule parameter except the preset and the map, JSON-able (process records
+    travel in the map dict, as a kitchen file declares them)."""
+    if rules.processes != (rules.layout.processes or PROCESSES):
+        raise ConfigError("these rules have process records their map does not declare; "
+                          "a recording keeps a kitchen's records in its map: declare them "
+                          "under the map's 'processes'")
     out: dict[str, Any] = {}
     for f in fields(Rules):
-        if f.name in ("preset", "layout"):
+        if f.name in ("preset", "layout", "processes"):  # the map dict carries the records
             continue
         value = getattr(rules, f.name)
         if f.name == "recipes" or (f.name == "fixed_orders" and value is not None):

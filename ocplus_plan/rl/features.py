@@ -359,12 +359,14 @@ class FeatureEncoder:
         if rules.dynamic:
             switch_in = min(max(state.next_switch - state.t, 0) / rules.map_switch_step, 1.0)
         cooking = best_cell[_T["cooking_steak"]]
-        cook_prog = progress[cell_item[cooking]] / rules.cook_time if cooking >= 0 else 0.0
+        tables = rules.tables  # the pan's record: cook and burn times
+        cook, burn = tables.duration_at(_PAN), tables.overrun_at(_PAN)
+        cook_prog = progress[cell_item[cooking]] / cook if cooking >= 0 else 0.0
         cooked = best_cell[_T["cooked_steak"]]
         burn_in = 0.0
         if cooked >= 0 and terrain[cooked] == _PAN:
             left = ticks_until_burnt(rules, progress[cell_item[cooked]])
-            burn_in = max(0.0, 1.0 - left / (rules.burn_time + 1 - rules.cook_time))
+            burn_in = max(0.0, 1.0 - left / (burn + 1 - cook))
         return [state.t / rules.horizon, float(layout), switch_in, min(cook_prog, 1.0), burn_in]
 
 

@@ -11,6 +11,7 @@ Typical use::
 from __future__ import annotations
 
 from .codes import Action, Cell, Item, ItemState, Where
+from .kitchens import load_kitchen
 from .maps import Layout, available_maps, load_map
 from .rules import PRESETS, Rewards, Rules, make_rules, recipe_name
 from .state import Event, Geometry, Order, State, conservation_problems, new_state
@@ -33,6 +34,7 @@ __all__ = [
     "Where",
     "available_maps",
     "conservation_problems",
+    "load_kitchen",
     "load_map",
     "make_rules",
     "new_state",

@@ -92,20 +92,5 @@ STATIONS: frozenset[Cell] = frozenset(
 #: The only codes a switch layout may change between.
 SWITCHABLE: frozenset[Cell] = frozenset({Cell.BLOCK, Cell.FLOOR, Cell.COUNTER})
 
-#: The processed state an ingredient must reach before it goes on a plate.
-READY_STATE: dict[Item, ItemState] = {
-    Item.TOMATO: ItemState.CHOPPED,
-    Item.LETTUCE: ItemState.CHOPPED,
-    Item.ONION: ItemState.CHOPPED,
-    Item.STEAK: ItemState.COOKED,
-}
-#: The station an ingredient needs to be processed.
-PROCESS_STATION: dict[Item, Cell] = {
-    Item.TOMATO: Cell.BOARD,
-    Item.LETTUCE: Cell.BOARD,
-    Item.ONION: Cell.BOARD,
-    Item.STEAK: Cell.PAN,
-}
-
 ITEM_NAMES: dict[str, Item] = {i.name.lower(): i for i in Item}
 VALID_CODES: frozenset[int] = frozenset(int(c) for c in Cell)

@@ -26,6 +26,8 @@ from .codes import (
     WALKABLE,
     Cell,
 )
+from .process_yaml import parse_processes
+from .processes import Process
 from .queries import distances, grid_neighbors
 
 if TYPE_CHECKING:
@@ -42,6 +44,7 @@ KEY_ALIASES: dict[str, tuple[str, ...]] = {
     "switch_map": ("switch_map",),
     "map_switch_step": ("map_switch_step",),
     "agent_spawn_points": ("agent_spawn_points", "agent_initial_coordinates"),
+    "processes": ("processes",),
 }
 _SPELLING_TO_KEY = {s: k for k, spellings in KEY_ALIASES.items() for s in spellings}
 
@@ -68,6 +71,8 @@ class Layout:
     stations: dict[int, tuple[tuple[int, int], ...]] = field(default_factory=dict)
     #: ``max_n_agent`` as the file says it (``max_agents`` is capped at the spawn count)
     declared_max_agents: int = 0
+    #: the kitchen's process-station records (``processes``); None: the shipped ones
+    processes: tuple[Process, ...] | None = None
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -121,10 +126,9 @@ def load_map(spec: str | os.PathLike[str] | dict[str, Any], *, source: str | Non
     if isinstance(spec, dict):
         return _parse(spec, source or "<dict>")
     text_spec = os.fspath(spec)
-    if text_spec.startswith("gen:"):  # a generated kitchen: gen:FAMILY:SPLIT:INDEX[:PRESET]
-        from .generate import map_from_name
-
-        return _parse(map_from_name(text_spec), source or text_spec)
+    if text_spec.startswith("gen:"):  # generated kitchens load one floor up
+        raise MapFormatError(f"map {text_spec!r} is a generated kitchen: load it with "
+                             "sim.kitchens.load_kitchen (make_rules and the CLI do)")
     path: Traversable = Path(text_spec)
     if not path.is_file():
         registry = available_maps()
@@ -333,6 +337,7 @@ def _parse(raw: dict[str, Any], src: str) -> Layout:
         description=_text(d, "description", "", src),
         stations=stations,
         declared_max_agents=declared,
+        processes=None if d.get("processes") is None else parse_processes(d["processes"], src),
     )
 
 

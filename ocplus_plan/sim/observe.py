@@ -42,6 +42,7 @@ import numpy as np
 
 from ..errors import ConfigError
 from .codes import Cell, Item, ItemState, Where
+from .processes import process_tables
 from .rules import Rules
 from .state import Geometry, State
 
@@ -219,12 +220,8 @@ class VectorEncoder:
         #: r > 0: per agent cell (built when first needed), per map cell: its index in
         #: that agent's window, or -1 outside it
         self._local: dict[int, list[int]] = {}
-        steak, plate = int(Item.STEAK), int(Item.PLATE)
-        self._prog_den = [
-            float(rules.burn_time + 1) if k == steak
-            else float(rules.wash_steps) if k == plate else float(rules.chop_steps)
-            for k in geo_kinds
-        ]
+        tables = process_tables(rules)
+        self._prog_den = [float(tables.progress_scale(k)) for k in geo_kinds]
         self._item_kind = geo_kinds
 
     def _init_features(self, rules: Rules, comm_vocab: int) -> None:

@@ -18,6 +18,7 @@ import string
 
 from ..errors import ConfigError
 from .codes import Action, Cell, Item, ItemState, Where
+from .processes import process_tables
 from .queries import ticks_until_burnt, ticks_until_cooked
 from .rules import Rules
 from .stations import WORK_PLACES
@@ -91,9 +92,9 @@ def _timers(state: State) -> list[str]:
             else:
                 out.append(f"- {what}: burnt in {burn} steps unless taken off")
         elif progress and kind != Item.STEAK and kind != Item.PLATE and st == ItemState.FRESH:
-            out.append(f"- {what}: chopped {progress} of {rules.chop_steps} times")
+            out.append(f"- {what}: chopped {progress} of {rules.tables.work(kind)} times")
         elif progress and kind == Item.PLATE and st == ItemState.DIRTY:
-            out.append(f"- {what}: washed {progress} of {rules.wash_steps} times")
+            out.append(f"- {what}: washed {progress} of {rules.tables.work(kind)} times")
     if rules.dynamic and len(geo.terrains) > 1:
         due = max(0, state.next_switch - state.t)
         out.append(f"- the walls switch in {due} steps (walls move between "
@@ -105,6 +106,7 @@ def _timers(state: State) -> list[str]:
 
 def rules_text(rules: Rules) -> str:
     """The rules of the kitchen in a few sentences, with this rule set's numbers (SPEC 1-5)."""
+    work = process_tables(rules).duration_at
     lines = [
         ("Cooks move one cell per step onto floor; moving into anything else (a counter, a "
          "station, a wall) uses it instead, and the cook stays in place. Two cooks never "
@@ -113,19 +115,20 @@ def rules_text(rules: Rules) -> str:
          "chops the fresh vegetable on it instead, a sink washes the dirty plate in it). "
          "Holding something, using an empty counter puts it down."),
         (f"Vegetables are chopped on a cutting board: put the fresh vegetable there, then use "
-         f"the board {rules.chop_steps} times with empty hands."),
+         f"the board {work(Cell.BOARD)} times with empty hands."),
         ("Dishes are served on a clean plate: put chopped vegetables and cooked steak onto a "
          "plate (use the plate while holding the ingredient, or use the ingredient while "
          "holding the plate), then carry the plate to the serving window."),
     ]
     if any(Item.STEAK in r for r in rules.recipes):
         lines.append(f"A raw steak put on a pan cooks by itself: cooked after "
-                     f"{rules.cook_time} steps, burnt after {rules.burn_time + 1}. Take it "
+                     f"{work(Cell.PAN)} steps, burnt after "
+                     f"{process_tables(rules).overrun_at(Cell.PAN) + 1}. Take it "
                      "off (or take it onto a plate) in time; the trash can takes burnt food "
                      "back to its counter fresh.")
     if rules.dirty_plates:
         lines.append(f"A served plate comes back dirty on its counter: put it in the sink and "
-                     f"use the sink {rules.wash_steps} times with empty hands to clean it.")
+                     f"use the sink {work(Cell.SINK)} times with empty hands to clean it.")
     if rules.dynamic:
         lines.append(f"Some walls move every {rules.map_switch_step} steps.")
     lines.append(f"A served order earns {rules.rewards.correct_delivery:g}; a plate that "

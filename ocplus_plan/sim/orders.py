@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from .codes import READY_STATE, Item, ItemState, Where
+from .codes import Item, ItemState, Where
 from .records import Event, Order
 
 if TYPE_CHECKING:
@@ -35,13 +35,13 @@ def plate_recipe(state: State, plate: int) -> tuple[Item, ...] | None:
     or holding an ingredient that is not in its ready state)."""
     if state.item_state[plate] != ItemState.CLEAN:
         return None
-    kinds = state.geo.item_kind
+    kinds, ready = state.geo.item_kind, state.rules.tables.plateable_list
     where, loc, st = state.item_where, state.item_loc, state.item_state
     contents = []
     for i in range(len(where)):
         if where[i] == Where.PLATE and loc[i] == plate:
             kind = Item(kinds[i])
-            if st[i] != READY_STATE[kind]:
+            if not ready[kind][st[i]]:
                 return None
             contents.append(kind)
     return tuple(sorted(contents)) if contents else None

@@ -20,7 +20,7 @@ from functools import lru_cache
 from typing import TYPE_CHECKING, NamedTuple
 
 from ..errors import ConfigError
-from .codes import COUNTERS, STATIONS, VEGETABLES, Action, Cell, Item, ItemState
+from .codes import COUNTERS, STATIONS, Action, Cell, Item, ItemState
 
 if TYPE_CHECKING:
     from .rules import Rules
@@ -29,13 +29,11 @@ if TYPE_CHECKING:
 Neighbors = Sequence[Sequence[int]]
 
 _STAY = int(Action.STAY)
-_VEG = frozenset(int(v) for v in VEGETABLES)
 _COUNTERS = frozenset(int(c) for c in COUNTERS)
-_BOARD, _PAN, _SINK = int(Cell.BOARD), int(Cell.PAN), int(Cell.SINK)
+_PAN = int(Cell.PAN)
 _DELIVERY, _TRASH = int(Cell.DELIVERY), int(Cell.TRASH)
-_PLATE, _STEAK = int(Item.PLATE), int(Item.STEAK)
-_FRESH, _CHOPPED, _COOKED = int(ItemState.FRESH), int(ItemState.CHOPPED), int(ItemState.COOKED)
-_CLEAN, _DIRTY = int(ItemState.CLEAN), int(ItemState.DIRTY)
+_PLATE = int(Item.PLATE)
+_CLEAN = int(ItemState.CLEAN)
 
 
 # ---------------------------------------------------------------- walking
@@ -266,16 +264,20 @@ class Bump(IntEnum):
     WASH = 6  # one wash of the dirty plate in the sink
     DELIVER = 7  # the held thing is served (or refused: see sim.orders.matching_order)
     TRASH = 8  # the held ingredient, or the held plate's contents, go back to their spawn
+    WORK = 9  # one unit of work of another bump-driven process (its record says which)
 
 
 _NOTHING, _PICK_UP, _PUT_DOWN = Bump.NOTHING, Bump.PICK_UP, Bump.PUT_DOWN
 
 
 def is_plateable(state: State, item: int) -> bool:
-    """A chopped vegetable or a cooked steak (the only things a plate takes)."""
-    kind = state.geo.item_kind[item]
-    st = state.item_state[item]
-    return (kind in _VEG and st == _CHOPPED) or (kind == _STEAK and st == _COOKED)
+    """An ingredient in the state its process makes (a chopped vegetable, a cooked steak):
+    the only things a plate takes."""
+    return state.rules.tables.plateable_list[state.geo.item_kind[item]][state.item_state[item]]
+
+
+#: the bump of each shipped bump-driven process; any other one is :attr:`Bump.WORK`
+_WORK_BUMP = {"chop": Bump.CHOP, "wash": Bump.WASH}
 
 
 def bump_effect(state: State, held: int, cell: int) -> Bump:
@@ -287,37 +289,26 @@ def bump_effect(state: State, held: int, cell: int) -> Bump:
         if held < 0:
             return _PICK_UP if here >= 0 else _NOTHING
         return _PUT_DOWN if here < 0 else _plate_exchange(state, held, here)
-    if code == _BOARD:
-        if held < 0:  # a fresh vegetable is chopped where it lies, never picked up half-chopped
+    tables = state.rules.tables
+    p = tables.by_code.get(code, -1)
+    if p >= 0:  # a process station: its record's tables say
+        kinds = state.geo.item_kind
+        if held < 0:  # a bump-driven item is worked where it lies, never picked up half-done
             if here < 0:
                 return _NOTHING
-            return Bump.CHOP if _fresh_veg(state, here) else _PICK_UP
+            if tables.works_list[p][kinds[here]][state.item_state[here]]:
+                return _WORK_BUMP.get(tables.processes[p].verb, Bump.WORK)
+            return _PICK_UP
         if here < 0:
-            return _PUT_DOWN if _fresh_veg(state, held) else _NOTHING
-        return _plate_exchange(state, held, here)
-    if code == _PAN:
-        if held < 0:
-            return _PICK_UP if here >= 0 else _NOTHING
-        if here < 0:
-            steak = state.geo.item_kind[held] == _STEAK
-            return _PUT_DOWN if steak and state.item_state[held] in (_FRESH, _COOKED) else _NOTHING
-        return _plate_exchange(state, held, here)
-    if code == _SINK:
-        if held < 0:
-            if here < 0:
-                return _NOTHING
-            return Bump.WASH if state.item_state[here] == _DIRTY else _PICK_UP
-        return _PUT_DOWN if here < 0 and state.item_state[held] == _DIRTY else _NOTHING
+            return (_PUT_DOWN if tables.accepts_list[p][kinds[held]][state.item_state[held]]
+                    else _NOTHING)
+        return _plate_exchange(state, held, here) if tables.plates[p] else _NOTHING
     if code == _DELIVERY:
         return Bump.DELIVER if held >= 0 else _NOTHING
     if code == _TRASH and held >= 0:  # an empty plate: nothing to throw away
         empty_plate = state.geo.item_kind[held] == _PLATE and not state.plate_contents(held)
         return _NOTHING if empty_plate else Bump.TRASH
     return _NOTHING
-
-
-def _fresh_veg(state: State, item: int) -> bool:
-    return state.geo.item_kind[item] in _VEG and state.item_state[item] == _FRESH
 
 
 def _plate_exchange(state: State, held: int, here: int) -> Bump:
@@ -331,27 +322,42 @@ def _plate_exchange(state: State, held: int, here: int) -> Bump:
     return _NOTHING
 
 
-def bumps_needed(rules: Rules, effect: Bump) -> int:
-    """How many bumps of this kind finish the job: ``chop_steps`` chops, ``wash_steps``
-    washes, one of anything else."""
-    if effect == Bump.CHOP:
-        return rules.chop_steps
-    if effect == Bump.WASH:
-        return rules.wash_steps
-    return 1
+def bumps_needed(rules: Rules, effect: Bump, verb: str = "") -> int:
+    """How many bumps of this kind finish the job: the duration of the bump-driven process
+    (``chop_steps`` chops, ``wash_steps`` washes; for :attr:`Bump.WORK`, the process named
+    by ``verb``), one of anything else."""
+    name = {Bump.CHOP: "chop", Bump.WASH: "wash"}.get(effect, verb if effect == Bump.WORK else "")
+    if not name:
+        return 1
+    tables = rules.tables
+    return next(tables.duration[i] for i, p in enumerate(tables.processes) if p.verb == name)
 
 
-# ---------------------------------------------------------------- the pan
+# ---------------------------------------------------------------- time-driven stations
+def ticks_until_done(rules: Rules, code: int, ticks: int) -> int:
+    """Ticks still needed, after ``ticks`` on the time-driven station ``code``, before the
+    item it takes is done (0: it is)."""
+    tables = rules.tables
+    return max(0, tables.duration[tables.by_code[code]] - ticks)
+
+
+def ticks_until_overrun(rules: Rules, code: int, ticks: int) -> int:
+    """Ticks, after ``ticks`` on the time-driven station ``code``, until the item overruns
+    (0: it has): on the tick that takes it past the overrun time."""
+    tables = rules.tables
+    return max(0, tables.overrun[tables.by_code[code]] + 1 - ticks)
+
+
 def ticks_until_cooked(rules: Rules, ticks: int) -> int:
     """Pan ticks still needed, after ``ticks`` on the pan, before a raw steak is cooked
     (0: it is)."""
-    return max(0, rules.cook_time - ticks)
+    return ticks_until_done(rules, _PAN, ticks)
 
 
 def ticks_until_burnt(rules: Rules, ticks: int) -> int:
     """Pan ticks, after ``ticks`` on the pan, until the steak burns (0: it has): it burns
     on the tick that takes it past ``burn_time``."""
-    return max(0, rules.burn_time + 1 - ticks)
+    return ticks_until_overrun(rules, _PAN, ticks)
 
 
 # ---------------------------------------------------------------- plates
@@ -363,5 +369,6 @@ def plate_fits(contents: Counter[int], recipe: Counter[int]) -> bool:
 
 __all__ = ["Bump", "SwitchingWalks", "Walks", "bump_effect", "bumps_needed", "direction", "distances",
            "grid_neighbors", "interaction_spots", "is_plateable", "layout_at", "plate_fits",
-           "stations_cut_off", "switching_walks", "ticks_until_burnt", "ticks_until_cooked", "walk_actions",
+           "stations_cut_off", "switching_walks", "ticks_until_burnt", "ticks_until_cooked",
+           "ticks_until_done", "ticks_until_overrun", "walk_actions",
            "walk_to", "walkable_in_any_layout", "walks"]

@@ -15,8 +15,17 @@ from typing import Any
 import numpy as np
 
 from ..errors import ConfigError, MapFormatError
-from .codes import ITEM_NAMES, PROCESS_STATION, VEGETABLES, Cell, Item
-from .maps import Layout, load_map
+from .codes import ITEM_NAMES, VEGETABLES, Cell, Item
+from .kitchens import load_kitchen
+from .maps import Layout
+from .processes import (
+    PROCESSES,
+    Process,
+    ProcessTables,
+    check_processes,
+    ingredient_process,
+    process_tables,
+)
 
 Recipe = tuple[Item, ...]  # sorted multiset of ingredient kinds, each to be processed
 
@@ -83,6 +92,19 @@ class Rules:
     #: fixed orders (the paper's ``fixed_task``): exactly these are open in every episode,
     #: and a served or expired order is replaced by one with the same recipe
     fixed_orders: tuple[Recipe, ...] | None = None
+    #: the process stations' rules (:mod:`.processes`); durations named by a record's
+    #: ``duration_param`` / ``overrun_param`` are read from the fields above
+    processes: tuple[Process, ...] = PROCESSES
+
+    def __post_init__(self) -> None:
+        # the compiled process tables (durations from the fields above): a plain attribute,
+        # not a field, so every engine reads them at the cost of an attribute; a rule set
+        # whose numbers are not integers gets None here and a ConfigError from the check
+        try:
+            tables: ProcessTables | None = process_tables(self)
+        except (TypeError, ValueError):
+            tables = None
+        object.__setattr__(self, "tables", tables)
 
     def recipe_name(self, recipe: Recipe) -> str:
         return recipe_name(recipe)
@@ -127,7 +149,7 @@ PRESETS: dict[str, Preset] = {
 
 _RULE_FIELDS = {
     f.name for f in fields(Rules)
-    if f.name not in ("preset", "layout", "recipes", "rewards", "fixed_orders")
+    if f.name not in ("preset", "layout", "recipes", "rewards", "fixed_orders", "processes")
 }
 _OVERRIDES = _RULE_FIELDS | {"map", "rewards", "recipes", "recipe_sizes", "fixed_orders"}
 #: the generator seed of ``fixed_orders=True`` (a constant: the same orders in every episode)
@@ -144,8 +166,8 @@ def recipe_pool(
     ``required`` (exactly one steak) or ``allowed``.
     """
     supply = {}
-    for item in (Item.TOMATO, Item.LETTUCE, Item.ONION, Item.STEAK):
-        if layout.cells_of(PROCESS_STATION[item]):
+    for item, process in sorted(ingredient_process().items()):
+        if layout.cells_of(process.station):
             supply[item] = len(layout.cells_of(Cell(int(item))))
     kinds = sorted(k for k, n in supply.items() if n > 0)
     pool: list[Recipe] = []
@@ -193,7 +215,7 @@ def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, 
         raise ConfigError(f"unknown rule parameter(s) {bad}; known: {sorted(_OVERRIDES)}")
 
     try:
-        layout = map if isinstance(map, Layout) else load_map(map if map is not None else p.map)
+        layout = load_kitchen(map if map is not None else p.map)
     except MapFormatError:
         raise
     n_agents = overrides.pop("n_agents", p.n_agents)
@@ -249,6 +271,8 @@ def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, 
     params: dict[str, Any] = (
         {"map_switch_step": layout.map_switch_step} if layout.map_switch_step > 0 else {})
     params.update(overrides)
+    if layout.processes is not None:  # the kitchen file's own process records
+        params["processes"] = layout.processes
     rules = Rules(
         preset=preset,
         layout=layout,
@@ -348,6 +372,8 @@ def _check(rules: Rules) -> None:
             f"burn_time ({rules.burn_time}) must be >= cook_time ({rules.cook_time}), "
             "or a steak would burn before it is cooked"
         )
+    if rules.processes is not PROCESSES:
+        check_processes(rules.processes, {f.name: getattr(rules, f.name) for f in fields(rules)})
     if rules.reward_mode not in ("individual", "shared"):
         raise ConfigError(f"reward_mode must be 'individual' or 'shared', got {rules.reward_mode!r}")
 

@@ -43,6 +43,8 @@ class Geometry:
     item_kind: tuple[int, ...]
     item_home: tuple[int, ...]
     item_names: tuple[str, ...]
+    #: the cells of time-driven process stations (the pans), in cell order
+    timed: tuple[int, ...]
 
     @classmethod
     def build(cls, rules: Rules) -> Geometry:
@@ -63,8 +65,10 @@ class Geometry:
         switch = ()
         if len(terrains) > 1:
             switch = tuple(i for i, (a, b) in enumerate(zip(*terrains)) if a != b)
+        timed_codes = {p.station for p in rules.processes if p.timed}
+        timed = tuple(i for i, v in enumerate(terrains[0]) if v in timed_codes)
         return cls(rows, cols, terrains, walk, grid_neighbors(rows, cols), pans, switch,
-                   tuple(kinds), tuple(homes), tuple(names))
+                   tuple(kinds), tuple(homes), tuple(names), timed)
 
     def rc(self, flat: int) -> tuple[int, int]:
         return divmod(flat, self.cols)
@@ -272,8 +276,13 @@ def new_state(rules: Rules, seed: int | None = 0, *, geometry: Geometry | None =
     s.rng = np.random.default_rng(seed)
     s.stats = {
         "dishes_served": 0, "orders_completed": 0, "orders_expired": 0, "burns": 0,
-        "wrong_deliveries": 0, "chops": 0, "cooks": 0, "washes": 0, "layout_switches": 0,
+        "wrong_deliveries": 0,
     }
+    for p in rules.processes:  # one counter per process (chops, cooks, washes)
+        s.stats.setdefault(p.stat, 0)
+        if p.overrun_state is not None:
+            s.stats.setdefault(p.overrun_stat, 0)
+    s.stats["layout_switches"] = 0
     for _ in range(rules.n_orders):
         draw_order(s)
     return s

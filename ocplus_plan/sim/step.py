@@ -16,12 +16,11 @@ from ..errors import InvalidActionError
 from .codes import Action, Item, ItemState, Where
 from .dynamics import maybe_switch
 from .orders import draw_order, expire_orders, matching_order, plate_recipe
-from .queries import Bump, bump_effect, bumps_needed, ticks_until_burnt, ticks_until_cooked
+from .queries import Bump, bump_effect
 from .state import Event, State
 
 _CELL, _HAND, _PLATE, _WAITING = int(Where.CELL), int(Where.HAND), int(Where.PLATE), int(Where.WAITING)
-_FRESH, _CHOPPED, _COOKED = int(ItemState.FRESH), int(ItemState.CHOPPED), int(ItemState.COOKED)
-_BURNT, _CLEAN, _DIRTY = int(ItemState.BURNT), int(ItemState.CLEAN), int(ItemState.DIRTY)
+_FRESH, _CLEAN, _DIRTY = int(ItemState.FRESH), int(ItemState.CLEAN), int(ItemState.DIRTY)
 _PLATE_KIND = int(Item.PLATE)
 _STAY = int(Action.STAY)
 
@@ -72,10 +71,10 @@ def transition(state: State, joint_action: Sequence[int]) -> StepResult:
     if moving:
         _resolve_moves(state, targets, events)
 
-    for p in geo.pans:
+    for p in geo.timed:
         it = state.cell_item[p]
         if it >= 0:
-            _tick_pan(state, it, p, rewards, events)
+            _tick(state, it, p, rewards, events)
 
     state.t += 1
     if rules.dynamic:
@@ -150,12 +149,8 @@ def _interact(state: State, a: int, cell: int, rewards: list[float], events: lis
         state.item_loc[here] = held
         state.item_agent[here] = a
         events.append(Event("plate_add", a, state.geo.rc(cell), here, held))
-    elif effect == Bump.CHOP:
-        _advance(state, a, cell, here, "chop", bumps_needed(state.rules, effect), _CHOPPED,
-                 "chops", rewards, events)
-    elif effect == Bump.WASH:
-        _advance(state, a, cell, here, "wash", bumps_needed(state.rules, effect), _CLEAN,
-                 "washes", rewards, events)
+    elif effect == Bump.CHOP or effect == Bump.WASH or effect == Bump.WORK:
+        _advance(state, a, cell, here, rewards, events)
     elif effect == Bump.DELIVER:
         _deliver(state, a, cell, held, rewards, events)
     elif effect == Bump.TRASH:
@@ -179,43 +174,48 @@ def _put(state: State, a: int, cell: int, item: int, events: list[Event]) -> Non
     events.append(Event("putdown", a, state.geo.rc(cell), item))
 
 
-def _advance(
-    state: State, a: int, cell: int, item: int, kind: str, needed: int, done_state: int,
-    stat: str, rewards: list[float], events: list[Event],
-) -> None:
-    """One chop or wash interaction; completes the process after ``needed`` of them."""
+def _advance(state: State, a: int, cell: int, item: int, rewards: list[float],
+             events: list[Event]) -> None:
+    """One unit of work of the bump-driven process of ``cell``'s station; its record's
+    duration of them finishes it."""
+    tables = state.rules.tables
+    p = tables.by_code[state.geo.terrains[state.layout_index][cell]]
+    process = tables.processes[p]
     state.item_progress[item] += 1
     state.item_agent[item] = a
-    if state.item_progress[item] >= needed:
-        state.item_state[item] = done_state
+    if state.item_progress[item] >= tables.duration[p]:
+        state.item_state[item] = tables.done_state[p]
         state.item_progress[item] = 0
-        state.stats[stat] += 1
+        state.stats[process.stat] += 1
         rewards[a] += state.rules.rewards.subtask_finished
-        events.append(Event(kind + "_done", a, state.geo.rc(cell), item))
+        events.append(Event(process.verb + "_done", a, state.geo.rc(cell), item))
     else:
-        events.append(Event(kind, a, state.geo.rc(cell), item, state.item_progress[item]))
+        events.append(Event(process.verb, a, state.geo.rc(cell), item, state.item_progress[item]))
 
 
-def _tick_pan(
-    state: State, item: int, cell: int, rewards: list[float], events: list[Event]
-) -> None:
-    rules = state.rules
+def _tick(state: State, item: int, cell: int, rewards: list[float], events: list[Event]) -> None:
+    """One tick of the time-driven process of ``cell``'s station (the pan): done after its
+    duration, overrun (burnt) on the tick that takes it past its overrun time."""
+    tables = state.rules.tables
+    p = tables.by_code[state.geo.terrains[0][cell]]
+    process = tables.processes[p]
+    r = state.rules.rewards
     ticks = state.item_progress[item] + 1
     state.item_progress[item] = ticks
     st = state.item_state[item]
     owner = state.item_agent[item]
-    if st == _FRESH and ticks_until_cooked(rules, ticks) == 0:
-        state.item_state[item] = _COOKED
-        state.stats["cooks"] += 1
+    if st == process.takes_state and ticks >= tables.duration[p]:
+        st = state.item_state[item] = tables.done_state[p]
+        state.stats[process.stat] += 1
         if owner >= 0:
-            rewards[owner] += rules.rewards.subtask_finished
-        events.append(Event("cook_done", owner, state.geo.rc(cell), item))
-        st = _COOKED
-    if st != _BURNT and ticks_until_burnt(rules, ticks) == 0:
-        state.item_state[item] = _BURNT
-        state.stats["burns"] += 1
+            rewards[owner] += r.subtask_finished
+        events.append(Event(process.verb + "_done", owner, state.geo.rc(cell), item))
+    over = tables.overrun_state[p]
+    if over >= 0 and st != over and ticks > tables.overrun[p]:
+        state.item_state[item] = over
+        state.stats[process.overrun_stat] += 1
         if owner >= 0:
-            rewards[owner] += rules.rewards.burned_penalty
+            rewards[owner] += r.burned_penalty
         events.append(Event("burnt", owner, state.geo.rc(cell), item))
 
 

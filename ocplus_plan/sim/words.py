@@ -15,8 +15,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from .codes import READY_STATE, Action, Item, ItemState, Where
+from .codes import Action, Item, ItemState, Where
 from .orders import matching_order, plate_recipe
+from .processes import READY_STATE
 from .queries import Bump, bump_effect
 from .stations import CELL_KINDS
 
@@ -124,12 +125,13 @@ def _bump_words(state: State, effect: Bump, held: int, cell: int) -> str:
         return f"put your {item_words(state, held)} onto the {item_words(state, here)} on {place}"
     if effect == Bump.TAKE_ONTO_PLATE:
         return f"take the {item_words(state, here)} from {place} onto your plate"
-    if effect == Bump.CHOP:
-        done, need = state.item_progress[here], state.rules.chop_steps
-        return f"chop the {item_words(state, here)} on {place} (chop {done + 1} of {need})"
-    if effect == Bump.WASH:
-        done, need = state.item_progress[here], state.rules.wash_steps
-        return f"wash the dirty plate in {place} (wash {done + 1} of {need})"
+    if effect in (Bump.CHOP, Bump.WASH, Bump.WORK):  # the station's record: verb, duration
+        tables = state.rules.tables
+        j = tables.by_code[state.geo.terrains[state.layout_index][cell]]
+        done, need, verb = state.item_progress[here], tables.duration[j], tables.processes[j].verb
+        if effect == Bump.WASH:
+            return f"wash the dirty plate in {place} (wash {done + 1} of {need})"
+        return f"{verb} the {item_words(state, here)} on {place} ({verb} {done + 1} of {need})"
     if effect == Bump.DELIVER:
         dish = item_words(state, held)
         idx = matching_order(state, plate_recipe(state, held)

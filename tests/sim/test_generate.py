@@ -29,6 +29,7 @@ from ocplus_plan.sim.generate import (
     structure_problems,
 )
 from ocplus_plan.sim.generate_families import MAX_SIZE, MIN_COOKS, MIN_SIZE
+from ocplus_plan.sim.kitchens import load_kitchen
 from ocplus_plan.sim.maps import load_map, station_reachability
 
 
@@ -167,7 +168,7 @@ def test_split_seeds_are_disjoint_ranges():
 
 
 def test_a_gen_name_loads_the_split_kitchen():
-    layout = load_map("gen:corridor:test:2")
+    layout = load_kitchen("gen:corridor:test:2")
     expected = load_map(generate_map("corridor", split_seed("test", 2)))
     assert np.array_equal(layout.grid, expected.grid)
     assert layout.name == "gen:corridor:test:2"
@@ -175,7 +176,12 @@ def test_a_gen_name_loads_the_split_kitchen():
 
 def test_a_gen_name_takes_a_preset():
     assert parse_gen_name("gen:open:train:4:easy") == ("open", "train", 4, "easy")
-    assert not load_map("gen:open:train:4:easy").cells_of(Cell.PAN)
+    assert not load_kitchen("gen:open:train:4:easy").cells_of(Cell.PAN)
+
+
+def test_the_map_parser_leaves_gen_names_to_the_kitchen_loader():
+    with pytest.raises(MapFormatError, match="load it with sim.kitchens.load_kitchen"):
+        load_map("gen:open:train:0")
 
 
 @pytest.mark.parametrize("name", ["gen:open", "gen:kettle:test:1", "gen:open:dev:1",

@@ -186,7 +186,9 @@ def test_bump_effect_agrees_with_the_step_on_sampled_states():
                     expected = EVENTS.get(effect, set())
                     assert bool(done) == bool(expected) and done <= expected, \
                         (preset, state.t, a, geo.rc(cell), effect, done)
-    assert all(seen[b] for b in Bump), seen  # the samples reach every kind of bump
+    # the samples reach every kind of bump (WORK belongs to bump-driven processes beyond the
+    # shipped ones: tests/sim/test_processes.py)
+    assert all(seen[b] for b in Bump if b != Bump.WORK), seen
 
 
 def test_bumps_needed_is_what_the_step_counts():

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...sim.fast.batch import BatchSim, compile_kernels
-from ...sim.codes import COUNTERS, Item
+from ...sim.codes import COUNTERS, Cell, Item
 from ...sim.rules import Rules
 from ...sim.state import geometry_for
 from . import features_kernels as fk
@@ -36,7 +36,7 @@ def feature_tables(rules: Rules, shaping: Shaping) -> fk.FeatureTables:
     for lay, cells in enumerate(interact_cells):
         interact[lay, : len(cells)] = cells
     params = np.array([geo.rows, geo.cols, rules.horizon, rules.dynamic, rules.map_switch_step,
-                       rules.cook_time, rules.burn_time], i64)
+                       rules.tables.duration_at(Cell.PAN), rules.tables.overrun_at(Cell.PAN)], i64)
     is_counter = np.zeros(16, bool)
     is_counter[[int(c) for c in COUNTERS]] = True
     kind_index = np.full(16, 5, i64)

@@ -38,6 +38,9 @@ O_ID, O_RECIPE, O_CREATED, O_DEADLINE = range(4)  # orders (E, 4, n_orders), old
 DISHES, COMPLETED, EXPIRED, BURNS, WRONG, CHOPS, COOKS, WASHES, SWITCHES = range(9)
 STAT_NAMES = ("dishes_served", "orders_completed", "orders_expired", "burns",
               "wrong_deliveries", "chops", "cooks", "washes", "layout_switches")
+# columns of the process table (one row per process record, sim/processes.py)
+(PN_TIMED, PN_TAKES, PN_DURATION, PN_DONE, PN_OVER_STATE, PN_OVERRUN, PN_PLATES, PN_STAT,
+ PN_OVER_STAT) = range(9)
 # params (ints) and reward values (floats)
 (P_CHOP, P_COOK, P_BURN, P_WASH, P_HORIZON, P_LIMIT, P_STOP, P_DIRTY, P_DYNAMIC,
  P_SWITCH_STEP, P_SHARED, P_FIXED, P_RADIUS, P_ROWS, P_COLS, P_HAS_SWITCH, P_OBSERVE) = range(17)
@@ -57,7 +60,7 @@ class StaticArrays(NamedTuple):
     terrain: np.ndarray  # int64 (layouts, cells)
     walk: np.ndarray  # bool (layouts, cells)
     nbrs: np.ndarray  # int64 (cells, 4)
-    pans: np.ndarray  # int64 (n_pans,)
+    timed: np.ndarray  # int64 (n,) cells of time-driven process stations (the pans)
     switch_cells: np.ndarray  # int64 (n,)
     kind: np.ndarray  # int64 (items,) item kind
     home: np.ndarray  # int64 (items,) spawn tile
@@ -69,6 +72,11 @@ class StaticArrays(NamedTuple):
     obs_layout: np.ndarray  # int64 (10,) observation layout (V_*)
     static_obs: np.ndarray  # float32 (layouts, padded static planes + 1)
     static_gather: np.ndarray  # int64 (cells or 1, static size of one agent's observation)
+    proc_of: np.ndarray  # int64 (N_CODES,): cell code -> process row, -1
+    proc: np.ndarray  # int64 (processes, 9) PN_*
+    accepts: np.ndarray  # bool (processes, kinds, states): may be put down there
+    works: np.ndarray  # bool (processes, kinds, states): an empty-handed bump works on it
+    plateable: np.ndarray  # bool (kinds, states): goes on a plate
 
 
 class KitchenArrays(NamedTuple):

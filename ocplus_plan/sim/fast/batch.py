@@ -39,6 +39,7 @@ from ...errors import ConfigError, DependencyNotInstalled, InvalidActionError
 from . import arrays as ba
 from . import kernels as bk
 from ..codes import Item
+from ..processes import ProcessTables
 from ..observe import _CH_KIND0, _CH_STATE0, CH_OTHER, CH_PROGRESS, CH_SELF, VectorEncoder
 from ..rules import Rules
 from ..state import Order, State, geometry_for, new_state
@@ -154,13 +155,28 @@ def static_arrays(rules: Rules, encoder: VectorEncoder, observe: bool = True,
         cells_w, encoder.window[1], _CH_KIND0, _CH_STATE0, CH_PROGRESS, CH_SELF, CH_OTHER,
         encoder.grid_size, encoder.grid_size + encoder._order0, static_size], i64)
     spawn = [geo.flat(r, c) for r, c in rules.layout.spawn_points[: rules.n_agents]]
+    t = rules.tables
     return ba.StaticArrays(
         params, rewards, np.array(geo.terrains, i64), np.array(geo.walkables, bool),
-        np.array(geo.neighbors, i64), np.array(geo.pans, i64).reshape(-1),
+        np.array(geo.neighbors, i64), np.array(geo.timed, i64).reshape(-1),
         np.array(geo.switch_cells, i64).reshape(-1), np.array(geo.item_kind, i64),
         np.array(geo.item_home, i64), kind_index, np.array(encoder._prog_den, np.float64),
         recipe_counts, np.array(fixed, i64), np.array(spawn, i64), view,
-        static_obs, gather)
+        static_obs, gather, *process_arrays(t))
+
+
+def process_arrays(t: ProcessTables) -> tuple[np.ndarray, ...]:
+    """The kernels' copy of a rule set's process tables: (proc_of, proc, accepts, works,
+    plateable); see :class:`.arrays.StaticArrays`."""
+    proc_of = np.full(ba.N_CODES, -1, np.int64)
+    for code, j in t.by_code.items():
+        proc_of[code] = j
+    rows = [[p.timed, int(p.takes_state), t.duration[j], t.done_state[j], t.overrun_state[j],
+             t.overrun[j], p.plates, ba.STAT_NAMES.index(p.stat),
+             ba.STAT_NAMES.index(p.overrun_stat)] for j, p in enumerate(t.processes)]
+    proc = np.array(rows, np.int64).reshape(len(rows), 9)
+    return (proc_of, proc, np.ascontiguousarray(t.accepts), np.ascontiguousarray(t.works),
+            np.ascontiguousarray(t.plateable))
 
 
 class BatchSim:

@@ -38,8 +38,9 @@ except ImportError as exc:  # pragma: no cover - exercised with jax absent
         "for a GPU (see docs/gpu.md)"
     ) from exc
 
-from ..codes import COUNTERS, VEGETABLES, Cell, Item, ItemState, Where
+from ..codes import COUNTERS, Cell, Item, ItemState, Where
 from ..observe import ITEM_KINDS
+from ..processes import ProcessTables
 from ..rules import Rules
 from ..state import geometry_for
 
@@ -52,12 +53,9 @@ UNROLL_AGENTS: bool | None = None
 _CELL, _HAND, _PLATE, _WAITING = (int(w) for w in (Where.CELL, Where.HAND, Where.PLATE,
                                                     Where.WAITING))
 _NOWHERE = -1  # padded item slots
-_FRESH, _CHOPPED, _COOKED = int(ItemState.FRESH), int(ItemState.CHOPPED), int(ItemState.COOKED)
-_BURNT, _CLEAN, _DIRTY = int(ItemState.BURNT), int(ItemState.CLEAN), int(ItemState.DIRTY)
-_PLATE_KIND, _STEAK = int(Item.PLATE), int(Item.STEAK)
-_VEG = tuple(int(v) for v in VEGETABLES)
+_FRESH, _CLEAN, _DIRTY = int(ItemState.FRESH), int(ItemState.CLEAN), int(ItemState.DIRTY)
+_PLATE_KIND = int(Item.PLATE)
 _COUNTER, _BLOCK = int(Cell.COUNTER), int(Cell.BLOCK)
-_BOARD, _PAN, _SINK = int(Cell.BOARD), int(Cell.PAN), int(Cell.SINK)
 _DELIVERY, _TRASH = int(Cell.DELIVERY), int(Cell.TRASH)
 #: per cell code + 1 (BLOCK is -1): is it a counter (spawn tiles are counters)
 _IS_COUNTER = np.array([c - 1 in {int(x) for x in COUNTERS} for c in range(16)])
@@ -66,6 +64,12 @@ _IS_COUNTER = np.array([c - 1 in {int(x) for x in COUNTERS} for c in range(16)])
 (P_CHOP, P_COOK, P_BURN, P_WASH, P_HORIZON, P_LIMIT, P_STOP, P_DIRTY, P_DYNAMIC,
  P_SWITCH_STEP, P_SHARED, P_FIXED, P_HAS_SWITCH, P_ROWS, P_COLS, P_N_RECIPES,
  P_CENTRED) = range(17)
+# Params.code_proc columns: the process record of a station (sim/processes.py), all zero
+# for a cell code that is no process station
+(Q_IS, Q_TIMED, Q_TAKES, Q_DURATION, Q_DONE, Q_OVER_STATE, Q_OVERRUN, Q_PLATES, Q_STAT,
+ Q_OVER_STAT) = range(10)
+#: the rows of the code-indexed process tables (cell codes -1 .. 15)
+_CODES = 17
 # Params.rewards columns
 R_SUBTASK, R_CORRECT, R_WRONG, R_STEP, R_BURNED, R_EXPIRED = range(6)
 # KitchenState.stats columns (the reference's State.stats keys, in this order)
@@ -83,7 +87,11 @@ class Params(NamedTuple):
     terrain: Any  # int32 (2, CELLS) cell codes of the main and the switch layout
     walk: Any  # bool (2, CELLS)
     inside: Any  # bool (CELLS,) the map's own cells (not padding)
-    pan: Any  # bool (CELLS,) pan cells
+    timed: Any  # bool (CELLS,) cells of time-driven process stations (the pans)
+    code_proc: Any  # int32 (CODES + 1, 10) per cell code + 1: Q_* of its process record
+    accepts: Any  # bool (CODES + 1, kinds, states): may be put down on that station
+    works: Any  # bool (CODES + 1, kinds, states): an empty-handed bump works on it there
+    plateable: Any  # bool (kinds, states): goes on a plate
     item_kind: Any  # int32 (I,) item code (0 for a padded slot)
     item_kidx: Any  # int32 (I,) 0..4 tomato lettuce onion steak plate (-1 padded)
     item_home: Any  # int32 (I,) spawn tile (0 padded)
@@ -168,8 +176,8 @@ def kitchen_params(rules: Rules, obs_radius: int = 0, *, max_items: int | None =
     for k in range(2):
         terrain[k, idx] = geo.terrains[min(k, len(geo.terrains) - 1)]
     walk = (terrain == int(Cell.FLOOR)) | (terrain == int(Cell.SPAWN))
-    pan = np.zeros(CELLS, bool)
-    pan[[pad_cell(f, cols) for f in geo.pans]] = True
+    timed = np.zeros(CELLS, bool)
+    timed[[pad_cell(f, cols) for f in geo.timed]] = True
     kind = np.zeros(max_items, np.int32)
     kind[:n_items] = geo.item_kind
     kidx = np.full(max_items, -1, np.int32)
@@ -177,8 +185,7 @@ def kitchen_params(rules: Rules, obs_radius: int = 0, *, max_items: int | None =
     home = np.zeros(max_items, np.int32)
     home[:n_items] = [pad_cell(h, cols) for h in geo.item_home]
     den = np.ones(max_items, np.float32)
-    den[:n_items] = [rules.burn_time + 1 if k == _STEAK else rules.wash_steps
-                     if k == _PLATE_KIND else rules.chop_steps for k in geo.item_kind]
+    den[:n_items] = [rules.tables.progress_scale(k) for k in geo.item_kind]
     ingredients = ITEM_KINDS[:4]
     recipes = np.zeros((max_recipes, 4), np.int32)
     recipes[: len(rules.recipes)] = [[r.count(k) for k in ingredients] for r in rules.recipes]
@@ -203,9 +210,24 @@ def kitchen_params(rules: Rules, obs_radius: int = 0, *, max_items: int | None =
     rw = rules.rewards
     rewards = np.array([rw.subtask_finished, rw.correct_delivery, rw.wrong_delivery,
                         rw.step_penalty, rw.burned_penalty, rw.order_expired], np.float32)
-    return Params(ints, rewards, terrain, walk, inside, pan, kind, kidx, home,
-                  np.arange(max_items) < n_items, den, recipes, fixed,
+    return Params(ints, rewards, terrain, walk, inside, timed, *_process_params(rules.tables),
+                  kind, kidx, home, np.arange(max_items) < n_items, den, recipes, fixed,
                   np.array(spawn, np.int32), np.array(view, np.int32))
+
+
+def _process_params(t: ProcessTables) -> tuple[np.ndarray, ...]:
+    """(code_proc, accepts, works, plateable): the process tables indexed by cell code + 1,
+    the same shape for every rule set (so kitchens of different rules stack)."""
+    code_proc = np.zeros((_CODES, 10), np.int32)
+    accepts = np.zeros((_CODES, *t.plateable.shape), bool)
+    works = np.zeros_like(accepts)
+    for code, j in t.by_code.items():
+        q = t.processes[j]
+        code_proc[code + 1] = [1, q.timed, int(q.takes_state), t.duration[j], t.done_state[j],
+                               t.overrun_state[j], t.overrun[j], q.plates,
+                               STAT_NAMES.index(q.stat), STAT_NAMES.index(q.overrun_stat)]
+        accepts[code + 1], works[code + 1] = t.accepts[j], t.works[j]
+    return code_proc, accepts, works, t.plateable.copy()
 
 
 def params_for_many(rules_list: list[Rules], obs_radius: int = 0) -> Params:
@@ -328,20 +350,12 @@ def _send_home(s: KitchenState, mask: Any, new_state: Any) -> KitchenState:
         item_where=jnp.where(mask, jnp.where(free, _CELL, _WAITING), s.item_where))
 
 
-def _is_veg(kind: Any) -> Any:
-    return (kind == _VEG[0]) | (kind == _VEG[1]) | (kind == _VEG[2])
-
-
-def _plateable(kind: Any, st: Any) -> Any:
-    return (_is_veg(kind) & (st == _CHOPPED)) | ((kind == _STEAK) & (st == _COOKED))
-
-
 def _plate_counts(s: KitchenState, plate: Any) -> tuple[Any, Any]:
     """(ingredient counts (4,), is every item on it plateable) of the items on ``plate``."""
     p = s.params
     on = (s.item_where == _PLATE) & (s.item_loc == plate)
     counts = jnp.sum(on[:, None] & (p.item_kidx[:, None] == jnp.arange(4)[None, :]), 0)
-    ok = jnp.all(~on | _plateable(p.item_kind, s.item_state))
+    ok = jnp.all(~on | p.plateable[p.item_kind, s.item_state])
     return counts.astype(jnp.int32), ok
 
 
@@ -356,20 +370,18 @@ def _bump_effects(s: KitchenState, a: int, cell: Any, active: Any) -> dict[str, 
     k_h, k_e = p.item_kind[hc], p.item_kind[ec]
     st_h, st_e = s.item_state[hc], s.item_state[ec]
     counter = jnp.asarray(_IS_COUNTER)[code + 1]
-    board, pan, sink = code == _BOARD, code == _PAN, code == _SINK
-    fresh_h = _is_veg(k_h) & (st_h == _FRESH)
-    fresh_e = _is_veg(k_e) & (st_e == _FRESH)
-    exchange = (counter | board | pan) & has_h & has_e
-    onto = exchange & (k_e == _PLATE_KIND) & (st_e == _CLEAN) & _plateable(k_h, st_h)
-    take = exchange & ~onto & (k_h == _PLATE_KIND) & (st_h == _CLEAN) & _plateable(k_e, st_e)
-    pick = ~has_h & has_e & ((counter | pan) | (board & ~fresh_e) | (sink & (st_e != _DIRTY)))
-    put = has_h & ~has_e & (counter | (board & fresh_h) | (sink & (st_h == _DIRTY)) | (
-        pan & (k_h == _STEAK) & ((st_h == _FRESH) | (st_h == _COOKED))))
+    q = p.code_proc[code + 1]  # the station's process record (all zero: none)
+    station = q[Q_IS] > 0
+    works = station & p.works[code + 1, k_e, st_e]
+    exchange = (counter | (station & (q[Q_PLATES] > 0))) & has_h & has_e
+    onto = exchange & (k_e == _PLATE_KIND) & (st_e == _CLEAN) & p.plateable[k_h, st_h]
+    take = exchange & ~onto & (k_h == _PLATE_KIND) & (st_h == _CLEAN) & p.plateable[k_e, st_e]
+    pick = ~has_h & has_e & (counter | (station & ~works))
+    put = has_h & ~has_e & (counter | (station & p.accepts[code + 1, k_h, st_h]))
     on_held = (s.item_where == _PLATE) & (s.item_loc == held)
     empty_plate = (k_h == _PLATE_KIND) & ~on_held.any()
     return dict(held=held, here=here, hc=hc, ec=ec, k_h=k_h, onto=onto, take=take, pick=pick,
-                put=put, chop=board & ~has_h & has_e & fresh_e,
-                wash=sink & ~has_h & has_e & (st_e == _DIRTY),
+                put=put, work=~has_h & has_e & works, q=q,
                 deliver=(code == _DELIVERY) & has_h,
                 trash=(code == _TRASH) & has_h & ~empty_plate, on_held=on_held)
 
@@ -381,7 +393,7 @@ def _interact(s: KitchenState, a: int, cell: Any, active: Any, rewards: Any,
     e = _bump_effects(s, a, cell, active)
     held, here, hc, ec = e["held"], e["here"], e["hc"], e["ec"]
     pick, put, onto, take = e["pick"], e["put"], e["onto"], e["take"]
-    chop, wash = e["chop"], e["wash"]
+    work, q = e["work"], e["q"]
     items = jnp.arange(p.item_kind.shape[0])
     is_h, is_e = items == hc, items == ec
     at = jnp.arange(CELLS) == cell
@@ -391,15 +403,13 @@ def _interact(s: KitchenState, a: int, cell: Any, active: Any, rewards: Any,
     where = jnp.where(is_e & pick, _HAND, jnp.where(is_e & take, _PLATE, where))
     loc = jnp.where(is_h & put, cell, jnp.where(is_h & onto, here, s.item_loc))
     loc = jnp.where(is_e & pick, a, jnp.where(is_e & take, held, loc))
-    owner = jnp.where(is_e & (pick | take | chop | wash), a, s.item_owner)
-    # chop / wash
-    work = chop | wash
+    owner = jnp.where(is_e & (pick | take | work), a, s.item_owner)
+    # one unit of work of a bump-driven process (chop, wash)
     prog = s.item_prog + (is_e & work)
-    needed = jnp.where(chop, ints[P_CHOP], ints[P_WASH])
-    done = work & (prog[ec] >= needed)
-    item_state = jnp.where(is_e & done, jnp.where(chop, _CHOPPED, _CLEAN), s.item_state)
+    done = work & (prog[ec] >= q[Q_DURATION])
+    item_state = jnp.where(is_e & done, q[Q_DONE], s.item_state)
     prog = jnp.where(is_e & done, 0, prog)
-    stats = s.stats.at[S_CHOPS].add(done & chop).at[S_WASHES].add(done & wash)
+    stats = s.stats.at[q[Q_STAT]].add(done)
     reward = jnp.where(done, rw[R_SUBTASK], 0.0)
     s = s._replace(cell_item=cell_item, item_where=where, item_loc=loc, item_owner=owner,
                    item_prog=prog, item_state=item_state, stats=stats)
@@ -490,7 +500,7 @@ def step(key: Any, state: KitchenState, actions: Any) -> StepOut:
         unroll=UNROLL_AGENTS if UNROLL_AGENTS is not None else jax.default_backend() != "cpu")
     s = _respawn_waiting(s)
     s = s._replace(pos=_resolve_moves(s.pos, targets))
-    s, rewards = _tick_pans(s, rewards)
+    s, rewards = _tick_timed(s, rewards)
     s = s._replace(t=s.t + 1)
     s = _maybe_switch(s)
     s, rewards = _expire_orders(s, rewards)
@@ -527,19 +537,22 @@ def _resolve_moves(pos: Any, targets: Any) -> Any:
     return jnp.where(moves, targets, pos)
 
 
-def _tick_pans(s: KitchenState, rewards: Any) -> tuple[KitchenState, Any]:
-    p, ints, rw = s.params, s.params.ints, s.params.rewards
-    on_pan = (s.item_where == _CELL) & p.pan[jnp.maximum(s.item_loc, 0)]
+def _tick_timed(s: KitchenState, rewards: Any) -> tuple[KitchenState, Any]:
+    """One tick of every item on a time-driven process station (step._tick)."""
+    p, rw = s.params, s.params.rewards
+    loc = jnp.maximum(s.item_loc, 0)
+    on = (s.item_where == _CELL) & p.timed[loc]
+    q = p.code_proc[p.terrain[0, loc] + 1]  # (I, 10): the process of each item's cell
     ticks = s.item_prog + 1
-    cooked = on_pan & (s.item_state == _FRESH) & (ints[P_COOK] - ticks <= 0)
-    st = jnp.where(cooked, _COOKED, s.item_state)
-    burnt = on_pan & (st != _BURNT) & (ints[P_BURN] + 1 - ticks <= 0)
-    st = jnp.where(burnt, _BURNT, st)
-    gain = jnp.where(cooked, rw[R_SUBTASK], 0.0) + jnp.where(burnt, rw[R_BURNED], 0.0)
+    done = on & (s.item_state == q[:, Q_TAKES]) & (ticks >= q[:, Q_DURATION])
+    st = jnp.where(done, q[:, Q_DONE], s.item_state)
+    over = on & (q[:, Q_OVER_STATE] >= 0) & (st != q[:, Q_OVER_STATE]) & (ticks > q[:, Q_OVERRUN])
+    st = jnp.where(over, q[:, Q_OVER_STATE], st)
+    gain = jnp.where(done, rw[R_SUBTASK], 0.0) + jnp.where(over, rw[R_BURNED], 0.0)
     mine = s.item_owner[None, :] == jnp.arange(rewards.shape[0])[:, None]
     rewards = rewards + jnp.sum(jnp.where(mine, gain[None, :], 0.0), 1)
-    stats = s.stats.at[S_COOKS].add(cooked.sum()).at[S_BURNS].add(burnt.sum())
-    return s._replace(item_prog=jnp.where(on_pan, ticks, s.item_prog), item_state=st,
+    stats = s.stats.at[q[:, Q_STAT]].add(done).at[q[:, Q_OVER_STAT]].add(over)
+    return s._replace(item_prog=jnp.where(on, ticks, s.item_prog), item_state=st,
                       stats=stats), rewards
 
 

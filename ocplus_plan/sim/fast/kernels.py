@@ -25,15 +25,14 @@ Design notes (profiled with numba 0.68):
 from __future__ import annotations
 
 from .arrays import (
-    ACTION_STAY, A_HAND, A_POS, BURNS, B_NONE, B_PLATE_ADD, B_PUTDOWN, CELL_BOARD,
-    CELL_COUNTER, CELL_DELIVERY, CELL_PAN, CELL_SINK, CELL_TRASH, CHOPS, COMPLETED, COOKS,
-    C_LAYOUT, C_ORDER_ID, C_QPOS, C_SWITCH, C_T, DISHES, EXPIRED, ITEM_LETTUCE, ITEM_ONION,
-    ITEM_PLATE, ITEM_STEAK, ITEM_TOMATO, I_LIFE, I_LOC, I_OWNER, I_PROG, I_STATE, I_WHERE,
-    O_CREATED, O_DEADLINE, O_ID, O_RECIPE, P_BURN, P_CHOP, P_COOK, P_DIRTY, P_DYNAMIC, P_FIXED,
-    P_LIMIT, P_OBSERVE, P_SHARED, P_SWITCH_STEP, P_WASH, R_BURNED, R_CORRECT, R_EXPIRED,
-    R_STEP, R_SUBTASK, R_WRONG, STATE_BURNT, STATE_CHOPPED, STATE_CLEAN, STATE_COOKED,
-    STATE_DIRTY, STATE_FRESH, SWITCHES, WASHES, WHERE_CELL, WHERE_HAND, WHERE_PLATE,
-    WHERE_WAITING, WRONG,
+    ACTION_STAY, A_HAND, A_POS, B_NONE, B_PLATE_ADD, B_PUTDOWN, CELL_COUNTER, CELL_DELIVERY,
+    CELL_TRASH, COMPLETED, C_LAYOUT, C_ORDER_ID, C_QPOS, C_SWITCH, C_T, DISHES, EXPIRED,
+    ITEM_LETTUCE, ITEM_ONION, ITEM_PLATE, ITEM_STEAK, ITEM_TOMATO, I_LIFE, I_LOC, I_OWNER,
+    I_PROG, I_STATE, I_WHERE, O_CREATED, O_DEADLINE, O_ID, O_RECIPE, PN_DONE, PN_DURATION,
+    PN_OVER_STAT, PN_OVER_STATE, PN_OVERRUN, PN_PLATES, PN_STAT, PN_TAKES, P_DIRTY, P_DYNAMIC,
+    P_FIXED, P_LIMIT, P_OBSERVE, P_SHARED, P_SWITCH_STEP, R_BURNED, R_CORRECT, R_EXPIRED,
+    R_STEP, R_SUBTASK, R_WRONG, STATE_CLEAN, STATE_DIRTY, STATE_FRESH, SWITCHES, WHERE_CELL,
+    WHERE_HAND, WHERE_PLATE, WHERE_WAITING, WRONG,
 )
 from .observe_kernels import observe_env, on_plate
 
@@ -47,14 +46,15 @@ def step_range(k, g, actions, active, start, stop):
     bumps = k.bumps
     p, rw, terrain, walk, nbrs = g.params, g.rewards, g.terrain, g.walk, g.nbrs
     kind, home, kidx, recipes = g.kind, g.home, g.kind_index, g.recipes
-    pans, switch_cells = g.pans, g.switch_cells
+    timed, switch_cells = g.timed, g.switch_cells
+    proc_of, proc, accepts, works, plateable = g.proc_of, g.proc, g.accepts, g.works, g.plateable
     obs, static_at, ent_idx, ent_val, ent_n = k.obs, k.static_at, k.ent_idx, k.ent_val, k.ent_n
     view, prog_den, static_obs, gather = g.obs_layout, g.prog_den, g.static_obs, g.static_gather
     for e in range(start, stop):
         if active[e]:
             step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewards,
                      subtasks, bumps, scratch, p, rw, terrain, walk, nbrs, kind, home, kidx,
-                     recipes, pans, switch_cells)
+                     recipes, timed, switch_cells, proc_of, proc, accepts, works, plateable)
             if p[P_OBSERVE]:
                 observe_env(e, clock, agents, items, orders, obs, static_at, ent_idx, ent_val,
                             ent_n, p, view, kind, kidx, prog_den, recipes, static_obs, gather,
@@ -157,8 +157,8 @@ def expire_orders(e, clock, orders, stats, queue, rewards, p, rw):
 
 # ---------------------------------------------------------------- the step
 def step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewards, subtasks,
-             bumps, scratch, p, rw, terrain, walk, nbrs, kind, home, kidx, recipes, pans,
-             switch_cells):
+             bumps, scratch, p, rw, terrain, walk, nbrs, kind, home, kidx, recipes, timed,
+             switch_cells, proc_of, proc, accepts, works, plateable):
     n = agents.shape[2]
     for a in range(n):
         rewards[e, a] = rw[R_STEP]
@@ -181,7 +181,8 @@ def step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewa
             held = agents[e, A_HAND, a]
             here = cells[e, tgt]
             interact(e, a, tgt, clock, agents, cells, items, orders, stats, queue, rewards,
-                     subtasks, p, rw, terrain[lay, tgt], kind, home, kidx, recipes)
+                     subtasks, p, rw, terrain[lay, tgt], kind, home, kidx, recipes, proc_of,
+                     proc, accepts, works, plateable)
             record_bump(e, a, tgt, held, here, agents, cells, items, bumps)
     waiting = False
     for i in range(items.shape[2]):
@@ -195,10 +196,10 @@ def step_env(e, actions, clock, agents, cells, items, orders, stats, queue, rewa
                 items[e, I_WHERE, i] = WHERE_CELL
     if moving:
         resolve_moves(e, agents, scratch)
-    for j in range(len(pans)):
-        it = cells[e, pans[j]]
+    for j in range(len(timed)):
+        it = cells[e, timed[j]]
         if it >= 0:
-            tick_pan(e, it, items, stats, rewards, subtasks, p, rw)
+            tick(e, it, proc_of[terrain[0, timed[j]]], items, stats, rewards, subtasks, proc, rw)
     clock[e, C_T] += 1
     if p[P_DYNAMIC] and clock[e, C_T] >= clock[e, C_SWITCH] and terrain.shape[0] > 1:
         maybe_switch(e, clock, agents, cells, stats, p, terrain, walk, switch_cells)
@@ -277,21 +278,23 @@ def in_chain(e, length, b, scratch):
     return False
 
 
-def tick_pan(e, it, items, stats, rewards, subtasks, p, rw):
+def tick(e, it, j, items, stats, rewards, subtasks, proc, rw):
+    """One tick of the time-driven process ``j`` (step._tick)."""
     ticks = items[e, I_PROG, it] + 1
     items[e, I_PROG, it] = ticks
     st = items[e, I_STATE, it]
     owner = items[e, I_OWNER, it]
-    if st == STATE_FRESH and p[P_COOK] - ticks <= 0:
-        items[e, I_STATE, it] = STATE_COOKED
-        stats[e, COOKS] += 1
+    if st == proc[j, PN_TAKES] and ticks >= proc[j, PN_DURATION]:
+        st = proc[j, PN_DONE]
+        items[e, I_STATE, it] = st
+        stats[e, proc[j, PN_STAT]] += 1
         if owner >= 0:
             rewards[e, owner] += rw[R_SUBTASK]
             subtasks[e, owner] += 1
-        st = STATE_COOKED
-    if st != STATE_BURNT and p[P_BURN] + 1 - ticks <= 0:
-        items[e, I_STATE, it] = STATE_BURNT
-        stats[e, BURNS] += 1
+    over = proc[j, PN_OVER_STATE]
+    if over >= 0 and st != over and ticks > proc[j, PN_OVERRUN]:
+        items[e, I_STATE, it] = over
+        stats[e, proc[j, PN_OVER_STAT]] += 1
         if owner >= 0:
             rewards[e, owner] += rw[R_BURNED]
 
@@ -312,63 +315,42 @@ def maybe_switch(e, clock, agents, cells, stats, p, terrain, walk, switch_cells)
 
 
 # ---------------------------------------------------------------- bumps (queries.bump_effect)
-def is_veg(kind):
-    return kind == ITEM_TOMATO or kind == ITEM_LETTUCE or kind == ITEM_ONION
-
-
-def plateable(e, it, items, kind):
-    st = items[e, I_STATE, it]
-    return ((is_veg(kind[it]) and st == STATE_CHOPPED)
-            or (kind[it] == ITEM_STEAK and st == STATE_COOKED))
-
-
-def fresh_veg(e, it, items, kind):
-    return is_veg(kind[it]) and items[e, I_STATE, it] == STATE_FRESH
+def is_plateable(e, it, items, kind, plateable):
+    return plateable[kind[it], items[e, I_STATE, it]]
 
 
 def interact(e, a, cell, clock, agents, cells, items, orders, stats, queue, rewards, subtasks,
-             p, rw, code, kind, home, kidx, recipes):
+             p, rw, code, kind, home, kidx, recipes, proc_of, proc, accepts, works, plateable):
     """Agent ``a`` bumps the non-walkable ``cell`` of terrain ``code``."""
     held = agents[e, A_HAND, a]
     here = cells[e, cell]
+    j = proc_of[code] if code >= 0 else -1
     if code == CELL_COUNTER or code == ITEM_TOMATO or code == ITEM_LETTUCE or code == ITEM_PLATE \
-            or code == ITEM_ONION or code == ITEM_STEAK or code == CELL_PAN:
+            or code == ITEM_ONION or code == ITEM_STEAK:
         if held < 0:
             if here >= 0:
                 pick(e, a, cell, here, agents, cells, items)
         elif here >= 0:
-            plate_exchange(e, a, cell, held, here, agents, cells, items, kind)
-        elif code != CELL_PAN:
+            plate_exchange(e, a, cell, held, here, agents, cells, items, kind, plateable)
+        else:
             put(e, a, cell, held, agents, cells, items)
-        elif kind[held] == ITEM_STEAK and (items[e, I_STATE, held] == STATE_FRESH
-                                       or items[e, I_STATE, held] == STATE_COOKED):
-            put(e, a, cell, held, agents, cells, items)
-    elif code == CELL_BOARD:
+    elif j >= 0:  # a process station: its record's tables say
         if held < 0:
             if here >= 0:
-                if fresh_veg(e, here, items, kind):
-                    advance(e, a, here, p[P_CHOP], STATE_CHOPPED, CHOPS, items, stats, rewards,
-                            subtasks, rw)
+                if works[j, kind[here], items[e, I_STATE, here]]:
+                    advance(e, a, here, proc[j, PN_DURATION], proc[j, PN_DONE], proc[j, PN_STAT],
+                            items, stats, rewards, subtasks, rw)
                 else:
                     pick(e, a, cell, here, agents, cells, items)
         elif here >= 0:
-            plate_exchange(e, a, cell, held, here, agents, cells, items, kind)
-        elif fresh_veg(e, held, items, kind):
-            put(e, a, cell, held, agents, cells, items)
-    elif code == CELL_SINK:
-        if held < 0:
-            if here >= 0:
-                if items[e, I_STATE, here] == STATE_DIRTY:
-                    advance(e, a, here, p[P_WASH], STATE_CLEAN, WASHES, items, stats, rewards,
-                            subtasks, rw)
-                else:
-                    pick(e, a, cell, here, agents, cells, items)
-        elif here < 0 and items[e, I_STATE, held] == STATE_DIRTY:
+            if proc[j, PN_PLATES]:
+                plate_exchange(e, a, cell, held, here, agents, cells, items, kind, plateable)
+        elif accepts[j, kind[held], items[e, I_STATE, held]]:
             put(e, a, cell, held, agents, cells, items)
     elif code == CELL_DELIVERY:
         if held >= 0:
             deliver(e, a, held, clock, agents, cells, items, orders, stats, queue, rewards, p,
-                    rw, kind, home, kidx, recipes)
+                    rw, kind, home, kidx, recipes, plateable)
     elif code == CELL_TRASH and held >= 0:
         if kind[held] != ITEM_PLATE:
             agents[e, A_HAND, a] = -1
@@ -379,14 +361,14 @@ def interact(e, a, cell, clock, agents, cells, items, orders, stats, queue, rewa
                     send_home(e, i, STATE_FRESH, cells, items, home)
 
 
-def plate_exchange(e, a, cell, held, here, agents, cells, items, kind):
+def plate_exchange(e, a, cell, held, here, agents, cells, items, kind, plateable):
     if kind[here] == ITEM_PLATE and items[e, I_STATE, here] == STATE_CLEAN \
-            and plateable(e, held, items, kind):
+            and is_plateable(e, held, items, kind, plateable):
         agents[e, A_HAND, a] = -1
         items[e, I_WHERE, held] = WHERE_PLATE
         items[e, I_LOC, held] = here
     elif kind[held] == ITEM_PLATE and items[e, I_STATE, held] == STATE_CLEAN \
-            and plateable(e, here, items, kind):
+            and is_plateable(e, here, items, kind, plateable):
         cells[e, cell] = -1
         items[e, I_WHERE, here] = WHERE_PLATE
         items[e, I_LOC, here] = held
@@ -434,10 +416,10 @@ def send_home(e, it, state, cells, items, home):
 
 
 def deliver(e, a, held, clock, agents, cells, items, orders, stats, queue, rewards, p, rw,
-            kind, home, kidx, recipes):
+            kind, home, kidx, recipes, plateable):
     slot = -1
     if kind[held] == ITEM_PLATE:
-        slot = matching_order(e, held, items, orders, kind, kidx, recipes)
+        slot = matching_order(e, held, items, orders, kind, kidx, recipes, plateable)
     if slot < 0:
         stats[e, WRONG] += 1
         rewards[e, a] += rw[R_WRONG]
@@ -453,14 +435,14 @@ def deliver(e, a, held, clock, agents, cells, items, orders, stats, queue, rewar
     replace_order(e, slot, clock, orders, queue, p)
 
 
-def matching_order(e, plate, items, orders, kind, kidx, recipes):
+def matching_order(e, plate, items, orders, kind, kidx, recipes, plateable):
     """The slot of the oldest order the plate serves (orders.plate_recipe / matching_order)."""
     if items[e, I_STATE, plate] != STATE_CLEAN:
         return -1
     c0 = c1 = c2 = c3 = 0
     for i in range(items.shape[2]):
         if on_plate(e, i, plate, items):
-            if not plateable(e, i, items, kind):
+            if not is_plateable(e, i, items, kind, plateable):
                 return -1
             j = kidx[kind[i]]
             if j == 0:
@@ -484,7 +466,7 @@ def matching_order(e, plate, items, orders, kind, kidx, recipes):
 KERNELS = (
     "step_range", "reset_some", "observe_some", "draw", "put_order", "replace_order",
     "expire_orders", "step_env", "record_bump", "resolve_moves", "occupant", "in_chain",
-    "tick_pan", "maybe_switch", "is_veg", "plateable", "fresh_veg", "interact",
+    "tick", "maybe_switch", "is_plateable", "interact",
     "plate_exchange", "pick", "put", "advance", "send_home", "deliver", "matching_order",
 )
 #: kernels of other modules these call: compiled there and put in place of the imports

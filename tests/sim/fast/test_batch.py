@@ -11,11 +11,14 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from ocplus_plan.agents.greedy import GreedyAgent
 from ocplus_plan.errors import ConfigError, DependencyNotInstalled, InvalidActionError
+from ocplus_plan.eval.mirrors import check_batch
 from ocplus_plan.sim import make_rules, new_state, transition
 from ocplus_plan.sim.fast.batch import BatchSim, compile_kernels, kernels, numba_available
 from ocplus_plan.sim.observe import VectorEncoder
+from ocplus_plan.sim.processes import PROCESSES
+from ocplus_plan.sim.rules import with_overrides
+from tests.sim.test_processes import KNEAD, MARINATE, ROAST, SEAR
 
 needs_numba = pytest.mark.skipif(not numba_available(),
                                  reason="numba is not installed (the 'fast' extra)")
@@ -50,36 +53,10 @@ def kitchens(draw, presets=("easy", "medium", "hard")):
 
 def compare(rules, radius: int, seed: int, steps: int, n_envs: int, compiled: bool,
             noise: float = 0.25) -> dict[str, int]:
-    """Step ``n_envs`` kitchens both ways (greedy cooks, a share of random actions) and
-    assert equality at every step; returns the summed stats of the finished episodes."""
-    sim = BatchSim(rules, n_envs, seed=seed, obs_radius=radius, compiled=compiled)
-    obs = sim.reset()
-    enc = VectorEncoder(rules, radius)
-    refs = [new_state(rules, int(sim.seeds[e])) for e in range(n_envs)]
-    cooks = [GreedyAgent(seed + e) for e in range(n_envs)]
-    for e in range(n_envs):
-        cooks[e].reset(refs[e])
-        np.testing.assert_array_equal(obs[e], enc.encode(refs[e]))
-    rng = np.random.default_rng(seed)
-    totals: dict[str, int] = {}
-    for _ in range(steps):
-        acts = np.array([cooks[e].act(refs[e]) for e in range(n_envs)])
-        random = rng.random(acts.shape) < noise
-        acts[random] = rng.integers(0, 5, size=int(random.sum()))
-        out = sim.step(acts)
-        for e in range(n_envs):
-            res = transition(refs[e], acts[e].tolist())
-            assert sim.arrays.rewards[e].tolist() == res.rewards  # float64, exactly
-            assert (out.terminated[e], out.truncated[e]) == (res.terminated, res.truncated)
-            if res.terminated or res.truncated:
-                np.testing.assert_array_equal(out.final_obs[e], enc.encode(refs[e]))
-                for k, v in refs[e].stats.items():
-                    totals[k] = totals.get(k, 0) + v
-                refs[e] = new_state(rules, int(sim.seeds[e]))
-                cooks[e].reset(refs[e])
-            assert sim.state(e).state_hash() == refs[e].state_hash()
-            np.testing.assert_array_equal(out.obs[e], enc.encode(refs[e]))
-    return totals
+    """The shared mirror harness on the batch engine (``eval.mirrors.check_batch``):
+    ``n_envs`` kitchens; returns the summed stats of the finished episodes."""
+    return check_batch(rules, compiled=compiled, steps=steps, seed=seed, noise=noise,
+                       radius=radius, n_envs=n_envs)
 
 
 @needs_numba
@@ -105,6 +82,20 @@ def test_the_differential_run_reaches_every_rule():
     seen = {k for k, v in totals.items() if v}
     assert {"dishes_served", "washes", "chops", "cooks", "burns", "layout_switches",
             "orders_expired"} <= seen, totals
+
+
+@pytest.mark.parametrize("compiled", [pytest.param(True, marks=needs_numba), False])
+def test_other_process_records_step_the_same_as_transition(compiled):
+    """The kernels index the records' tables: a board kneaded by bumps of another verb and
+    a pan with other times, then a time-driven board that spoils (marinate) and a
+    bump-driven pan (sear), run as in the reference step."""
+    hard = make_rules("hard", **dict(QUICK, horizon=40))
+    totals = compare(with_overrides(hard, processes=(KNEAD, ROAST, PROCESSES[2])), 0, 3,
+                     steps=80, n_envs=3, compiled=compiled, noise=0.2)
+    assert totals["chops"] and totals["cooks"] and totals["burns"], totals
+    totals = compare(with_overrides(hard, processes=(MARINATE, SEAR, PROCESSES[2])), 0, 4,
+                     steps=80, n_envs=3, compiled=compiled, noise=0.3)
+    assert totals["chops"] and totals["burns"], totals
 
 
 @pytest.mark.parametrize("compiled", [pytest.param(True, marks=needs_numba), False])
