@@ -1,8 +1,8 @@
-"""Episodes in worker processes on this machine: ``ocplus eval --jobs N`` (or a timeout).
+"""Episodes in worker processes on this machine: ``ocplus eval --jobs N`` (``--jobs 1`` too).
 
-One forked process per episode, the leader of its own process group (a planner that
-crashes or hangs takes down only its episode, recorded as an ``error`` row). Nothing
-outlives the driver:
+One forked process per episode, the leader of its own process group (a controller, a
+user's model or a planner that exits, crashes or hangs takes down only its episode,
+recorded as an ``error`` row). Nothing outlives the driver:
 
 - each worker asks the kernel for a parent-death signal (``prctl(PR_SET_PDEATHSIG)`` on
   Linux) and, everywhere, watches its parent's pid from a thread; when the driver is
@@ -12,7 +12,11 @@ outlives the driver:
   same way, so they follow it;
 - the episode timeout is enforced by the driver and, as a backstop, by the worker
   itself (a little later), so it holds even when the driver cannot act;
-- when the driver stops early (Ctrl-C, an exception), it kills every running group.
+- when the driver stops early (Ctrl-C, SIGTERM, an exception), it kills every running
+  group;
+- each worker is a subreaper (``PR_SET_CHILD_SUBREAPER``, Linux): a process the episode
+  started in a session of its own (``setsid``) and abandoned is re-parented to the worker
+  and killed before the worker reports its row.
 
 Workers report ``("progress", step, planner calls, planner seconds)`` about once a second
 and then ``("row", row)`` through a pipe.
@@ -101,10 +105,14 @@ def _worker(conn: Any, spec: EpisodeSpec, driver_pid: int, timeout: float | None
     def progress(step: int, calls: int, planning: float) -> None:
         conn.send(("progress", step, calls, planning))
 
+    from ..planning._proc import kill_new_descendants, set_subreaper
+
+    set_subreaper(True)  # what the episode abandons (setsid'd) stays ours to kill
     try:
         row = evaluate_episode(spec, progress)
     except BaseException as exc:  # pragma: no cover - evaluate_episode keeps almost all
         row = error_row(spec, f"{type(exc).__name__}: {exc}")
+    kill_new_descendants(set())  # nothing the episode started outlives it
     conn.send(("row", row))
     conn.close()
 
