@@ -19,7 +19,9 @@ a small cleaner process, forked before Ray starts and in a session of its own, w
 the driver; if the driver dies with the instance's folder still there, the cleaner kills
 every process of that instance (those whose command line names the folder: GCS, raylet,
 monitors; and their descendants: workers, the dashboard and runtime-env agents) and
-removes the folder, then exits. After a normal end it exits at once; ``--address auto`` joins the cluster started
+removes the folder, then exits. Since the raylet may die first and orphan its agents
+(whose command lines name nothing), the cleaner also remembers, once a second, the
+driver's descendants, and kills those too. After a normal end it exits at once; ``--address auto`` joins the cluster started
 with ``ray start`` on this machine, ``--address HOST:6379`` a remote head node. A Ray
 instance that the caller already started (``ray.init`` in a notebook or a test) is
 used as it is and left running.
@@ -176,13 +178,32 @@ def start_cleaner(private: str) -> int | None:
         for fd in (0, 1, 2):
             os.dup2(devnull, fd)
         signal.signal(signal.SIGINT, signal.SIG_IGN)
+        seen: set[tuple[int, float]] = set()
+        tick = 0
         while os.getppid() == driver and os.path.isdir(private):
+            if tick % 4 == 0:  # Ray's processes start in the first seconds: remember them
+                seen |= _descendants(driver)
+            tick += 1
             time.sleep(CLEANER_EVERY_S)
         if os.path.isdir(private):  # the driver died without stopping its instance
-            kill_instance(private)
+            kill_instance(private, seen)
             shutil.rmtree(private, ignore_errors=True)
     finally:
         os._exit(0)
+
+
+def _descendants(pid: int) -> set[tuple[int, float]]:
+    """(pid, start time) of each descendant of ``pid`` but the calling process."""
+    import psutil
+
+    out = set()
+    try:
+        for proc in psutil.Process(pid).children(recursive=True):
+            if proc.pid != os.getpid():
+                out.add((proc.pid, proc.create_time()))
+    except psutil.Error:
+        pass
+    return out
 
 
 def stop_cleaner(pid: int) -> None:
@@ -193,13 +214,20 @@ def stop_cleaner(pid: int) -> None:
         os.waitpid(pid, 0)
 
 
-def kill_instance(private: str) -> list[int]:
+def kill_instance(private: str, known: set[tuple[int, float]] = frozenset()) -> list[int]:
     """SIGKILL every process of the Ray instance whose folder is ``private``: those whose
     command line names it, and all their descendants (Ray renames its workers and agents,
-    ``ray::IDLE``, so they are found as the raylet's children); their pids."""
+    ``ray::IDLE``, so they are found as the raylet's children), and the processes of
+    ``known`` ((pid, start time) pairs, seen earlier as the driver's descendants: once the
+    raylet is gone its agents are orphans that name nothing); their pids."""
     import psutil
 
     found: dict[int, psutil.Process] = {}
+    for pid, started in known:
+        with contextlib.suppress(psutil.Error):
+            proc = psutil.Process(pid)
+            if proc.create_time() == started:  # not a recycled pid
+                found[pid] = proc
     for proc in psutil.process_iter(["cmdline"]):
         try:
             if any(private in arg for arg in proc.info["cmdline"] or ()):
