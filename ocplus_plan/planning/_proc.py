@@ -63,6 +63,9 @@ OK, RAISED, TIMEOUT, CRASHED = "ok", "raised", "timeout", "crashed"
 _LOG_TAIL_CHARS = 2000
 #: seconds between two looks of the watchdog process at the child and its caller
 WATCH_EVERY_S = 0.25
+#: the watchdog remembers the process groups of the child's descendants every this many
+#: looks (2 s), for the case where the child dies first and they lose their parent
+SNAPSHOT_EVERY = 8
 #: the kernel's CPU backstop (RLIMIT_CPU) lies this far above the CPU limit: a tenth of
 #: it, at least this many seconds
 BACKSTOP_MIN_S = 1.0
@@ -111,16 +114,18 @@ def _watchdog(child: int, caller: int, private: str) -> None:
     private folder, which a dead caller can no longer remove."""
     own = os.getpgid(0)
     seen: set[int] = set()
+    tick = 0
     try:
-        os.nice(0)
         while True:
             try:
-                proc = psutil.Process(child)
+                proc = psutil.Process(child)  # one read of /proc/<child>/stat
                 if proc.ppid() != caller or proc.status() == psutil.STATUS_ZOMBIE:
                     break
-                seen |= descendant_groups(child)
+                if tick % SNAPSHOT_EVERY == 0:  # a scan of the process table: rarely,
+                    seen |= descendant_groups(child)  # its CPU counts against the limit
             except psutil.Error:
                 break
+            tick += 1
             time.sleep(WATCH_EVERY_S)
         seen |= descendant_groups(os.getpid()) | descendant_groups(child)
         _kill_groups(seen, own)
