@@ -13,7 +13,11 @@ load average), and a summary line per part at the end:
 ``sigterm``
     ``--tries`` runs of the same command per engine, each sent SIGTERM at a random moment
     (uniform in 0.5-8 s after the start; seeded by ``--seed``). Target: the command and
-    every process it started gone within 5 s.
+    every process it started gone within 5 s. On a loaded machine most of these land
+    before the engine starts (importing and compiling take longer), so:
+``sigterm-engine``
+    the same, with the moment drawn once the engine's process exists: uniform in 0-12 s
+    after it appears.
 ``leftovers``
     runs whose children start a process in a new session (``setsid sleep``): a planner
     binary under ``solve``, an ``llm:`` function under ``eval --jobs 1``, and ``eval``
@@ -107,17 +111,43 @@ def _cleanup(exclude: set[int]) -> None:
     _left_after(1.0, exclude)
 
 
+def _engine_started(pid: int, limit: float) -> float | None:
+    """Wait until the command ``pid`` has a forked child (for ``solve``: the engine's
+    isolated child, forked once the problem is compiled); seconds waited, None if the
+    command ended first or ``limit`` passed."""
+    t0 = time.perf_counter()
+    while time.perf_counter() - t0 < limit:
+        try:
+            command = psutil.Process(pid)
+            if command.status() == psutil.STATUS_ZOMBIE:
+                return None
+            line = command.cmdline()
+            kids = command.children()
+        except psutil.Error:
+            return None
+        for kid in kids:  # the engine's child is a fork: the same command
+            try:                          # line (a probe the command runs has another)
+                if kid.cmdline() == line:
+                    return time.perf_counter() - t0
+            except psutil.Error:
+                continue
+        time.sleep(0.05)
+    return None
+
+
 def _run(argv: list[str], env: dict[str, str] | None = None,
          term_after: float | None = None, sig: int = signal.SIGTERM,
-         cwd: Path = ROOT) -> dict[str, object]:
-    """Run one command; with ``term_after`` send it ``sig`` then. CPU seconds of the
-    command and what it waited for, wall seconds, its exit code and JSON output."""
+         cwd: Path = ROOT, after_engine: bool = False) -> dict[str, object]:
+    """Run one command; with ``term_after`` send it ``sig`` then (``after_engine``: that
+    long after its first child process appeared). CPU seconds of the command and what it
+    waited for, wall seconds, its exit code and JSON output."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     proc = subprocess.Popen(argv, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True, env=env)
     ended_in = None
-    if term_after is not None:
+    engine_at = _engine_started(proc.pid, 600) if after_engine else 0.0
+    if term_after is not None and engine_at is not None:
         try:
             proc.wait(term_after)
         except subprocess.TimeoutExpired:
@@ -138,6 +168,8 @@ def _run(argv: list[str], env: dict[str, str] | None = None,
         "stderr_tail": err.strip()[-200:]}
     if ended_in is not None:
         row["ended_s_after_signal"] = ended_in
+    if after_engine and engine_at is not None:
+        row["engine_started_s"] = round(engine_at, 3)
     try:
         row["json"] = json.loads(out)
     except ValueError:
@@ -177,6 +209,20 @@ def part_sigterm(engines: list[str], tries: int, rng: random.Random, emit) -> No
             row = _run([*OCPLUS, *SOLVE, "--planner", engine], term_after=at)
             row.pop("json", None)
             row.update(part="sigterm", engine=engine, attempt=k, signal_at_s=at)
+            row["left_after_5s"] = _left_after(GRACE_S, set())
+            _cleanup(set())
+            emit(row)
+
+
+def part_sigterm_engine(engines: list[str], tries: int, rng: random.Random, emit) -> None:
+    for engine in engines:
+        for k in range(tries):
+            at = round(rng.uniform(0.0, 12.0), 2)
+            row = _run([*OCPLUS, *SOLVE, "--planner", engine], term_after=at,
+                       after_engine=True)
+            result = row.pop("json", None) or {}
+            row.update(part="sigterm-engine", engine=engine, attempt=k,
+                       signal_after_engine_start_s=at, status=result.get("status"))
             row["left_after_5s"] = _left_after(GRACE_S, set())
             _cleanup(set())
             emit(row)
@@ -248,7 +294,7 @@ def part_ray(emit) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--parts", default="limits,sigterm,leftovers,ray")
+    parser.add_argument("--parts", default="limits,sigterm,sigterm-engine,leftovers,ray")
     parser.add_argument("--engines", default="", help="comma-separated (default: all)")
     parser.add_argument("--tries", type=int, default=5, help="SIGTERM tries per engine")
     parser.add_argument("--busy", type=int, default=2)
@@ -275,6 +321,8 @@ def main() -> None:
         part_limits(engines, args.busy, emit)
     if "sigterm" in parts:
         part_sigterm(engines, args.tries, random.Random(args.seed), emit)
+    if "sigterm-engine" in parts:
+        part_sigterm_engine(engines, args.tries, random.Random(args.seed), emit)
     if "leftovers" in parts:
         part_leftovers(emit)
     if "ray" in parts:
@@ -291,14 +339,8 @@ def _summary(rows: list[dict[str, object]]) -> None:
                           "over_12_cpu_s": over,
                           "max_command_cpu_s": max(r["command_cpu_s"] for r in lim),
                           "with_leftovers": sum(bool(r["left_after_5s"]) for r in lim)}))
-    term = [r for r in rows if r["part"] == "sigterm"]
-    if term:
-        signalled = [r for r in term if "ended_s_after_signal" in r]
-        print(json.dumps({
-            "summary": "sigterm", "tries": len(term), "signalled": len(signalled),
-            "max_end_s": max((r["ended_s_after_signal"] for r in signalled), default=None),
-            "over_5_s": sum(r["ended_s_after_signal"] > 5 for r in signalled),
-            "with_leftovers": sum(bool(r["left_after_5s"]) for r in term)}))
+    for name in ("sigterm", "sigterm-engine"):
+        _summary_sigterm(name, [r for r in rows if r["part"] == name])
     for part in ("leftovers", "ray"):
         some = [r for r in rows if r["part"] == part]
         if some:
@@ -306,6 +348,16 @@ def _summary(rows: list[dict[str, object]]) -> None:
                               "with_leftovers": sum(bool(r["left_after_5s"])
                                                     or bool(r.get("folders_left_after_5s"))
                                                     for r in some)}))
+
+
+def _summary_sigterm(name: str, term: list[dict[str, object]]) -> None:
+    if term:
+        signalled = [r for r in term if "ended_s_after_signal" in r]
+        print(json.dumps({
+            "summary": name, "tries": len(term), "signalled": len(signalled),
+            "max_end_s": max((r["ended_s_after_signal"] for r in signalled), default=None),
+            "over_5_s": sum(r["ended_s_after_signal"] > 5 for r in signalled),
+            "with_leftovers": sum(bool(r["left_after_5s"]) for r in term)}))
 
 
 if __name__ == "__main__":
