@@ -73,6 +73,10 @@ BACKSTOP_MIN_S = 1.0
 _PR_SET_CHILD_SUBREAPER, _PR_GET_CHILD_SUBREAPER = 36, 37
 #: exit status of a command ended by SIGTERM (128 + 15, as a shell reports it)
 SIGTERM_EXIT = 128 + signal.SIGTERM
+#: wall seconds a command has after SIGTERM to run its own cleanup before it is ended
+TERM_GRACE_S = 3.0
+#: set once SIGTERM has been handled (see :func:`sigterm_exits`)
+_EXITING = threading.Event()
 
 
 @dataclass
@@ -279,18 +283,38 @@ def reaping() -> Iterator[None]:
             set_subreaper(False)
 
 
+def _exit_later(grace: float) -> None:
+    """In ``grace`` seconds, unless the process has ended by then: SIGKILL all its
+    descendants (with their process groups) and exit 143. The exception a signal handler
+    raises is lost when the signal lands in a finalizer or a callback (Python prints
+    "Exception ignored in ..." and goes on); this thread ends the command anyway."""
+    if _EXITING.is_set():
+        return
+    _EXITING.set()
+
+    def later() -> None:
+        time.sleep(grace)
+        with contextlib.suppress(Exception):
+            kill_new_descendants(set(), wait=1.0)
+        os._exit(SIGTERM_EXIT)
+
+    threading.Thread(target=later, name="sigterm-exit", daemon=True).start()
+
+
 @contextlib.contextmanager
 def sigterm_exits() -> Iterator[None]:
     """While inside, SIGTERM raises ``SystemExit(143)`` in the main thread, so that the
     ``finally`` blocks that kill process groups run (by default SIGTERM ends Python at
     once and leaves them behind); once they have, the process exits with 143 at once,
-    without the interpreter's teardown. Elsewhere than the main thread: nothing
-    changes."""
+    without the interpreter's teardown. Should the exception be lost, or the cleanup take
+    more than :data:`TERM_GRACE_S`, a thread kills every descendant and exits 143.
+    Elsewhere than the main thread: nothing changes."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
 
     def on_sigterm(signum: int, frame: Any) -> None:
+        _exit_later(TERM_GRACE_S)
         raise SystemExit(SIGTERM_EXIT)
 
     previous = signal.signal(signal.SIGTERM, on_sigterm)

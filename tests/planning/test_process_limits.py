@@ -120,3 +120,30 @@ def test_sigterm_ends_solve_and_its_engine_within_5_s(tmp_path):
         assert _gone_within(5 - (time.monotonic() - t0), started)
     finally:
         solver.kill()
+
+
+LOST_SIGTERM = textwrap.dedent("""
+    import os, signal, subprocess, time
+    from ocplus_plan.planning._proc import reaping, sigterm_exits
+
+    class Finalized:
+        def __del__(self):  # SIGTERM lands here: its exception is printed and lost
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(0.2)
+
+    with sigterm_exits(), reaping():
+        subprocess.Popen(["sleep", "321.125"])
+        Finalized()
+        time.sleep(60)
+""")
+
+
+def test_a_sigterm_whose_exception_is_lost_still_ends_the_command(tmp_path):
+    script = tmp_path / "lost.py"
+    script.write_text(LOST_SIGTERM)
+    t0 = time.monotonic()
+    proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                          timeout=30)
+    assert proc.returncode == 143 and "Exception ignored" in proc.stderr
+    assert time.monotonic() - t0 < 20
+    assert _gone_within(5, _with_cmdline("sleep", "321.125"))
