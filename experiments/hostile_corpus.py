@@ -1,5 +1,9 @@
 """Hostile inputs through the command line: exit code, time and address space of each.
 
+A second group, hostile processes (``tests/fuzz/processes.py``: user code that exits,
+crashes or loops at import, and processes left behind in a new session), goes to
+``experiments/results/hostile-input-corpus/processes.jsonl``.
+
 The corpus of ``tests/fuzz/corpus.py`` (alias bombs, huge and deep maps, non-UTF-8,
 tampered recordings, plan paths that are no files; each expected to exit 2), a legal
 64x64 map and the shipped recording (each expected to exit 0), and the data group of
@@ -86,6 +90,7 @@ def main() -> None:
             fh.write(json.dumps({"group": "api", "expected": "the package's own error", **r,
                                  "commit": commit, "machine": "2 shared cores",
                                  "load_1min": [load_after, load_end]}) + "\n")
+    _process_cases(commit)
     print(f"{len(cases)} command-line cases and {len(api.stdout.splitlines())} API cases -> "
           f"{OUT.relative_to(ROOT)}")
     every = [json.loads(x) for x in OUT.read_text().splitlines()]
@@ -111,6 +116,46 @@ def main() -> None:
           f"{max(r['vm_peak_mb'] for r in limited):.0f} MB under the limit, "
           f"{max(r['vm_peak_mb'] for r in api_rows):.0f} MB (RSS "
           f"{max(r['max_rss_mb'] for r in api_rows):.0f} MB) for the JAX cases, run without it")
+
+
+# ---------------------------------------------------------------- hostile processes
+PROCESS_OUT = ROOT / "experiments/results/hostile-input-corpus/processes.jsonl"
+
+
+def _process_cases(commit: str) -> None:
+    """The group of ``tests/fuzz/processes.py`` (user code that exits, crashes or loops at
+    import; processes left in a new session), with its modules on PYTHONPATH; one JSON
+    line per case to ``PROCESS_OUT``, with the sleepers left 5 s after the last case."""
+    import time
+
+    import psutil
+
+    from tests.fuzz.processes import SLEEP_MARK, build
+
+    with tempfile.TemporaryDirectory() as tmp:
+        cases = build(Path(tmp))
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join([tmp, str(ROOT)])}
+        load_before = os.getloadavg()[0]
+        done = subprocess.run([sys.executable, "-m", "tests.fuzz.limited"], cwd=ROOT, env=env,
+                              input=json.dumps([argv for _, argv, _ in cases]),
+                              capture_output=True, text=True, check=True)
+        time.sleep(5)
+        left = [p.pid for p in psutil.process_iter(["cmdline"])
+                if p.info["cmdline"] == ["sleep", SLEEP_MARK]]
+        load_after = os.getloadavg()[0]
+        with PROCESS_OUT.open("w") as fh:
+            for (name, argv, expected), line in zip(cases, done.stdout.splitlines()):
+                r = json.loads(line)
+                r.pop("argv")
+                r["stderr"] = r["stderr"].replace(tmp, "TMP").strip()[:300]
+                fh.write(json.dumps({"case": name, "command": argv[0], "expected": expected,
+                                     **r, "sleepers_left_after_5s": len(left),
+                                     "commit": commit, "machine": "2 shared cores",
+                                     "load_1min": [load_before, load_after]}) + "\n")
+    rows = [json.loads(x) for x in PROCESS_OUT.read_text().splitlines()]
+    print(f"processes: as expected {sum(r['code'] == r['expected'] for r in rows)}/{len(rows)}"
+          f"; slowest {max(r['seconds'] for r in rows):.2f} s wall; sleepers left after 5 s: "
+          f"{len(left)} -> {PROCESS_OUT.relative_to(ROOT)}")
 
 
 if __name__ == "__main__":

@@ -5,7 +5,9 @@ random joint actions. The planner runs in its own process group, stopped when th
 has used ``--timeout`` CPU seconds (as the IPC counts them), or at the wall-clock safety
 ``--wall-limit``; its plan is validated with unified-planning's validator and VAL. A
 timeout, an unsolvable problem or a missing planner is reported as a status
-(exit code 0); an unknown planner or preset is bad input (exit code 2).
+(exit code 0); an unknown planner or preset is bad input (exit code 2). SIGTERM or Ctrl-C
+ends the command and every planner process within a second or two (exit 143 or 130),
+and nothing the planner started, in a session of its own or not, outlives the command.
 
 Reported times: ``compile_time_s`` is the compilation of the state alone;
 ``import_time_s`` the one-off import and set-up of unified-planning before it;
@@ -103,6 +105,15 @@ def import_planning() -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..planning._proc import reaping, sigterm_exits
+
+    # SIGTERM runs the cleanup that kills the engine's process groups (exit 143), and
+    # what the planner abandoned in a session of its own is killed at the end
+    with sigterm_exits(), reaping():
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     from ..planning.engines import availability, get_planner, planner_names, solve
 
     if args.list:

@@ -71,6 +71,9 @@ class EpisodeSpec:
     faults: str = ""  # ``--faults`` text (execution.faults.parse_faults); empty: none
     rules: tuple[tuple[str, Any], ...] = ()  # rule overrides (``--rules``), sorted by key
     partner: str | None = None  # the agent that plays the last cook (``--partner``)
+    #: why the agent could not even be loaded (its module ended or outran its process when
+    #: it was checked): the episode is then an ``error`` row with this reason, not run
+    load_error: str = ""
 
     def row_base(self) -> dict[str, Any]:
         agent = self.agent if self.partner is None else f"{self.agent} +{self.partner}"
@@ -115,11 +118,31 @@ class EvalConfig:
 
 
 # ---------------------------------------------------------------- checking agents
-def check_agent(spec: str) -> str | None:
+#: agent kinds whose creation runs the user's code (``llm:`` imports the user's module):
+#: they are checked in a child process, so an exit, a crash or a loop at import cannot end
+#: or hang the sweep
+USER_CODE_KINDS = ("llm",)
+
+
+class AgentLoadFailed(Exception):
+    """Loading an agent ended or outran the process that checked it (see
+    :func:`check_agent`): its episodes become ``error`` rows with this reason."""
+
+
+def check_agent(spec: str, load_timeout: float | None = None) -> str | None:
     """None if ``spec`` can run here; the reason when it must be skipped.
 
     Raises :class:`ConfigError` / :class:`PlannerError` for names that are simply wrong.
+    An agent whose creation runs the user's code (:data:`USER_CODE_KINDS`) is created in a
+    child process, stopped after ``load_timeout`` seconds (None: no limit): when that
+    process dies (``os._exit``, a crash) or runs out of time, :class:`AgentLoadFailed`.
     """
+    if spec.partition(":")[0] in USER_CODE_KINDS and hasattr(os, "fork"):
+        return _check_in_child(spec, load_timeout)
+    return _check_here(spec)
+
+
+def _check_here(spec: str) -> str | None:
     from ..agents import FACTORIES, make_controller
 
     kind, _, arg = spec.partition(":")
@@ -147,13 +170,41 @@ def check_agent(spec: str) -> str | None:
     return None
 
 
-def check_partner(partner: str | None, cooks: list[int]) -> None:
+def _check_reporting(spec: str) -> tuple[str, str | None]:
+    """In the child: ("ok", skip reason) or ("bad", the message of a wrong name)."""
+    try:
+        return "ok", _check_here(spec)
+    except OcplusError as exc:
+        return "bad", str(exc)
+
+
+def _check_in_child(spec: str, load_timeout: float | None) -> str | None:
+    from ..planning import _proc
+
+    outcome = _proc.run_isolated(_check_reporting, (spec,), hard_limit=load_timeout)
+    if outcome.kind == _proc.OK:
+        verdict, text = outcome.value
+        if verdict == "bad":
+            raise ConfigError(str(text))
+        return text  # type: ignore[no-any-return]
+    if outcome.kind == _proc.TIMEOUT:
+        raise AgentLoadFailed(f"loading agent {spec} did not finish within "
+                              f"{load_timeout:g} s (--episode-timeout); its process was killed")
+    what = str(outcome.value).replace("the planner process", "its process")
+    raise AgentLoadFailed(f"loading agent {spec} failed: {what}")
+
+
+def check_partner(partner: str | None, cooks: list[int],
+                  load_timeout: float | None = None) -> None:
     """``--partner``: a known agent that runs here, and kitchens with a cook to spare."""
     if partner is None:
         return
     from ..agents.base import PARTNER_ALIASES
 
-    reason = check_agent(PARTNER_ALIASES.get(partner, partner))
+    try:
+        reason = check_agent(PARTNER_ALIASES.get(partner, partner), load_timeout)
+    except AgentLoadFailed as exc:
+        raise ConfigError(f"--partner {partner}: {exc}") from None
     if reason:
         raise ConfigError(f"--partner {partner}: {reason}")
     if min(cooks) < 2:
@@ -226,6 +277,8 @@ def evaluate_episode(spec: EpisodeSpec, progress: Progress | None = None) -> dic
     fault = parse_faults(spec.faults)
     row = spec.row_base()
     row["worker"] = {"node": platform.node(), "pid": os.getpid()}
+    if spec.load_error:
+        return {**row, "status": "error", "reason": spec.load_error}
     t_start = time.perf_counter()
     rules = make_rules(spec.preset, map=spec.map_spec, horizon=spec.horizon,
                        n_agents=spec.n_agents + (1 if fault.blocker else 0), **dict(spec.rules))
@@ -304,6 +357,8 @@ def timeout_reason(episode_timeout: float | None) -> str:
 
 
 __all__ = [
+    "USER_CODE_KINDS",
+    "AgentLoadFailed",
     "EpisodeSpec",
     "EvalConfig",
     "Progress",

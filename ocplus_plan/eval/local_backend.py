@@ -1,8 +1,10 @@
-"""Episodes in worker processes on this machine: ``ocplus eval --jobs N`` (or a timeout).
+"""Episodes in worker processes on this machine: ``ocplus eval --jobs N`` (``--jobs 1`` too).
 
-One forked process per episode, the leader of its own process group (a planner that
-crashes or hangs takes down only its episode, recorded as an ``error`` row). Nothing
-outlives the driver:
+``jobs`` forked worker processes, each the leader of its own process group, each running
+one episode after another (the modules, maps and planner set-up it loaded stay warm, as
+in one process): a controller, a user's model or a planner that exits, crashes or hangs
+takes down only its episode, recorded as an ``error`` row, and the worker is replaced by
+a fresh one for the next. Nothing outlives the driver:
 
 - each worker asks the kernel for a parent-death signal (``prctl(PR_SET_PDEATHSIG)`` on
   Linux) and, everywhere, watches its parent's pid from a thread; when the driver is
@@ -10,16 +12,23 @@ outlives the driver:
   within :data:`WATCH_EVERY_S`;
 - the planner process groups a worker starts (``planning._proc``) watch the worker the
   same way, so they follow it;
-- the episode timeout is enforced by the driver and, as a backstop, by the worker
-  itself (a little later), so it holds even when the driver cannot act;
-- when the driver stops early (Ctrl-C, an exception), it kills every running group.
+- the episode timeout is enforced by the driver (it kills the worker's group) and, as a
+  backstop, by the worker itself (a little later), so it holds even when the driver
+  cannot act;
+- when the driver stops early (Ctrl-C, SIGTERM, an exception), it kills every running
+  group;
+- each worker is a subreaper (``PR_SET_CHILD_SUBREAPER``, Linux): a process the episode
+  started in a session of its own (``setsid``) and abandoned is re-parented to the worker
+  and killed before the worker reports its row.
 
-Workers report ``("progress", step, planner calls, planner seconds)`` about once a second
-and then ``("row", row)`` through a pipe.
+The driver sends a worker an episode (its :class:`~.episode.EpisodeSpec`; None: stop)
+through a pipe; the worker reports ``("progress", step, planner calls, planner seconds)``
+about once a second and then ``("row", row)``.
 """
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import multiprocessing as mp
 import os
@@ -28,6 +37,7 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 from multiprocessing.connection import wait
 from typing import Any
 
@@ -68,18 +78,21 @@ def set_parent_death_signal(sig: int = signal.SIGTERM) -> bool:
         return False
 
 
-def die_with_parent(parent_pid: int, deadline: float | None = None) -> None:
+def die_with_parent(parent_pid: int, deadline: float | list[float | None] | None = None) -> None:
     """Make this process (and its process group) die with ``parent_pid``, and at
     ``deadline`` (``time.monotonic()``) if given: a parent-death signal where the kernel
-    offers one, and a thread that watches the parent's pid everywhere."""
+    offers one, and a thread that watches the parent's pid everywhere. ``deadline`` may be
+    a one-item list that the caller changes (a worker that runs one episode after another)."""
     signal.signal(signal.SIGTERM, _on_parent_death)
     set_parent_death_signal(signal.SIGTERM)
+    box = deadline if isinstance(deadline, list) else [deadline]
 
     def watch() -> None:
         while True:
             if os.getppid() != parent_pid:
                 _kill_own_group()
-            if deadline is not None and time.monotonic() > deadline:
+            due = box[0]
+            if due is not None and time.monotonic() > due:
                 _kill_own_group()
             time.sleep(WATCH_EVERY_S)
 
@@ -88,24 +101,39 @@ def die_with_parent(parent_pid: int, deadline: float | None = None) -> None:
         _kill_own_group()
 
 
-def _worker(conn: Any, spec: EpisodeSpec, driver_pid: int, timeout: float | None) -> None:
-    """Entry of a worker process: its own process group, tied to the driver's life."""
+def _worker(conn: Any, driver_pid: int, timeout: float | None) -> None:
+    """Entry of a worker process: its own process group, tied to the driver's life; runs
+    the episodes the driver sends, one at a time, until it is sent None."""
     try:
         os.setsid()
     except OSError:  # pragma: no cover
         pass
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the driver's to handle
-    deadline = None if timeout is None else time.monotonic() + timeout + TIMEOUT_BACKSTOP_S
+    deadline: list[float | None] = [None]
     die_with_parent(driver_pid, deadline)
+    from ..planning._proc import kill_new_descendants, set_subreaper
+
+    set_subreaper(True)  # what an episode abandons (setsid'd) stays ours to kill
 
     def progress(step: int, calls: int, planning: float) -> None:
         conn.send(("progress", step, calls, planning))
 
-    try:
-        row = evaluate_episode(spec, progress)
-    except BaseException as exc:  # pragma: no cover - evaluate_episode keeps almost all
-        row = error_row(spec, f"{type(exc).__name__}: {exc}")
-    conn.send(("row", row))
+    while True:
+        try:
+            spec = conn.recv()
+        except (EOFError, OSError):
+            break
+        if spec is None:
+            break
+        if timeout is not None:
+            deadline[0] = time.monotonic() + timeout + TIMEOUT_BACKSTOP_S
+        try:
+            row = evaluate_episode(spec, progress)
+        except BaseException as exc:  # pragma: no cover - evaluate_episode keeps almost all
+            row = error_row(spec, f"{type(exc).__name__}: {exc}")
+        kill_new_descendants(set())  # nothing the episode started outlives it
+        deadline[0] = None
+        conn.send(("row", row))
     conn.close()
 
 
@@ -117,74 +145,105 @@ def _kill(proc: mp.process.BaseProcess) -> None:
     proc.join(5)
 
 
+@dataclass
+class _Slot:
+    """A worker process and the episode it runs (None: idle)."""
+
+    proc: Any
+    conn: Any
+    spec: EpisodeSpec | None = None
+    started: float = 0.0
+
+
 def run_local(todo: list[EpisodeSpec], jobs: int, episode_timeout: float | None,
               on_start: Callable[[EpisodeSpec], None] | None = None,
               on_progress: OnProgress | None = None,
               on_tick: Callable[[], None] | None = None) -> Iterator[dict[str, Any]]:
     """Run ``todo`` in up to ``jobs`` worker processes; yield each row as it is finished.
-    ``on_start``, ``on_progress`` and ``on_tick`` (twice a second) feed a progress bar."""
+    A worker runs one episode after another; one that dies or runs out of time is
+    replaced by a fresh one. ``on_start``, ``on_progress`` and ``on_tick`` (twice a
+    second) feed a progress bar."""
     methods = mp.get_all_start_methods()
     ctx = mp.get_context("fork" if "fork" in methods else "spawn")
     pending = list(reversed(todo))
-    running: dict[Any, tuple[Any, EpisodeSpec, float]] = {}
+    slots: list[_Slot] = []
     me = os.getpid()
     try:
-        while pending or running:
-            while pending and len(running) < jobs:
-                spec = pending.pop()
-                recv, send = ctx.Pipe(duplex=False)
+        while pending or any(s.spec is not None for s in slots):
+            for slot in [s for s in slots if s.spec is None]:
+                if not pending:
+                    break
+                _hand(slot, pending.pop(), on_start)
+            while pending and len(slots) < jobs:
                 # not daemonic: planner controllers start their own (killable) processes,
                 # which daemonic processes may not; the finally below kills what is left
-                proc = ctx.Process(target=_worker, args=(send, spec, me, episode_timeout),
+                mine, theirs = ctx.Pipe(duplex=True)
+                proc = ctx.Process(target=_worker, args=(theirs, me, episode_timeout),
                                    daemon=False)
                 proc.start()
-                send.close()
-                running[recv] = (proc, spec, time.monotonic())
-                if on_start is not None:
-                    on_start(spec)
-            for conn in wait(list(running), timeout=0.5):
-                row = _receive(conn, running, on_progress)
+                theirs.close()
+                slots.append(_Slot(proc, mine))
+                _hand(slots[-1], pending.pop(), on_start)
+            busy = {s.conn: s for s in slots if s.spec is not None}
+            for conn in wait(list(busy), timeout=0.5):
+                row = _receive(busy[conn], slots, on_progress)
                 if row is not None:
                     yield row
             if episode_timeout is not None:
-                yield from _expire(running, episode_timeout)
+                yield from _expire(slots, episode_timeout)
             if on_tick is not None:
                 on_tick()
     finally:
-        for conn, (proc, _, _) in running.items():
-            _kill(proc)
-            conn.close()
+        for slot in slots:
+            if slot.spec is None:  # idle: asked to stop, killed if it does not
+                with contextlib.suppress(OSError, ValueError):
+                    slot.conn.send(None)
+                slot.proc.join(1.0)
+            _kill(slot.proc)
+            slot.conn.close()
 
 
-def _receive(conn: Any, running: dict[Any, tuple[Any, EpisodeSpec, float]],
+def _hand(slot: _Slot, spec: EpisodeSpec, on_start: Callable[[EpisodeSpec], None] | None) -> None:
+    slot.conn.send(spec)
+    slot.spec, slot.started = spec, time.monotonic()
+    if on_start is not None:
+        on_start(spec)
+
+
+def _drop(slot: _Slot, slots: list[_Slot]) -> None:
+    """Forget a worker that died or was killed (its episode is over)."""
+    _kill(slot.proc)
+    slot.conn.close()
+    slots.remove(slot)
+
+
+def _receive(slot: _Slot, slots: list[_Slot],
              on_progress: OnProgress | None) -> dict[str, Any] | None:
-    """One message of a worker: a progress report (None) or its row (the worker is done)."""
-    proc, spec, _ = running[conn]
+    """One message of a worker: a progress report (None) or its row (the episode is done)."""
+    spec = slot.spec
+    assert spec is not None
     try:
-        message = conn.recv()
+        message = slot.conn.recv()
     except (EOFError, OSError):
-        proc.join(5)
-        message = ("row", error_row(spec, f"worker process died (exit code {proc.exitcode}) "
-                                          "before reporting; a crash in the controller or "
-                                          "planner"))
+        slot.proc.join(5)
+        code = slot.proc.exitcode
+        _drop(slot, slots)
+        return error_row(spec, f"worker process died (exit code {code}) before reporting; "
+                               "a crash in the controller or planner")
     if message[0] == "progress":
         if on_progress is not None:
             on_progress(spec, *message[1:])
         return None
-    running.pop(conn)
-    conn.close()
-    proc.join(5)
-    return message[1]
+    slot.spec = None
+    return message[1]  # type: ignore[no-any-return]
 
 
-def _expire(running: dict[Any, tuple[Any, EpisodeSpec, float]],
-            episode_timeout: float) -> Iterator[dict[str, Any]]:
+def _expire(slots: list[_Slot], episode_timeout: float) -> Iterator[dict[str, Any]]:
     now = time.monotonic()
-    for conn, (proc, spec, started) in list(running.items()):
-        if now - started > episode_timeout:
-            _kill(proc)
-            running.pop(conn)
-            conn.close()
+    for slot in list(slots):
+        if slot.spec is not None and now - slot.started > episode_timeout:
+            spec = slot.spec
+            _drop(slot, slots)
             yield error_row(spec, timeout_reason(episode_timeout))
 
 

@@ -14,7 +14,14 @@ writes each at once, so a driver that dies loses only the episodes in flight, wh
 at most as many as the cluster has CPUs (or ``--jobs``).
 
 Without ``--address`` a private Ray instance is started on this machine (``--jobs``
-CPUs, default all) and stopped at the end; ``--address auto`` joins the cluster started
+CPUs, default all) and stopped at the end, even when the driver is killed (``kill -9``):
+a small cleaner process, forked before Ray starts and in a session of its own, waits for
+the driver; if the driver dies with the instance's folder still there, the cleaner kills
+every process of that instance (those whose command line names the folder: GCS, raylet,
+monitors; and their descendants: workers, the dashboard and runtime-env agents) and
+removes the folder, then exits. Since the raylet may die first and orphan its agents
+(whose command lines name nothing), the cleaner also remembers, once a second, the
+driver's descendants, and kills those too. After a normal end it exits at once; ``--address auto`` joins the cluster started
 with ``ray start`` on this machine, ``--address HOST:6379`` a remote head node. A Ray
 instance that the caller already started (``ray.init`` in a notebook or a test) is
 used as it is and left running.
@@ -27,7 +34,9 @@ import functools
 import logging
 import os
 import shutil
+import signal
 import tempfile
+import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -126,6 +135,7 @@ def ray_session(cfg: EvalConfig) -> Iterator[Any]:
     # a Ray instance started here keeps its session files (sockets, logs) in a folder of
     # its own that goes with it; a short path: Ray's socket paths must stay under 108 bytes
     private = private_temp_dir() if cfg.address is None else None
+    cleaner = None if private is None else start_cleaner(private)
     try:
         try:
             ray.init(address=cfg.address, num_cpus=cfg.jobs if cfg.address is None else None,
@@ -145,6 +155,92 @@ def ray_session(cfg: EvalConfig) -> Iterator[Any]:
     finally:
         if private is not None:
             shutil.rmtree(private, ignore_errors=True)
+        if cleaner is not None:
+            stop_cleaner(cleaner)
+
+
+#: seconds between two looks of the cleaner at the driver
+CLEANER_EVERY_S = 0.25
+
+
+def start_cleaner(private: str) -> int | None:
+    """Fork the cleaner of the Ray instance whose folder is ``private`` (see the module
+    doc); its pid, or None where processes cannot be forked."""
+    if not hasattr(os, "fork"):  # pragma: no cover - Linux and macOS fork
+        return None
+    driver = os.getpid()
+    pid = os.fork()
+    if pid != 0:
+        return pid
+    try:  # the cleaner: a group kill of the driver's session must not reach it
+        os.setsid()
+        devnull = os.open(os.devnull, os.O_RDWR)
+        for fd in (0, 1, 2):
+            os.dup2(devnull, fd)
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        seen: set[tuple[int, float]] = set()
+        tick = 0
+        while os.getppid() == driver and os.path.isdir(private):
+            if tick % 4 == 0:  # Ray's processes start in the first seconds: remember them
+                seen |= _descendants(driver)
+            tick += 1
+            time.sleep(CLEANER_EVERY_S)
+        if os.path.isdir(private):  # the driver died without stopping its instance
+            kill_instance(private, seen)
+            shutil.rmtree(private, ignore_errors=True)
+    finally:
+        os._exit(0)
+
+
+def _descendants(pid: int) -> set[tuple[int, float]]:
+    """(pid, start time) of each descendant of ``pid`` but the calling process."""
+    import psutil
+
+    out = set()
+    try:
+        for proc in psutil.Process(pid).children(recursive=True):
+            if proc.pid != os.getpid():
+                out.add((proc.pid, proc.create_time()))
+    except psutil.Error:
+        pass
+    return out
+
+
+def stop_cleaner(pid: int) -> None:
+    """End the cleaner after a normal end of the session (its folder is gone)."""
+    with contextlib.suppress(OSError):
+        os.kill(pid, signal.SIGKILL)
+    with contextlib.suppress(OSError):
+        os.waitpid(pid, 0)
+
+
+def kill_instance(private: str, known: set[tuple[int, float]] = frozenset()) -> list[int]:
+    """SIGKILL every process of the Ray instance whose folder is ``private``: those whose
+    command line names it, and all their descendants (Ray renames its workers and agents,
+    ``ray::IDLE``, so they are found as the raylet's children), and the processes of
+    ``known`` ((pid, start time) pairs, seen earlier as the driver's descendants: once the
+    raylet is gone its agents are orphans that name nothing); their pids."""
+    import psutil
+
+    found: dict[int, psutil.Process] = {}
+    for pid, started in known:
+        with contextlib.suppress(psutil.Error):
+            proc = psutil.Process(pid)
+            if proc.create_time() == started:  # not a recycled pid
+                found[pid] = proc
+    for proc in psutil.process_iter(["cmdline"]):
+        try:
+            if any(private in arg for arg in proc.info["cmdline"] or ()):
+                found[proc.pid] = proc
+                found.update({c.pid: c for c in proc.children(recursive=True)})
+        except psutil.Error:
+            continue
+    found.pop(os.getpid(), None)
+    for proc in found.values():
+        with contextlib.suppress(psutil.Error):
+            proc.kill()
+    psutil.wait_procs(list(found.values()), timeout=3)
+    return sorted(found)
 
 
 def run_on_ray(todo: list[EpisodeSpec], cfg: EvalConfig,
@@ -189,5 +285,6 @@ def _first_line(exc: BaseException) -> str:
     return (str(exc).strip().splitlines() or [""])[0]
 
 
-__all__ = ["EXTRA", "TEMP_PREFIX", "import_ray", "private_temp_dir", "ray_episode",
-           "ray_session", "run_on_ray", "short_temp_base"]
+__all__ = ["EXTRA", "TEMP_PREFIX", "import_ray", "kill_instance", "private_temp_dir",
+           "ray_episode", "ray_session", "run_on_ray", "short_temp_base", "start_cleaner",
+           "stop_cleaner"]

@@ -4,9 +4,12 @@
 before running anything (an unknown preset, map or agent is a :class:`ConfigError`;
 a planner or learned policy that is not installed, or an agent kind that this
 installation has not registered yet, becomes a ``skipped`` row with the reason),
-then runs the episodes, in worker processes with ``jobs > 1`` (one process per
-episode: a planner that crashes or hangs takes down only its episode, which is
-recorded as an ``error`` row) or, with ``backend="ray"``, as Ray tasks on a cluster
+then runs the episodes in worker processes, ``jobs`` at a time, ``--jobs 1`` included
+(one process per episode: a controller, a user's model or a planner that exits, crashes or
+hangs takes down only its episode, which is recorded as an ``error`` row; an ``llm:``
+module is first loaded in a child process too, within ``--episode-timeout``, so a module
+that exits or loops at import cannot end or hang the sweep either) or, with
+``backend="ray"``, as Ray tasks on a cluster
 (:mod:`.ray_backend`), and appends each finished episode to ``results.jsonl`` at once.
 ``resume=True`` reruns only what is missing, whichever backend wrote the rows so far.
 
@@ -14,7 +17,10 @@ One episode (:mod:`.episode`) never stops the sweep: whatever a user's controlle
 or planner raises (``SystemExit`` and ``KeyboardInterrupt`` included) becomes its
 ``error`` row. Ctrl-C of the driver stops the sweep: the running episodes are killed,
 the rows so far stay in ``results.jsonl``, and ``KeyboardInterrupt`` reaches the caller
-(``ocplus`` exits 130). Worker processes die with the driver (:mod:`.local_backend`).
+(``ocplus`` exits 130); SIGTERM does the same and exits 143. Worker processes die with
+the driver (:mod:`.local_backend`), and with the local backend the driver is the
+subreaper of what the episodes start: a process that left its session (``setsid``) is
+killed at the end of the sweep (:func:`~ocplus_plan.planning._proc.reaping`).
 """
 
 from __future__ import annotations
@@ -22,6 +28,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import json
+import os
 import re
 import signal
 import threading
@@ -33,6 +40,7 @@ from typing import Any
 from ..errors import ConfigError
 from ..sim import make_rules
 from .episode import (
+    AgentLoadFailed,
     EpisodeSpec,
     EvalConfig,
     check_agent,
@@ -127,8 +135,14 @@ def plan_episodes(cfg: EvalConfig) -> tuple[list[EpisodeSpec], list[dict[str, An
         if fault.blocker:
             _check_room_for_blocker(preset, cfg.map, rules.n_agents, kw)
         kitchens.append((preset, rules.layout.name, rules.n_agents))
-    skip_reason = {agent: check_agent(agent) for agent in cfg.agents}
-    check_partner(cfg.partner, [n for _, _, n in kitchens])
+    skip_reason: dict[str, str | None] = {}
+    load_error: dict[str, str] = {}  # agents whose loading ended or outran its process
+    for agent in cfg.agents:
+        try:
+            skip_reason[agent] = check_agent(agent, cfg.episode_timeout)
+        except AgentLoadFailed as exc:
+            skip_reason[agent], load_error[agent] = None, str(exc)
+    check_partner(cfg.partner, [n for _, _, n in kitchens], cfg.episode_timeout)
     episodes, skipped = [], []
     for preset, map_name, n_agents in kitchens:
         for agent in cfg.agents:
@@ -136,7 +150,7 @@ def plan_episodes(cfg: EvalConfig) -> tuple[list[EpisodeSpec], list[dict[str, An
                 agent, preset, n_agents, map_name)
             base = EpisodeSpec(preset, map_name, cfg.map, n_agents, agent, -1, cfg.horizon,
                                faults=str(fault), rules=tuple(sorted(cfg.rules.items())),
-                               partner=cfg.partner)
+                               partner=cfg.partner, load_error=load_error.get(agent, ""))
             if reason:
                 row = base.row_base()
                 row.update(seed=None, status="skipped", reason=reason)
@@ -209,8 +223,12 @@ def prepare_out_dir(out: Path, resume: bool, echo: Any = print) -> set[str]:
 
 def run_eval(cfg: EvalConfig, echo: Any = print) -> EvalOutcome:
     """Run (or continue) an evaluation and write results.jsonl, summary.csv and plots."""
+    from ..planning._proc import reaping, sigterm_exits
+
     out = Path(cfg.out)
-    with _sigint_marks_interrupt():
+    # Ray keeps its own worker processes (and may be the caller's): reaped here only locally
+    reaper = reaping() if cfg.backend == "local" else contextlib.nullcontext()
+    with _sigint_marks_interrupt(), sigterm_exits(), reaper:
         episodes, skipped = plan_episodes(cfg)
         with _backend_session(cfg), folder_lock(out):  # Ray is joined before any file is written
             ran, n_err = _run_and_write(cfg, episodes, skipped, echo)
@@ -296,12 +314,12 @@ def _run_all(todo: list[EpisodeSpec], cfg: EvalConfig, bar: Any) -> Iterator[dic
 
         yield from run_on_ray(todo, cfg, on_tick=bar.tick)
         return
-    jobs = cfg.jobs or 1
-    if jobs <= 1 and cfg.episode_timeout is None:
+    if not hasattr(os, "fork"):  # pragma: no cover - no child processes to isolate in
         for spec in todo:
             bar.started(spec)
             yield evaluate_episode(spec, lambda *p, spec=spec: bar.heard(spec, *p))
         return
+    jobs = cfg.jobs or 1
     from .local_backend import run_local
 
     yield from run_local(todo, jobs, cfg.episode_timeout, on_start=bar.started,

@@ -20,19 +20,38 @@ waits; the group is killed when the sum reaches the limit. CPU seconds do not st
 when the machine is loaded, so a planner gets the same search whatever runs beside it.
 The *wall-clock limit* (``hard_limit``) is a safety for a child that waits without
 computing (a sleeping script, a server that stopped answering).
+
+Neither limit depends on the child's cooperation. The parent samples and kills; as a
+backstop the child also runs under ``RLIMIT_CPU`` (a little above the CPU limit: the
+kernel ends it with SIGXCPU, then SIGKILL, even when its native code never returns to
+Python); and the watchdog that ends the group when the parent dies is a separate
+single-threaded process (forked by the child before the planner starts), not a thread
+that a planner holding the GIL could starve. The child is a *subreaper*
+(``PR_SET_CHILD_SUBREAPER``, Linux): a process that a planner starts in a new session
+(``setsid``) and then abandons is re-parented to the child, not to init, so it is still
+found among the child's descendants and killed with them.
+
+:func:`reaping` does the same for a whole command (``ocplus solve``, ``ocplus eval``):
+what is left of the processes started inside it is killed at its end, and
+:func:`sigterm_exits` turns SIGTERM into ``SystemExit(143)`` so that every ``finally``
+that kills a process group runs.
 """
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
+import math
 import multiprocessing
 import os
+import resource
 import shutil
 import signal
 import sys
 import tempfile
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -42,6 +61,22 @@ import psutil
 OK, RAISED, TIMEOUT, CRASHED = "ok", "raised", "timeout", "crashed"
 
 _LOG_TAIL_CHARS = 2000
+#: seconds between two looks of the watchdog process at the child and its caller
+WATCH_EVERY_S = 0.25
+#: the watchdog remembers the process groups of the child's descendants every this many
+#: looks (2 s), for the case where the child dies first and they lose their parent
+SNAPSHOT_EVERY = 8
+#: the kernel's CPU backstop (RLIMIT_CPU) lies this far above the CPU limit: a tenth of
+#: it, at least this many seconds
+BACKSTOP_MIN_S = 1.0
+#: Linux prctl options
+_PR_SET_CHILD_SUBREAPER, _PR_GET_CHILD_SUBREAPER = 36, 37
+#: exit status of a command ended by SIGTERM (128 + 15, as a shell reports it)
+SIGTERM_EXIT = 128 + signal.SIGTERM
+#: wall seconds a command has after SIGTERM to run its own cleanup before it is ended
+TERM_GRACE_S = 3.0
+#: set once SIGTERM has been handled (see :func:`sigterm_exits`)
+_EXITING = threading.Event()
 
 
 @dataclass
@@ -67,33 +102,81 @@ class Outcome:
     groups: tuple[int, ...] = ()
 
 
-def _watch_parent(parent_pid: int, private: str) -> None:
-    """Kill our own process group as soon as the parent is gone, and remove the private
-    folder, which the parent can no longer remove (a Ray worker killed mid-episode)."""
-    while True:
-        if os.getppid() != parent_pid:
-            me = os.getpid()
-            for group in descendant_groups(me) - {os.getpgid(0)}:  # planners' own sessions
-                try:
-                    os.killpg(group, signal.SIGKILL)
-                except OSError:
-                    pass
-            for pid in group_members(os.getpgid(0)):  # first the others: no new files
-                if pid != me:
-                    try:
-                        os.kill(pid, signal.SIGKILL)
-                    except OSError:
-                        pass
-            shutil.rmtree(private, ignore_errors=True)
-            os.killpg(0, signal.SIGKILL)
-        time.sleep(0.5)
+def _kill_groups(groups: set[int], own: int) -> None:
+    """SIGKILL every group of ``groups`` but ``own`` (no error for one that is gone)."""
+    for group in groups - {own}:
+        try:
+            os.killpg(group, signal.SIGKILL)
+        except OSError:
+            pass
+
+
+def _watchdog(child: int, caller: int, private: str) -> None:
+    """Body of the watchdog process (never returns): while the child lives and its parent
+    is still ``caller``, remember the process groups of the child's descendants; once the
+    child is gone or orphaned, kill those groups and the child's own, and remove the
+    private folder, which a dead caller can no longer remove."""
+    own = os.getpgid(0)
+    seen: set[int] = set()
+    tick = 0
+    try:
+        while True:
+            try:
+                proc = psutil.Process(child)  # one read of /proc/<child>/stat
+                if proc.ppid() != caller or proc.status() == psutil.STATUS_ZOMBIE:
+                    break
+                if tick % SNAPSHOT_EVERY == 0:  # a scan of the process table: rarely,
+                    seen |= descendant_groups(child)  # its CPU counts against the limit
+            except psutil.Error:
+                break
+            tick += 1
+            time.sleep(WATCH_EVERY_S)
+        seen |= descendant_groups(os.getpid()) | descendant_groups(child)
+        _kill_groups(seen, own)
+        for pid in group_members(own):  # first the others: no new files
+            if pid != os.getpid():
+                with contextlib.suppress(OSError):
+                    os.kill(pid, signal.SIGKILL)
+        _kill_groups(descendant_groups(os.getpid()), own)
+        shutil.rmtree(private, ignore_errors=True)
+    finally:
+        os.killpg(own, signal.SIGKILL)
+        os._exit(0)
+
+
+def _start_watchdog(caller: int, private: str) -> None:
+    """Fork the watchdog process (same process group) of this child."""
+    child = os.getpid()
+    pid = os.fork()
+    if pid == 0:  # the watchdog: nothing of the child's Python state is used
+        try:
+            _watchdog(child, caller, private)
+        finally:
+            os._exit(0)
+
+
+def _cpu_backstop(cpu_limit: float | None) -> None:
+    """Have the kernel stop this process a little after ``cpu_limit`` CPU seconds
+    (RLIMIT_CPU: SIGXCPU at the soft limit, SIGKILL at the hard one)."""
+    if cpu_limit is None:
+        return
+    soft = math.ceil(cpu_limit + max(BACKSTOP_MIN_S, 0.1 * cpu_limit))
+    try:
+        _, hard = resource.getrlimit(resource.RLIMIT_CPU)
+        new_hard = soft + 2 if hard == resource.RLIM_INFINITY else min(hard, soft + 2)
+        resource.setrlimit(resource.RLIMIT_CPU, (min(soft, new_hard), new_hard))
+    except (OSError, ValueError):  # pragma: no cover - a stricter limit is already set
+        pass
 
 
 def _child_main(conn: Any, log_path: str, parent_pid: int,
-                fn: Callable[..., Any], args: tuple[Any, ...]) -> None:
+                fn: Callable[..., Any], args: tuple[Any, ...],
+                cpu_limit: float | None = None) -> None:
     os.setpgid(0, 0)
     private = os.path.dirname(log_path)
-    threading.Thread(target=_watch_parent, args=(parent_pid, private), daemon=True).start()
+    _start_watchdog(parent_pid, private)
+    set_subreaper(True)
+    _cpu_backstop(cpu_limit)
     # Temporary files of the child and of the planners it starts (UP's PDDL folders, Aries'
     # server log, which it never deletes) go to the private folder the parent removes,
     # even when the group is killed at the time limit.
@@ -114,6 +197,140 @@ def _child_main(conn: Any, log_path: str, parent_pid: int,
     except Exception as exc:  # noqa: BLE001 - an unpicklable value is a bug in the caller
         conn.send((RAISED, f"result could not be sent back: {type(exc).__name__}: {exc}"))
     conn.close()
+    # Stay until the parent kills the group: a process abandoned by a planner (re-parented
+    # to this subreaper) is then still a descendant that the parent finds and kills.
+    deadline = time.monotonic() + 30.0
+    while time.monotonic() < deadline and os.getppid() == parent_pid:
+        time.sleep(0.1)
+
+
+# ---------------------------------------------------------------- whole commands
+def set_subreaper(on: bool = True) -> bool:
+    """Make this process the subreaper of its descendants (Linux ``prctl``): orphans,
+    ``setsid`` ones included, are re-parented to it instead of init. True if it worked."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        return int(libc.prctl(_PR_SET_CHILD_SUBREAPER, int(on), 0, 0, 0)) == 0
+    except (OSError, AttributeError):  # pragma: no cover - no libc / no prctl
+        return False
+
+
+def is_subreaper() -> bool:
+    """Whether this process is a subreaper (False where that cannot be known)."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        flag = ctypes.c_int(0)
+        if libc.prctl(_PR_GET_CHILD_SUBREAPER, ctypes.byref(flag), 0, 0, 0) != 0:
+            return False
+        return bool(flag.value)
+    except (OSError, AttributeError):  # pragma: no cover
+        return False
+
+
+def kill_new_descendants(before: set[int], wait: float = 3.0) -> list[int]:
+    """SIGKILL the descendants of this process that are not in ``before`` (with their
+    process groups, but never this process's own group), reap those that became its
+    children, and return their pids."""
+    me = os.getpid()
+    own = os.getpgid(0)
+    try:
+        found = [p for p in psutil.Process(me).children(recursive=True) if p.pid not in before]
+    except psutil.Error:  # pragma: no cover
+        return []
+    killed = []
+    for proc in found:
+        with contextlib.suppress(OSError):
+            group = os.getpgid(proc.pid)
+            if group != own:
+                os.killpg(group, signal.SIGKILL)
+            os.kill(proc.pid, signal.SIGKILL)
+            killed.append(proc.pid)
+    deadline = time.monotonic() + wait
+    for proc in found:
+        while time.monotonic() < deadline:
+            try:
+                if proc.ppid() == me:
+                    os.waitpid(proc.pid, os.WNOHANG)
+                if proc.status() == psutil.STATUS_ZOMBIE and proc.ppid() != me:
+                    break
+            except (psutil.Error, ChildProcessError):
+                break
+            time.sleep(0.02)
+    return killed
+
+
+@contextlib.contextmanager
+def reaping() -> Iterator[None]:
+    """Run a command's body as the subreaper of what it starts (where the kernel offers
+    one); whatever of it is still alive at the end, ``setsid`` orphans included, is
+    killed. Processes that existed before are left alone."""
+    was = is_subreaper()
+    became = was or set_subreaper(True)
+    try:
+        before = {p.pid for p in psutil.Process().children(recursive=True)}
+    except psutil.Error:  # pragma: no cover
+        before = set()
+    try:
+        yield
+    finally:
+        if became:
+            kill_new_descendants(before)
+        if became and not was:
+            set_subreaper(False)
+
+
+def _exit_later(grace: float) -> None:
+    """In ``grace`` seconds, unless the process has ended by then: SIGKILL all its
+    descendants (with their process groups) and exit 143. The exception a signal handler
+    raises is lost when the signal lands in a finalizer or a callback (Python prints
+    "Exception ignored in ..." and goes on); this thread ends the command anyway."""
+    if _EXITING.is_set():
+        return
+    _EXITING.set()
+
+    def later() -> None:
+        time.sleep(grace)
+        with contextlib.suppress(Exception):
+            kill_new_descendants(set(), wait=1.0)
+        os._exit(SIGTERM_EXIT)
+
+    threading.Thread(target=later, name="sigterm-exit", daemon=True).start()
+
+
+@contextlib.contextmanager
+def sigterm_exits() -> Iterator[None]:
+    """While inside, SIGTERM raises ``SystemExit(143)`` in the main thread, so that the
+    ``finally`` blocks that kill process groups run (by default SIGTERM ends Python at
+    once and leaves them behind); once they have, the process exits with 143 at once,
+    without the interpreter's teardown. Should the exception be lost, or the cleanup take
+    more than :data:`TERM_GRACE_S`, a thread kills every descendant and exits 143.
+    Elsewhere than the main thread: nothing changes."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def on_sigterm(signum: int, frame: Any) -> None:
+        _exit_later(TERM_GRACE_S)
+        raise SystemExit(SIGTERM_EXIT)
+
+    previous = signal.signal(signal.SIGTERM, on_sigterm)
+    try:
+        yield
+    except SystemExit as exc:
+        if exc.code != SIGTERM_EXIT:
+            raise
+        # the cleanup inside has run: end now, without the interpreter's teardown (a
+        # second or more of CPU with the planners loaded; seconds of wall on a busy machine)
+        with contextlib.suppress(Exception):
+            sys.stdout.flush()
+            sys.stderr.flush()
+        os._exit(SIGTERM_EXIT)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 def group_alive(pgid: int) -> bool:
@@ -261,8 +478,8 @@ def _run_child(fn: Callable[..., Any], args: tuple[Any, ...], hard_limit: float 
                cpu_limit: float | None, log_path: str) -> Outcome:
     ctx = multiprocessing.get_context("fork")
     recv, send = ctx.Pipe(duplex=False)
-    proc = ctx.Process(target=_child_main, args=(send, log_path, os.getpid(), fn, args),
-                       daemon=False)
+    proc = ctx.Process(target=_child_main,
+                       args=(send, log_path, os.getpid(), fn, args, cpu_limit), daemon=False)
     start = time.perf_counter()
     proc.start()
     send.close()
@@ -307,6 +524,9 @@ def _wait(recv: Any, proc: Any, groups: set[int], start: float, hard_limit: floa
                 kind, value = recv.recv()
             except EOFError:
                 proc.join(1.0)
+                if cpu_limit is not None and proc.exitcode == -signal.SIGXCPU:
+                    return (TIMEOUT, "stopped by the kernel's CPU backstop (RLIMIT_CPU) "
+                            f"past the CPU limit of {cpu_limit:g} s", used, "cpu")
                 kind, value = CRASHED, _death_reason(proc.exitcode)
             return kind, value, used, None
         if cpu_limit is not None:

@@ -10,6 +10,8 @@ outside planner would; MODE says what it does next:
   anytime planner writes improving plans (only the last is read);
 * ``sleep``: starts a child ``sleep 60`` and sleeps (for the wall safety and the group kill);
 * ``spin``: computes forever (for the CPU limit);
+* ``setsid``: starts ``sleep ARG`` in a session of its own (``setsid``), which it abandons,
+  and exits without a plan (nothing it starts may outlive the solve);
 * ``argv``: writes its own arguments, one per line, to ARG (how the command reached it),
   then the value of the environment variable ``TOY_PLANNER_ENV``;
 * ``none``: exits with code ARG (default 0) without a plan.
@@ -39,6 +41,8 @@ def main() -> int:
     elif mode == "sleep":
         subprocess.Popen(["sleep", "60"])
         time.sleep(60)
+    elif mode == "setsid":
+        subprocess.Popen(["setsid", "sleep", extra or "60"], start_new_session=True)
     elif mode == "spin":
         while True:
             pass
