@@ -24,7 +24,7 @@ from typing import Any
 from ..agents import make_controller, run_episode
 from ..errors import ConfigError
 from ..sim.generate import FAMILIES
-from ..sim.maps import load_map
+from ..sim.kitchens import load_kitchen
 from ..sim.rules import PRESETS, Rules, make_rules
 from ..sim.state import new_state
 
@@ -39,7 +39,7 @@ def kitchen_name(family: str, split: str, index: int, preset: str) -> str:
 def rules_for(name: str, preset: str, cooks: int, horizon: int) -> Rules:
     """``preset``'s rules in kitchen ``name`` with ``cooks`` cooks (layout switches only
     where the kitchen has a switch layout)."""
-    layout = load_map(name)
+    layout = load_kitchen(name)
     return make_rules(preset, map=layout, n_agents=cooks, horizon=horizon,
                       dynamic=PRESETS[preset].dynamic and layout.is_dynamic)
 

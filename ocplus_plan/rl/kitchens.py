@@ -21,7 +21,7 @@ from typing import Any
 
 from ..errors import ConfigError
 from ..sim.generate import FAMILIES, GEN_PREFIX, SPLITS
-from ..sim.maps import load_map
+from ..sim.kitchens import load_kitchen
 from ..sim.rules import PRESETS, Rules, make_rules
 
 #: at most this many kitchens in one distribution (each holds its tables while training)
@@ -66,7 +66,7 @@ def kitchen_rules(preset: str, name: str, **overrides: Any) -> Rules:
     the kitchen has a switch layout (the generator gives one to the ``switching`` family)."""
     if preset not in PRESETS:
         raise ConfigError(f"unknown preset {preset!r}; choose one of {', '.join(PRESETS)}")
-    layout = load_map(name)
+    layout = load_kitchen(name)
     dynamic = PRESETS[preset].dynamic and layout.is_dynamic
     return make_rules(preset, map=layout, dynamic=dynamic, **overrides)
 
