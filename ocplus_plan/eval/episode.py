@@ -123,10 +123,7 @@ def check_agent(spec: str) -> str | None:
     from ..agents import FACTORIES, make_controller
 
     kind, _, arg = spec.partition(":")
-    if kind == "planner":
-        if not arg:
-            raise ConfigError("agent 'planner' needs a planner name: planner:NAME "
-                              "(e.g. planner:fast-downward)")
+    if kind == "planner":  # ``planner:`` (and ``planner``): the default planner
         from ..execution.spec import PlannerSpec
 
         reason = _planner_unavailable(PlannerSpec.parse(arg).name)
