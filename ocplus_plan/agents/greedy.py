@@ -94,7 +94,7 @@ class GreedyAgent(Controller):
 
     # ---------------------------------------------------------------- main loop
     def act(self, state: State) -> list[int]:
-        v = KitchenView(state)
+        v = KitchenView(state, driven=len(self.agent_ids))
         goals: dict[int, tuple[int, str]] = {}  # agent -> (cell to bump, label)
         claimed: set[int] = set()
         budget = self._budgets(v)
