@@ -126,14 +126,14 @@ class _Pipeline:
         return sorted(set(agents) | partners_holding)
 
     def attempt(self, problem_state: State, agents: tuple[int, ...], max_orders: int | None,
-                gran: str) -> tuple[Any, Any]:
+                gran: str, every_driven: bool = False) -> tuple[Any, Any]:
         """Compile and solve one problem: (compiled, PlanResult), or (None, why not).
 
         A problem that models fewer cooks than are driven and is proven unsolvable is asked
         again at once with every driven cook, and that reach is remembered
         (:mod:`.proven`); a question whose answer was proven is answered from the record
         (the compiled problem is then :data:`NOT_COMPILED`)."""
-        modelled = self.modelled_cooks(problem_state, agents, gran)
+        modelled = self.modelled_cooks(problem_state, agents, gran, every_driven)
         full = self.modelled_cooks(problem_state, agents, gran, every_driven=True)
         fewer = modelled != full
         if fewer and reach_key(problem_state, modelled or (), max_orders) \
@@ -193,14 +193,16 @@ class _Pipeline:
         # a deadlock means the stations abstraction (agents jump past each other) failed
         # here: plan this once with cells, whose moves respect occupancy, and follow them
         gran = "cells" if reason == "deadlock" and not self.anticipate else self.granularity
-        cap = orders_to_plan(state, self.orders_per_plan)
+        # a stall that lasts (``stall_all``): every driven cook modelled, one order at a time
+        every = reason == "stall_all"
+        cap = 1 if every else orders_to_plan(state, self.orders_per_plan)
         attempts = [(cap, state)] if cap == 1 or len(state.orders) <= 1 else [(cap, state),
                                                                                  (1, state)]
         outcome = PlanOutcome("error", [], 0.0, "no open order")
         tried_relaxed = False
         while attempts:
             max_orders, problem_state = attempts.pop(0)
-            compiled, result = self.attempt(problem_state, agents, max_orders, gran)
+            compiled, result = self.attempt(problem_state, agents, max_orders, gran, every)
             if compiled is None:
                 outcome = PlanOutcome("error", [], time.perf_counter() - t0, result)
                 continue
