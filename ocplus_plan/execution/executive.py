@@ -51,7 +51,7 @@ from .plans import (
     causal_dependencies,
 )
 from .livelock import LivelockWatch
-from .partner import PartnerModel, Prediction, check_queues, plan_around, reserved_walks
+from .partner import PartnerModel, Prediction, check_queues, hand_off, plan_around, reserved_walks
 from .stall import STALL_PATIENCE, StallWatch
 from .tasks import BumpRecord, Task, already_done, pan_eta, ready, snapshot
 
@@ -259,12 +259,14 @@ class Executive:
         if reason == "stall":
             reason = self._stall_strategy(state)
         if reason == "livelock" and not self._give_way(state):
-            # a lone cook blocked by cooks it does not drive: it drops its plan, steps
+            # a lone cook blocked by cooks it does not drive: it drops its plan, puts what
+            # it holds where a partner can take it on (:func:`~.partner.hand_off`), steps
             # aside and waits before it plans again (nobody of ours can give way)
             self.replans.append((state.t, reason))
             self.unhandled.clear()
             for a in self.agent_ids:
                 self.queues[a].clear()
+                self.queues[a].extend(hand_off(state, a, self.plan_id * 100_000 + 99_999))
             self.next_retry = state.t + 2 * self.block_patience
             return
         self.planner_calls += 1
@@ -339,6 +341,9 @@ class Executive:
         if turn % 3 == 0 and self._give_way(state):
             self.stall_strategies["give_way"] += 1
             return "stall"
+        if turn % 3 == 0 and len(self.agent_ids) == 1 < state.n_agents:
+            self.stall_strategies["hand_off"] += 1
+            return "livelock"  # one cook of ours beside partners: hand off and wait
         if turn % 3 <= 1:
             self.stall_strategies["every_cook"] += 1
             return "stall_all"

@@ -24,9 +24,9 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 
 from ..sim.codes import Cell, Where
-from ..sim.queries import Bump, bump_effect
+from ..sim.queries import Bump, bump_effect, distances
 from ..sim.state import Geometry, State
-from .plans import PlanFunction, PlanOutcome
+from .plans import PlanFunction, PlanOutcome, PlanStep
 from .tasks import Task
 
 _HAND, _CELL, _PLATE = int(Where.HAND), int(Where.CELL), int(Where.PLATE)
@@ -175,7 +175,41 @@ def answer_taken(state: State, task: Task, queues: Mapping[int, deque[Task]],
     target = None if pred is None else pred.target
     if expected_by_plan(queues, found[1], target):
         return "expected"
-    return "repaired" if repair_taken(queues, done_steps, found[1], target) else "taken"
+    if repair_taken(queues, done_steps, found[1], target) or substitute(state, queues, found[1]):
+        return "repaired"
+    return "taken"
+
+
+def substitute(state: State, queues: Mapping[int, deque[Task]], item: int) -> bool:
+    """Items of one kind in one state are interchangeable: when the plan's first step with
+    ``item`` picks it up from a cell and somebody else has it, the plan takes the nearest
+    free item of the same kind and state lying on a cell (or coming back to its crate)
+    instead, in every queued step. False when there is none or the plan's first step with
+    the item is not such a pickup."""
+    tasks = sorted((t for q in queues.values() for t in q if item in t.step.items),
+                   key=lambda t: t.step.index)
+    if not tasks or tasks[0].step.kind != "pickup" or len(tasks[0].step.items) != 1:
+        return False
+    used = {i for q in queues.values() for t in q for i in t.step.items}
+    kind, st = state.geo.item_kind[item], state.item_state[item]
+    rc = state.geo.rc
+    here = rc(tasks[0].step.target)
+    free = [i for i in range(state.n_items) if i not in used and state.geo.item_kind[i] == kind
+            and state.item_state[i] == st and state.item_where[i] in (_CELL, _WAITING)]
+    if not free:
+        return False
+
+    def far(i: int) -> tuple[int, int]:
+        r, c = rc(state.item_loc[i])
+        return abs(r - here[0]) + abs(c - here[1]), i
+
+    other = min(free, key=far)
+    for task in tasks:
+        step = task.step
+        items = tuple(other if i == item else i for i in step.items)
+        target = state.item_loc[other] if task is tasks[0] else step.target
+        task.step = replace(step, items=items, target=target)
+    return True
 
 
 def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: set[int],
@@ -202,7 +236,9 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
             elif task.step.kind in ("pickup", "chop") and where != _HAND \
                     and not _lies_at(state, i, task.step.target):
                 warned.add(key)
-                return True, repairs
+                if not substitute(state, queues, i):
+                    return True, repairs
+                repairs += 1
     return False, repairs
 
 
@@ -212,6 +248,32 @@ def _lies_at(state: State, item: int, cell: int) -> bool:
     if where == _PLATE:
         return _lies_at(state, loc, cell)
     return where in (_CELL, _WAITING) and loc == cell
+
+
+def hand_off(state: State, cook: int, index: int) -> list[Task]:
+    """The step of a cook that gives way beside partners: put what it holds on the nearest
+    free plain counter it reaches that a partner reaches too (a partner can take it on;
+    greedy gathers onto a plate lying free, never onto one in somebody else's hand); none
+    when its hand is empty or no such counter exists."""
+    held = state.agent_hand[cook]
+    if held < 0:
+        return []
+    geo = state.geo
+    walk, counter = geo.walkables[state.layout_index], int(Cell.COUNTER)
+    mine = distances(geo.neighbors, walk, [state.agent_pos[cook]])
+    theirs = distances(geo.neighbors, walk, [p for b, p in enumerate(state.agent_pos)
+                                             if b != cook])
+    best = None
+    for c, code in enumerate(geo.terrains[state.layout_index]):
+        if code != counter or state.cell_item[c] >= 0:
+            continue
+        spots = [n for n in geo.neighbors[c] if n >= 0 and walk[n]]
+        d = min((mine[n] for n in spots if mine[n] >= 0), default=-1)
+        if d >= 0 and any(theirs[n] >= 0 for n in spots) and (best is None or d < best[0]):
+            best = (d, c)
+    if best is None:
+        return []
+    return [Task(PlanStep(index, cook, "putdown", best[1], (held,)), frozenset())]
 
 
 def reserved_walks(state: State, predictions: Mapping[int, Prediction],
@@ -231,5 +293,5 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
 
 
 __all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "blocked_geometry",
-           "check_queues", "expected_by_plan", "partner_holding", "plan_around", "predicted_state",
-           "repair_taken", "reserved_walks"]
+           "check_queues", "expected_by_plan", "hand_off", "partner_holding", "plan_around",
+           "predicted_state", "repair_taken", "reserved_walks", "substitute"]

@@ -18,7 +18,11 @@ from ..sim.state import State
 from .plans import PlanFunction, PlanOutcome, PlanStep
 from .proven import PROVEN_STATUSES, ProvenOutcomes, problem_key, reach_key
 from .schedule import KEEP, RELEASE, TAKE, schedule
-from .spec import walks_over_switches
+from .spec import DEFAULT_PLANNER, walks_over_switches
+
+#: failed planner answers (timeouts, errors; not proofs) before a fallback is tried: every
+#: cook modelled for a one-cook problem, the default planner for another planner
+FAILURES_BEFORE_FALLBACK = 2
 
 #: map-back kinds (``planning.names.MappedAction.kind``) -> the executive's step kinds
 _KINDS = {
@@ -110,6 +114,8 @@ class _Pipeline:
         #: the CPU seconds of every planner call (``PlannerAgent.info``: ``planning_cpu_s``)
         self.cpu_seconds = [0.0]
         self.proven = ProvenOutcomes()
+        self.failed_calls = 0  # planner calls in a row that found no plan (not proofs)
+        self.fell_back = False
 
     def modelled_cooks(self, state: State, agents: tuple[int, ...], gran: str,
                        every_driven: bool = False) -> list[int] | None:
@@ -140,10 +146,20 @@ class _Pipeline:
                 in self.proven.too_few_cooks:
             modelled, fewer = full, False
         compiled, result = self.solve_once(problem_state, modelled, max_orders, gran)
-        if fewer and getattr(result, "status", None) in PROVEN_STATUSES:
+        status = getattr(result, "status", "error")
+        if fewer and status in PROVEN_STATUSES:
             self.proven.too_few_cooks.add(reach_key(problem_state, modelled or (), max_orders))
             self.proven.fallbacks += 1
             compiled, result = self.solve_once(problem_state, full, max_orders, gran)
+        elif fewer and status != "solved":
+            # failures are not proofs, but one that keeps failing here (timeouts) is given
+            # up for every cook, as a proof would be (``failure_fallbacks``)
+            key = reach_key(problem_state, modelled or (), max_orders)
+            self.proven.failures[key] = self.proven.failures.get(key, 0) + 1
+            if self.proven.failures[key] >= FAILURES_BEFORE_FALLBACK:
+                self.proven.too_few_cooks.add(key)
+                self.proven.failure_fallbacks += 1
+                compiled, result = self.solve_once(problem_state, full, max_orders, gran)
         return compiled, result
 
     def solve_once(self, problem_state: State, modelled: list[int] | None,
@@ -164,8 +180,11 @@ class _Pipeline:
                                      anticipate_switches=self.anticipate, agents=modelled)
         except CompileError as exc:
             return None, f"compile: {exc}"
-        result = solve(compiled.problem, self.planner, timeout=self.timeout,
-                       validate=self.validate)
+        if self.failed_calls >= FAILURES_BEFORE_FALLBACK and self.encoding == "classical":
+            self.fell_back = True  # this planner keeps failing here: the default one from now
+        planner = DEFAULT_PLANNER if self.fell_back else self.planner
+        self.proven.planner_fallbacks += planner != self.planner
+        result = solve(compiled.problem, planner, timeout=self.timeout, validate=self.validate)
         self.cpu_seconds[0] += getattr(result, "cpu_time", None) or 0.0
         self.proven.put(key, result)
         return compiled, result
@@ -215,6 +234,8 @@ class _Pipeline:
 
                 tried_relaxed = True
                 attempts = [(1, relaxed_state(state))]
+            self.failed_calls = 0 if result.status in ("solved", *PROVEN_STATUSES) \
+                else self.failed_calls + 1
             if result.status == "solved" and result.plan is not None:
                 relaxed = problem_state is not state and tried_relaxed
                 return self.solved(compiled, result.plan, state, problem_state, agents,

@@ -11,6 +11,7 @@ from ocplus_plan.agents.partner_model import PartnerModel
 from ocplus_plan.execution.partner import (
     Prediction,
     answer_taken,
+    hand_off,
     predicted_state,
     repair_taken,
     reserved_walks,
@@ -127,3 +128,32 @@ def test_a_partner_walking_down_the_corridor_has_its_walk_reserved():
         assert walk == state.agent_pos[1]  # through our cook: it cannot pass; it stays
     else:
         assert walk == (state.agent_pos[1], *pred.path[:8])
+
+
+def test_a_taken_item_is_replaced_by_an_equivalent_one_in_the_plan():
+    # two tomato crates: the partner takes the tomato of the left one, which the plan
+    # meant to fetch; the plan fetches the right one instead and keeps every other step
+    spec = dict(KITCHEN, game_map=[[1, 1, 6, 1, 1], [3, 0, 0, 0, 3], [1, 5, 1, 7, 1]])
+    state = _state(spec)
+    left, right, board = state.geo.flat(1, 0), state.geo.flat(1, 4), state.geo.flat(0, 2)
+    mine = state.cell_item[left]
+    transition(state, [S, L])
+    assert state.agent_hand[1] == mine
+    steps = [PlanStep(0, 0, "pickup", left, (mine,)), PlanStep(1, 0, "putdown", board, (mine,)),
+             PlanStep(2, 0, "chop", board, (mine,))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    # the partner is predicted to take it to the window: the plan does not fit that
+    assert answer_taken(state, queues[0][0], queues, set(),
+                        {1: Prediction(1, state.geo.flat(2, 3))}) == "repaired"
+    other = state.cell_item[right]
+    assert [(t.step.kind, t.step.target, t.step.items) for t in queues[0]] == [
+        ("pickup", right, (other,)), ("putdown", board, (other,)), ("chop", board, (other,))]
+
+
+def test_a_lone_cook_that_gives_way_to_a_partner_hands_off_what_it_holds():
+    state, tomato = _carrying_partner()  # (the partner holds the tomato: swap the roles)
+    assert hand_off(state, 0, 7) == []  # our cook holds nothing
+    steps = hand_off(state, 1, 7)
+    (task,) = steps
+    assert task.step.kind == "putdown" and task.step.items == (tomato,)
+    assert state.geo.terrains[0][task.step.target] == 1  # a plain counter both reach
