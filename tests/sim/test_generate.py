@@ -246,7 +246,7 @@ def test_an_idle_cook_on_its_spawn_cell_cuts_no_other_cook_off_outside_one_lane_
     from ocplus_plan.sim.queries import stations_cut_off
 
     for family in FAMILIES:
-        for index in range(10):
+        for index in range(6):
             rules = make_rules("medium", map=f"gen:{family}:test:{index}:medium", n_agents=2,
                                dynamic=family == "switching")
             state = new_state(rules, 0)
