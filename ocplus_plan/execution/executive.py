@@ -12,8 +12,10 @@ previous step (the effect is checked on the state, so it works with or without
 :meth:`observe`), looks for surprises, asks for a new plan when the policy says so,
 and returns one action per driven agent. Surprises are recorded as triggers with
 their reason and time: ``layout_switch``, ``burnt``, ``burn_risk``, ``new_order``,
-``action_failed``, ``taken`` (a cook we do not drive took an item of a step), ``blocked``, ``deadlock``, ``livelock`` (blocked again and again with no step
-done: one cook gives way, :mod:`.livelock`), ``stalled``, ``unreachable``, ``plan_finished``,
+``action_failed``, ``taken`` (a cook we do not drive took an item of a step, and the plan
+could not be repaired: :mod:`.partner`), ``blocked``, ``deadlock``, ``livelock`` (blocked
+again and again with no step done: one cook gives way, :mod:`.livelock`), ``stall`` (no
+progress toward any order: :mod:`.stall`), ``stalled``, ``unreachable``, ``plan_finished``,
 ``planner_failed`` (the planner timed out or failed: the last valid plan is kept
 and agents without work step out of the way; nothing raises).
 """
