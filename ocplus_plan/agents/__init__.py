@@ -56,6 +56,8 @@ def with_partner(controller: Controller, partner: str | Controller | None, n_age
                           f"at least 2 cooks, it has {n_agents} (raise --n-agents)")
     if isinstance(partner, str):
         partner = make_controller(PARTNER_ALIASES.get(partner, partner), seed)
+    if hasattr(controller, "model_partner"):
+        controller.model_partner(partner)  # a planner-backed one predicts it by its policy
     return [(controller, list(range(n_agents - 1))), (partner, [n_agents - 1])]
 
 

@@ -94,7 +94,13 @@ class GreedyAgent(Controller):
 
     # ---------------------------------------------------------------- main loop
     def act(self, state: State) -> list[int]:
-        v = KitchenView(state)
+        v, goals = self.goals(state)
+        return self._moves(v, goals)
+
+    def goals(self, state: State) -> tuple[KitchenView, dict[int, tuple[int, str]]]:
+        """Where each driven cook heads this step: cook -> (cell to bump, label); a cook
+        with nothing to do has none. (A partner model runs this to predict a greedy cook.)"""
+        v = KitchenView(state, driven=len(self.agent_ids))
         goals: dict[int, tuple[int, str]] = {}  # agent -> (cell to bump, label)
         claimed: set[int] = set()
         budget = self._budgets(v)
@@ -107,7 +113,7 @@ class GreedyAgent(Controller):
                         claimed.add(goal[0])
         self._assign(v, [a for a in self.agent_ids if state.agent_hand[a] < 0], claimed,
                      budget, goals)
-        return self._moves(v, goals)
+        return v, goals
 
     def _budgets(self, v: KitchenView) -> Counter:
         s = v.s
@@ -279,7 +285,10 @@ class GreedyAgent(Controller):
             elif st == _BURNT and v.stations(Cell.TRASH):
                 out.append(Subtask("trash", f, it, 6))
             elif is_plateable(s, it):
-                if any(v.plate_wants(p, k) for p in v.plate_contents):
+                # a plate in the hand of a cook this controller does not drive is out of
+                # its control: gathering for it would pick the item up and put it back
+                if any(v.plate_wants(p, k) for p in v.plate_contents
+                       if s.item_where[p] != Where.HAND or s.item_loc[p] in self.agent_ids):
                     out.append(Subtask("gather", f, it, 3, ("plate", k)))
             elif st == _FRESH and code in _COUNTER_CODES:
                 station = ("pan", 0) if k == _STEAK else ("board", 0)

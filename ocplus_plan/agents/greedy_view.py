@@ -24,7 +24,7 @@ _FRESH, _CLEAN = int(ItemState.FRESH), int(ItemState.CLEAN)
 class KitchenView:
     """Per-step facts derived from the state (terrain, reachability, plates, needs)."""
 
-    def __init__(self, state: State) -> None:
+    def __init__(self, state: State, driven: int | None = None) -> None:
         self.s = state
         geo = state.geo
         self.terrain = geo.terrains[state.layout_index]
@@ -34,8 +34,11 @@ class KitchenView:
         self.dist = [self.bfs(p) for p in state.agent_pos]
         # on a dynamic map a place out of reach now may be reachable after a switch: a lone
         # cook plans over the union of the layouts' floors, at a price for the wait (with
-        # partners, hand-overs through counters are faster than waiting for switches)
-        self.dynamic = state.rules.dynamic and len(geo.walkables) > 1 and state.n_agents == 1
+        # teammates, hand-overs through counters are faster than waiting for switches). Lone
+        # means the only cook this controller drives (``driven``, default: every cook): a
+        # cook beside others it does not drive has nobody to hand over to.
+        lone = (state.n_agents if driven is None else driven) == 1
+        self.dynamic = state.rules.dynamic and len(geo.walkables) > 1 and lone
         self.walk_any = walkable_in_any_layout(geo) if self.dynamic else self.walk
         self.dist_any = ([self.bfs(p, walk=self.walk_any) for p in state.agent_pos]
                          if self.dynamic else self.dist)

@@ -36,6 +36,7 @@ from ..execution.planning_step import (
 from ..execution.spec import DEFAULT_PLANNER, PLANNER_OPTIONS, PlannerSpec, parse_options
 from ..sim.state import State
 from .base import Controller
+from .partner_model import PartnerModel
 
 
 class PlannerAgent(Controller):
@@ -49,7 +50,7 @@ class PlannerAgent(Controller):
         anticipate_switches: bool = False, timeout: float = 10.0,
         orders_per_plan: int | str | None = "auto", schedule_cooks: bool = True,
         plan_cooks: str = "all", chain_orders: int = 1, over_switches: bool | None = None,
-        **executive_options: Any,
+        model_partners: bool = True, **executive_options: Any,
     ) -> None:
         from ..planning.model import ENCODINGS, GRANULARITIES
 
@@ -65,9 +66,21 @@ class PlannerAgent(Controller):
         self.encoding, self.granularity = encoding, granularity
         self.executive = Executive(fn, Policy.parse(policy),
                                    anticipate_switches=anticipate_switches, **executive_options)
+        self.model_partners = model_partners
+        self.known_partner: Controller | None = None
+
+    def model_partner(self, partner: Controller | None) -> None:
+        """The controller that plays the cooks this one does not drive, when it is known
+        (``with_partner`` says): the partner model then predicts it by its own policy."""
+        self.known_partner = partner
 
     def _reset(self, state: State) -> None:
         self.executive.reset(state, self.agent_ids)
+        self.executive.partner_model = None
+        if self.model_partners and len(self.agent_ids) < state.n_agents:
+            model = PartnerModel(self.known_partner)
+            model.reset(state, self.agent_ids)
+            self.executive.partner_model = model
 
     def act(self, state: State) -> list[int]:
         return self.executive.act(state)

@@ -146,10 +146,7 @@ def _check_here(spec: str) -> str | None:
     from ..agents import FACTORIES, make_controller
 
     kind, _, arg = spec.partition(":")
-    if kind == "planner":
-        if not arg:
-            raise ConfigError("agent 'planner' needs a planner name: planner:NAME "
-                              "(e.g. planner:fast-downward)")
+    if kind == "planner":  # ``planner:`` (and ``planner``): the default planner
         from ..execution.spec import PlannerSpec
 
         reason = _planner_unavailable(PlannerSpec.parse(arg).name)
@@ -273,6 +270,7 @@ def evaluate_episode(spec: EpisodeSpec, progress: Progress | None = None) -> dic
     second."""
     from ..agents import Episode, make_controller
     from ..execution.faults import parse_faults
+    from ..execution.stall import StallWatch
 
     fault = parse_faults(spec.faults)
     row = spec.row_base()
@@ -287,6 +285,7 @@ def evaluate_episode(spec: EpisodeSpec, progress: Progress | None = None) -> dic
     log = EpisodeLog(state.geo.rows, state.geo.cols, state.n_agents, list(state.agent_pos))
     for o in state.orders:
         log.order_created.setdefault(o.order_id, o.created)
+    stalls = StallWatch(state)  # stretches with no progress toward any order, any agent
     controller: Any = None
     team: Any = None
     recorder = None
@@ -302,6 +301,7 @@ def evaluate_episode(spec: EpisodeSpec, progress: Progress | None = None) -> dic
             recorder.record(episode.joint, result.events)
         log.record(episode.joint, state.agent_pos, result.rewards, result.events,
                    episode.decision_time)
+        stalls.update(state)
         for o in state.orders:
             log.order_created.setdefault(o.order_id, o.created)
         now = time.monotonic()
@@ -323,7 +323,7 @@ def evaluate_episode(spec: EpisodeSpec, progress: Progress | None = None) -> dic
         reason = f"{type(exc).__name__}: {exc} (at step {state.t})"
         row["traceback"] = traceback.format_exc(limit=6)
     _finish_row(row, spec, state, log, controller, recorder, t_start)
-    row.update(status=status, reason=reason)
+    row.update(status=status, reason=reason, **stalls.info())
     if fault:
         row["fault_report"] = _fault_report(fault, schedule, team, row["controller"])
     return row

@@ -12,8 +12,10 @@ previous step (the effect is checked on the state, so it works with or without
 :meth:`observe`), looks for surprises, asks for a new plan when the policy says so,
 and returns one action per driven agent. Surprises are recorded as triggers with
 their reason and time: ``layout_switch``, ``burnt``, ``burn_risk``, ``new_order``,
-``action_failed``, ``taken`` (a cook we do not drive took an item of a step), ``blocked``, ``deadlock``, ``livelock`` (blocked again and again with no step
-done: one cook gives way, :mod:`.livelock`), ``stalled``, ``unreachable``, ``plan_finished``,
+``action_failed``, ``taken`` (a cook we do not drive took an item of a step, and the plan
+could not be repaired: :mod:`.partner`), ``blocked``, ``deadlock``, ``livelock`` (blocked
+again and again with no step done: one cook gives way, :mod:`.livelock`), ``stall`` (no
+progress toward any order: :mod:`.stall`), ``stalled``, ``unreachable``, ``plan_finished``,
 ``planner_failed`` (the planner timed out or failed: the last valid plan is kept
 and agents without work step out of the way; nothing raises).
 """
@@ -51,6 +53,8 @@ from .plans import (
     causal_dependencies,
 )
 from .livelock import LivelockWatch
+from .partner import PartnerModel, Prediction, check_queues, hand_off, plan_around, reserved_walks
+from .stall import STALL_PATIENCE, StallWatch
 from .tasks import BumpRecord, Task, already_done, pan_eta, ready, snapshot
 
 _PAN = int(Cell.PAN)
@@ -77,6 +81,8 @@ class Executive:
         #: message-loss hook: False means the agent does not receive its new task list
         self.deliver_plan = deliver_plan or (lambda agent: True)
         self.agent_ids: tuple[int, ...] = ()
+        #: predicts the cooks we do not drive (:mod:`.partner`); None: they stand still
+        self.partner_model: PartnerModel | None = None
 
     # ------------------------------------------------------------------ episode
     def reset(self, state: State, agent_ids: Sequence[int] | None = None) -> None:
@@ -131,6 +137,10 @@ class Executive:
         #: cooks giving way after a livelock: left out of the plans until that step
         self.yielding: dict[int, int] = {}
         self.gave_way = 0
+        self.stall = StallWatch(state)
+        self.predicted: tuple[int, dict[int, Prediction]] = (-1, {})
+        self.repairs = 0
+        self.stall_strategies: Counter[str] = Counter()
 
     def observe(self, state: State, events: Sequence[object]) -> None:
         """Optional: count blocked moves of the driven agents (everything else is read
@@ -160,6 +170,9 @@ class Executive:
     def _monitor(self, state: State) -> list[str]:
         """Settle last step's bumps and compare the world with the plan's expectations."""
         out: list[str] = []
+        stalled = self.stall.update(state)
+        if stalled and stalled % STALL_PATIENCE == 0:
+            self._trigger(state, "stall", out)  # no progress toward any order (:mod:`.stall`)
         for a, bump in list(self.pending.items()):
             self._settle(state, a, bump, out)
         self.pending.clear()
@@ -206,12 +219,15 @@ class Executive:
                 self.livelock.on_blocked()
             if task is not None and task.waited == self.patience:
                 self._trigger(state, "stalled", out)
-            if task is not None and self._taken_by_partner(state, task):
-                self._trigger(state, "taken", out)
             if task is not None and not task.unreachable and \
                     self._out_of_reach(state, pos, task.step.target):
                 task.unreachable = True  # once per task: the planner is told by a replan
                 self._trigger(state, "unreachable", out)
+        moved, repairs = check_queues(state, self.queues, self.done_steps, self._predict(
+            state), self.warned) if state.n_agents > len(self.agent_ids) else (False, 0)
+        self.repairs += repairs
+        if moved:  # a partner took or moved an item the plan needs (:mod:`.partner`)
+            self._trigger(state, "taken", out)
         if any(self.queues.values()) and not self._waiting_for_switch(state):
             self.no_progress += 1
             if self.no_progress % (4 * self.block_patience) == 0:
@@ -233,7 +249,8 @@ class Executive:
         empty = not any(self.queues.values()) and bool(state.orders)
         kind = self.policy.kind
         if kind == "on_event" and self.unhandled:
-            return "livelock" if "livelock" in self.unhandled else self.unhandled[0]
+            first = [r for r in ("livelock", "stall") if r in self.unhandled]
+            return first[0] if first else self.unhandled[0]
         if kind == "periodic" and state.t - self.last_plan_t >= self.policy.period:
             return "periodic"
         if empty:
@@ -241,20 +258,25 @@ class Executive:
         return None
 
     def _replan(self, state: State, reason: str) -> None:
+        if reason == "stall":
+            reason = self._stall_strategy(state)
         if reason == "livelock" and not self._give_way(state):
-            # a lone cook blocked by cooks it does not drive: it drops its plan, steps
+            # a lone cook blocked by cooks it does not drive: it drops its plan, puts what
+            # it holds where a partner can take it on (:func:`~.partner.hand_off`), steps
             # aside and waits before it plans again (nobody of ours can give way)
             self.replans.append((state.t, reason))
             self.unhandled.clear()
             for a in self.agent_ids:
                 self.queues[a].clear()
+                self.queues[a].extend(hand_off(state, a, self.plan_id * 100_000 + 99_999))
             self.next_retry = state.t + 2 * self.block_patience
             return
         self.planner_calls += 1
         t0 = time.perf_counter()
         planned = tuple(a for a in self.agent_ids if self.yielding.get(a, -1) <= state.t)
-        try:
-            outcome = self.planner(state.copy(), planned or self.agent_ids, reason)
+        try:  # around the partners' predicted next bumps (:func:`~.partner.plan_around`)
+            outcome = plan_around(self.planner, state, planned or self.agent_ids, reason,
+                                  self._predict(state) if self.partner_model else None)
         except Exception as exc:  # noqa: BLE001 - a planner must never crash the episode
             outcome = PlanOutcome("error", [], time.perf_counter() - t0, repr(exc))
         spent = outcome.planning_time or (time.perf_counter() - t0)
@@ -292,17 +314,13 @@ class Executive:
             first = max(state.t + 1, state.next_switch)
             self.expected_switches = frozenset(range(first, state.rules.horizon + 1, period))
 
-    def _taken_by_partner(self, state: State, task: Task) -> bool:
-        """Is an item of the step in the hand of a cook we do not drive (a partner took
-        it)? Said once per step: the plan then needs another item or another route."""
-        key = ("taken", task.step.index)
-        if key in self.warned:
-            return False
-        for i in task.step.items:
-            if state.item_where[i] == _HAND and state.item_loc[i] not in self.queues:
-                self.warned.add(key)
-                return True
-        return False
+    def _predict(self, state: State) -> dict[int, Prediction]:
+        """The partner model's predictions for this step (asked once per step)."""
+        if self.partner_model is None:
+            return {}
+        if self.predicted[0] != state.t:
+            self.predicted = (state.t, dict(self.partner_model(state)))
+        return self.predicted[1]
 
     def _give_way(self, state: State) -> bool:
         """After a livelock one cook gives way: it is left out of the plans for a while (it
@@ -317,6 +335,25 @@ class Executive:
         self.gave_way += 1
         self.yielding[cook] = state.t + 4 * self.block_patience
         return True
+
+    def _stall_strategy(self, state: State) -> str:
+        """A stall changes strategy, a new one each time it lasts on: give way, model every
+        cook with one order at a time (``stall_all``), re-allocate (docs/executive.md)."""
+        turn = self.stall.length // STALL_PATIENCE - 1
+        if turn % 3 == 0 and self._give_way(state):
+            self.stall_strategies["give_way"] += 1
+            return "stall"
+        if turn % 3 == 0 and len(self.agent_ids) == 1 < state.n_agents:
+            self.stall_strategies["hand_off"] += 1
+            return "livelock"  # one cook of ours beside partners: hand off and wait
+        if turn % 3 <= 1:
+            self.stall_strategies["every_cook"] += 1
+            return "stall_all"
+        self.stall_strategies["reallocate"] += 1
+        for a in self.agent_ids:
+            self.queues[a].clear()
+        self.yielding.clear()
+        return "stall_all"
 
     def _waits_for_switches(self) -> bool:
         """Does the current plan expect the layout to switch (anticipated switches, a plan
@@ -499,8 +536,8 @@ class Executive:
         if requests:
             requests.sort(key=lambda x: x[0])
             # agents we do not drive, and our agents that bump this step, stay where they are
-            others = {b: state.agent_pos[b] for b in range(state.n_agents)
-                      if b not in self.queues or b in actions}
+            others = {b: state.agent_pos[b] for b in actions}
+            others.update(reserved_walks(state, self._predict(state), self.queues))
             walk_at = layout_schedule(state, self._waits_for_switches())
             paths = plan_paths(geo, [r for _, r in requests], others,
                                horizon=self.path_horizon, walk_at=walk_at)
@@ -537,7 +574,10 @@ class Executive:
             "blocked_moves": self.blocked_moves,
             "messages_lost": self.messages_lost,
             "gave_way": self.gave_way,
+            "partner_repairs": self.repairs,
             **self.livelock.info(),
+            **self.stall.info(),
+            "stall_strategies": dict(self.stall_strategies),
         }
 
 

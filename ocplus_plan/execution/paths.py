@@ -304,7 +304,7 @@ def _unwind(parent: dict[tuple[int, int], tuple[int, int] | None], node: tuple[i
 def plan_paths(
     geo: Geometry,
     requests: Sequence[PathRequest],
-    others: Mapping[int, int] | None = None,
+    others: Mapping[int, int | Sequence[int]] | None = None,
     *,
     horizon: int = 40,
     walk_at: WalkAt | None = None,
@@ -313,7 +313,8 @@ def plan_paths(
 ) -> dict[int, PathResult]:
     """Prioritised space-time planning: ``requests`` in priority order (first = highest).
 
-    ``others`` maps agents nobody plans for to their cell (assumed to stay). Returns
+    ``others`` maps agents nobody plans for to their cell (assumed to stay), or to the walk
+    they are predicted to take (cells per step from now; the last one held after). Returns
     one :class:`PathResult` per request; no two results occupy one cell at one
     step or swap cells, and none enters a cell held by ``others``.
     """
@@ -349,12 +350,15 @@ def plan_paths(
 
 
 def _plan_in_order(
-    geo: Geometry, order: Sequence[PathRequest], others: Mapping[int, int] | None,
+    geo: Geometry, order: Sequence[PathRequest], others: Mapping[int, int | Sequence[int]] | None,
     horizon: int, walk_at: WalkAt, soft_penalty: int,
 ) -> tuple[dict[int, PathResult], list[int], dict[int, set[int]]]:
     res = Reservations(horizon)
     for agent, cell in (others or {}).items():
-        res.add_static(agent, cell)
+        if isinstance(cell, int):
+            res.add_static(agent, cell)
+        else:
+            res.add_path(agent, cell)
     out: dict[int, PathResult] = {}
     unsafe: list[int] = []
     used: dict[int, set[int]] = {}  # agent -> cells on the paths planned before it

@@ -18,7 +18,11 @@ from ..sim.state import State
 from .plans import PlanFunction, PlanOutcome, PlanStep
 from .proven import PROVEN_STATUSES, ProvenOutcomes, problem_key, reach_key
 from .schedule import KEEP, RELEASE, TAKE, schedule
-from .spec import walks_over_switches
+from .spec import DEFAULT_PLANNER, walks_over_switches
+
+#: failed planner answers (timeouts, errors; not proofs) before a fallback is tried: every
+#: cook modelled for a one-cook problem, the default planner for another planner
+FAILURES_BEFORE_FALLBACK = 2
 
 #: map-back kinds (``planning.names.MappedAction.kind``) -> the executive's step kinds
 _KINDS = {
@@ -110,6 +114,8 @@ class _Pipeline:
         #: the CPU seconds of every planner call (``PlannerAgent.info``: ``planning_cpu_s``)
         self.cpu_seconds = [0.0]
         self.proven = ProvenOutcomes()
+        self.failed_calls = 0  # planner calls in a row that found no plan (not proofs)
+        self.fell_back = False
 
     def modelled_cooks(self, state: State, agents: tuple[int, ...], gran: str,
                        every_driven: bool = False) -> list[int] | None:
@@ -126,24 +132,34 @@ class _Pipeline:
         return sorted(set(agents) | partners_holding)
 
     def attempt(self, problem_state: State, agents: tuple[int, ...], max_orders: int | None,
-                gran: str) -> tuple[Any, Any]:
+                gran: str, every_driven: bool = False) -> tuple[Any, Any]:
         """Compile and solve one problem: (compiled, PlanResult), or (None, why not).
 
         A problem that models fewer cooks than are driven and is proven unsolvable is asked
         again at once with every driven cook, and that reach is remembered
         (:mod:`.proven`); a question whose answer was proven is answered from the record
         (the compiled problem is then :data:`NOT_COMPILED`)."""
-        modelled = self.modelled_cooks(problem_state, agents, gran)
+        modelled = self.modelled_cooks(problem_state, agents, gran, every_driven)
         full = self.modelled_cooks(problem_state, agents, gran, every_driven=True)
         fewer = modelled != full
         if fewer and reach_key(problem_state, modelled or (), max_orders) \
                 in self.proven.too_few_cooks:
             modelled, fewer = full, False
         compiled, result = self.solve_once(problem_state, modelled, max_orders, gran)
-        if fewer and getattr(result, "status", None) in PROVEN_STATUSES:
+        status = getattr(result, "status", "error")
+        if fewer and status in PROVEN_STATUSES:
             self.proven.too_few_cooks.add(reach_key(problem_state, modelled or (), max_orders))
             self.proven.fallbacks += 1
             compiled, result = self.solve_once(problem_state, full, max_orders, gran)
+        elif fewer and status != "solved":
+            # failures are not proofs, but one that keeps failing here (timeouts) is given
+            # up for every cook, as a proof would be (``failure_fallbacks``)
+            key = reach_key(problem_state, modelled or (), max_orders)
+            self.proven.failures[key] = self.proven.failures.get(key, 0) + 1
+            if self.proven.failures[key] >= FAILURES_BEFORE_FALLBACK:
+                self.proven.too_few_cooks.add(key)
+                self.proven.failure_fallbacks += 1
+                compiled, result = self.solve_once(problem_state, full, max_orders, gran)
         return compiled, result
 
     def solve_once(self, problem_state: State, modelled: list[int] | None,
@@ -164,8 +180,11 @@ class _Pipeline:
                                      anticipate_switches=self.anticipate, agents=modelled)
         except CompileError as exc:
             return None, f"compile: {exc}"
-        result = solve(compiled.problem, self.planner, timeout=self.timeout,
-                       validate=self.validate)
+        if self.failed_calls >= FAILURES_BEFORE_FALLBACK and self.encoding == "classical":
+            self.fell_back = True  # this planner keeps failing here: the default one from now
+        planner = DEFAULT_PLANNER if self.fell_back else self.planner
+        self.proven.planner_fallbacks += planner != self.planner
+        result = solve(compiled.problem, planner, timeout=self.timeout, validate=self.validate)
         self.cpu_seconds[0] += getattr(result, "cpu_time", None) or 0.0
         self.proven.put(key, result)
         return compiled, result
@@ -193,14 +212,16 @@ class _Pipeline:
         # a deadlock means the stations abstraction (agents jump past each other) failed
         # here: plan this once with cells, whose moves respect occupancy, and follow them
         gran = "cells" if reason == "deadlock" and not self.anticipate else self.granularity
-        cap = orders_to_plan(state, self.orders_per_plan)
+        # a stall that lasts (``stall_all``): every driven cook modelled, one order at a time
+        every = reason == "stall_all"
+        cap = 1 if every else orders_to_plan(state, self.orders_per_plan)
         attempts = [(cap, state)] if cap == 1 or len(state.orders) <= 1 else [(cap, state),
                                                                                  (1, state)]
         outcome = PlanOutcome("error", [], 0.0, "no open order")
         tried_relaxed = False
         while attempts:
             max_orders, problem_state = attempts.pop(0)
-            compiled, result = self.attempt(problem_state, agents, max_orders, gran)
+            compiled, result = self.attempt(problem_state, agents, max_orders, gran, every)
             if compiled is None:
                 outcome = PlanOutcome("error", [], time.perf_counter() - t0, result)
                 continue
@@ -213,6 +234,8 @@ class _Pipeline:
 
                 tried_relaxed = True
                 attempts = [(1, relaxed_state(state))]
+            self.failed_calls = 0 if result.status in ("solved", *PROVEN_STATUSES) \
+                else self.failed_calls + 1
             if result.status == "solved" and result.plan is not None:
                 relaxed = problem_state is not state and tried_relaxed
                 return self.solved(compiled, result.plan, state, problem_state, agents,

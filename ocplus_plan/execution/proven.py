@@ -63,6 +63,10 @@ class ProvenOutcomes:
         self.hits = 0
         #: problems with fewer cooks proven unsolvable, then asked with every driven cook
         self.fallbacks = 0
+        #: reach -> failed tries (timeouts, errors) of the one-cook problem there
+        self.failures: dict[Hashable, int] = {}
+        self.failure_fallbacks = 0  # every cook modelled after repeated failures, not a proof
+        self.planner_fallbacks = 0  # calls answered by the default planner instead
 
     def get(self, key: Hashable) -> Any | None:
         """The proven outcome for ``key`` (counted as a hit), or None."""
@@ -77,7 +81,9 @@ class ProvenOutcomes:
             self.outcomes[key] = result
 
     def info(self) -> dict[str, int]:
-        return {"proven_answers_reused": self.hits, "all_cooks_fallbacks": self.fallbacks}
+        return {"proven_answers_reused": self.hits, "all_cooks_fallbacks": self.fallbacks,
+                "failure_fallbacks": self.failure_fallbacks,
+                "default_planner_fallbacks": self.planner_fallbacks}
 
 
 __all__ = ["PROVEN_STATUSES", "ProvenOutcomes", "problem_key", "reach_key"]

@@ -16,13 +16,14 @@ from ..errors import ConfigError
 DEFAULT_PLANNER = "fast-downward-wastar"
 #: the fourth field of ``planner:NAME:GRANULARITY:POLICY:OPTIONS`` (options joined by '+')
 PLANNER_OPTIONS = ("anticipate", "one-cook", "chainK", "no-schedule", "over-switches",
-                   "no-over-switches")
+                   "no-over-switches", "no-partner-model")
 
 _HELP = ("options, joined by '+': anticipate (temporal: plan around the coming layout "
          "switches), one-cook (model one cook, schedule its plan over all), chainK (plan up "
          "to K orders one after the other), no-schedule (keep the cooks the planner chose), "
          "over-switches / no-over-switches (schedule walks over the coming layout switches "
-         "or not; default: on for a chained plan on a switching map)")
+         "or not; default: on for a chained plan on a switching map), no-partner-model (cooks "
+         "the controller does not drive are obstacles that stand still, not predicted)")
 
 
 @dataclass(frozen=True)
@@ -38,6 +39,7 @@ class PlannerSpec:
     chain_orders: int = 1
     schedule_cooks: bool = True
     over_switches: bool | None = None
+    model_partners: bool = True
     text: str = field(default="", compare=False)
 
     @classmethod
@@ -64,7 +66,8 @@ class PlannerSpec:
                  (f"chain{self.chain_orders}", self.chain_orders > 1),
                  ("over-switches", self.over_switches is True),
                  ("no-over-switches", self.over_switches is False),
-                 ("no-schedule", not self.schedule_cooks))
+                 ("no-schedule", not self.schedule_cooks),
+                 ("no-partner-model", not self.model_partners))
         return "+".join(name for name, on in flags if on)
 
     def spec_text(self) -> str:
@@ -81,7 +84,7 @@ class PlannerSpec:
         planner, encoding, granularity and policy."""
         return {"anticipate_switches": self.anticipate_switches, "plan_cooks": self.plan_cooks,
                 "chain_orders": self.chain_orders, "schedule_cooks": self.schedule_cooks,
-                "over_switches": self.over_switches}
+                "over_switches": self.over_switches, "model_partners": self.model_partners}
 
 
 def walks_over_switches(option: bool | None, chain_orders: int, dynamic: bool) -> bool:
@@ -109,6 +112,8 @@ def parse_options(text: str, spec: str = "") -> dict[str, Any]:
             out["over_switches"] = True
         elif token == "no-over-switches":
             out["over_switches"] = False
+        elif token == "no-partner-model":
+            out["model_partners"] = False
         elif token.startswith("chain") and token[5:].isdigit() and int(token[5:]) >= 1:
             out["chain_orders"] = int(token[5:])
         else:

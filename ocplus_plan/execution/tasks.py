@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
-from ..sim.codes import Cell, ItemState
+from ..sim.codes import Cell, ItemState, Where
 from ..sim.queries import (
     Bump,
     bump_effect,
@@ -23,6 +23,7 @@ from .paths import DistanceOracle
 from .plans import PlanStep
 
 _PAN = int(Cell.PAN)
+_HAND = int(Where.HAND)
 _RAW = int(ItemState.FRESH)
 #: the bump that processes the item of a chop / wash step (several of them finish it)
 PROCESS = {"chop": Bump.CHOP, "wash": Bump.WASH}
@@ -78,6 +79,8 @@ def ready(state: State, agent: int, task: Task, done_steps: set[int]) -> bool:
     if not task.deps <= done_steps:
         return False
     s = task.step
+    if any(state.item_where[i] == _HAND and state.item_loc[i] != agent for i in s.items):
+        return False  # another cook carries it here (a partner's predicted bump): wait
     held, here = state.agent_hand[agent], state.cell_item[s.target]
     if s.kind in PROCESS:
         return bump_effect(state, held, s.target) == PROCESS[s.kind]

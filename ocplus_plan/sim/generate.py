@@ -41,7 +41,7 @@ from .generate_families import (
     Retry,
     Sketch,
 )
-from .generate_checks import floor_components, lane_cells, structure_problems
+from .generate_checks import floor_components, lane_cells, spawn_cuts_off, structure_problems
 
 FAMILIES: tuple[str, ...] = tuple(BUILDERS)
 #: split name -> first seed; index i of a split is seed ``first + i``, i < SPLIT_SIZE
@@ -130,7 +130,7 @@ def _draw(family: str, rng: np.random.Generator, shape: tuple[int, int], cooks: 
     grid = sketch.grid.copy()
     switch = None if sketch.switch_grid is None else sketch.switch_grid.copy()
     _place_stations(sketch, rng, PRESET_STATIONS[preset], grid, switch)
-    spawns = _place_cooks(sketch, rng)
+    spawns = _place_cooks(sketch, rng, [grid] if switch is None else [grid, switch])
     spec: dict[str, Any] = {
         "name": name,
         "description": f"Generated {family} kitchen ({preset} stations, {cooks} cooks).",
@@ -191,14 +191,31 @@ def _place_stations(sketch: Sketch, rng: np.random.Generator,
             switch[cell] = code
 
 
-def _place_cooks(sketch: Sketch, rng: np.random.Generator) -> list[tuple[int, int]]:
+def _place_cooks(sketch: Sketch, rng: np.random.Generator,
+                 grids: list[np.ndarray]) -> list[tuple[int, int]]:
+    """One spawn cell per cook in its region, never one where a cook standing still cuts
+    any floor off a station or the window (``spawn_cuts_off``, in every layout: the only
+    cell in front of a station, or on a one-lane way to it): a drawn cell that does is
+    moved to the nearest one that does not (no other draw, so the rest of the kitchen
+    stays as it was drawn). Only where every free cell of the region does (a one-lane
+    region) does the drawn cell stay."""
     taken: set[tuple[int, int]] = set()
-    spawns = []
+    spawns: list[tuple[int, int]] = []
+    rows, cols = grids[0].shape
+    floor = [(r, c) for r in range(rows) for c in range(cols)
+             if any(int(g[r, c]) == Cell.FLOOR for g in grids)]
+
+    def cuts(cell: tuple[int, int]) -> bool:
+        return spawn_cuts_off(grids, cell, floor)
+
     for region in sketch.cook_regions:
         pool = [c for c in sketch.regions[region] if c not in taken and c not in sketch.reserved]
         if not pool:
             raise Retry
         cell = pool[int(rng.integers(len(pool)))]
+        if cuts(cell):
+            cell = min((c for c in pool if not cuts(c)), default=cell,
+                       key=lambda c: (abs(c[0] - cell[0]) + abs(c[1] - cell[1]), c))
         taken.add(cell)
         spawns.append(cell)
     return spawns

@@ -80,6 +80,34 @@ def floor_components(grid: np.ndarray, skip: frozenset[int] = frozenset()) -> li
     return out
 
 
+def spawn_cuts_off(grids: list[np.ndarray], cell: tuple[int, int],
+                   others: list[tuple[int, int]]) -> bool:
+    """Would a cook standing still on ``cell`` cut a cook on one of the cells ``others`` off a
+    station (or the window) it reaches without it, in one of the layouts ``grids`` (the
+    cell is the only way in front of the station, or on a one-lane way to it)?"""
+    rows, cols = grids[0].shape
+    flat = cell[0] * cols + cell[1]
+    nbrs = grid_neighbors(rows, cols)
+    stations = {int(s) for s in STATIONS}
+    for grid in grids:
+        codes = grid.reshape(-1)
+
+        def touched(cells: set[int], codes=codes) -> set[int]:
+            return {n for f in cells for n in nbrs[f] if n >= 0 and int(codes[n]) in stations}
+
+        before = floor_components(grid)
+        after = floor_components(grid, frozenset({flat}))
+        for r, c in others:
+            q = r * cols + c
+            comp = next((p for p in before if q in p), None)
+            if comp is None or flat not in comp or q == flat:
+                continue
+            piece = next(p for p in after if q in p)
+            if touched(piece) != touched(comp):
+                return True
+    return False
+
+
 def lane_cells(grid: np.ndarray) -> list[tuple[int, int]]:
     """Walkable cells in a one-cell-wide passage: walkable neighbours on exactly two opposite
     sides and walls on the other two (two cooks cannot pass each other there)."""

@@ -100,6 +100,23 @@ def test_drives_a_subset_of_the_cooks_in_a_team():
     assert state.stats["dishes_served"] >= 4
 
 
+def test_a_greedy_partner_alone_on_its_side_of_a_switching_kitchen_waits_for_the_switch():
+    # hard, 2 cooks, greedy driving only the second: nothing is in its reach in the first
+    # layout, and it has no teammate to hand over to, so it plans over both layouts (as a
+    # lone cook does) instead of standing still for the whole episode
+    rules = make_rules("hard", n_agents=2, horizon=60)
+    team = Team([GreedyAgent(0), GreedyAgent(0)], [[0], [1]])
+    state = new_state(rules, 0)
+    team.reset(state)
+    moves = 0
+    while not state.done:
+        joint = team.act(state)
+        moves += joint[1] != int(Action.STAY)
+        transition(state, joint)
+    assert moves >= 20
+    assert team.controllers[1].counts["task_fetch"] >= 1
+
+
 def test_relays_items_down_a_one_lane_corridor():
     """corridor3: nobody can pass anybody, so carried items go cook to cook via counters."""
     rules = make_rules("easy", map="corridor3", n_agents=2)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+from types import SimpleNamespace
 
 import pytest
 
@@ -84,9 +85,27 @@ def test_bad_names_fail_before_anything_runs(tmp_path):
         run_eval(_cfg(tmp_path / "b", presets=["medum"]))
     with pytest.raises(ConfigError, match="at most"):
         run_eval(_cfg(tmp_path / "c", n_agents=5))
-    with pytest.raises(ConfigError, match="planner name"):
-        run_eval(_cfg(tmp_path / "d", agents=["planner"]))
     assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
+
+
+def test_planner_with_no_name_is_the_default_planner(monkeypatch):
+    pytest.importorskip("ocplus_plan.planning.engines")
+    from ocplus_plan.agents import make_controller, with_partner
+    from ocplus_plan.eval.runner import check_agent, check_partner
+    from ocplus_plan.execution.spec import DEFAULT_PLANNER
+    from ocplus_plan.planning import engines
+
+    asked = []
+    monkeypatch.setattr(engines, "availability", 
+                        lambda name: asked.append(name) or SimpleNamespace(ok=False, reason="gone"))
+    for spec in ("planner:", "planner", "planner:::", "planner::stations"):
+        assert "gone" in check_agent(spec)  # skipped for the default planner's reason
+        assert make_controller(spec).planner_name == DEFAULT_PLANNER
+    assert set(asked) == {DEFAULT_PLANNER}
+    with pytest.raises(ConfigError, match="--partner planner:"):
+        check_partner("planner:", [2])
+    team = with_partner(make_controller("greedy"), "planner:", 2)
+    assert team[1][0].planner_name == DEFAULT_PLANNER
 
 
 def test_unknown_planner_name_is_an_error(tmp_path):

@@ -212,3 +212,54 @@ def test_a_gen_name_listed_as_replaced_loads_its_proven_candidate():
     loaded = map_from_name(f"gen:{family}:{split}:{index}")
     expected = generate_map(family, split_seed(split, index), candidate=candidate)
     assert loaded["game_map"] == expected["game_map"]
+
+
+# ------------------------------------------------------------------ spawn cells
+ROOM = np.array([[1, 1, 6, 1, 1],
+                 [1, 0, 0, 0, 1],
+                 [3, 0, 0, 0, 7],
+                 [1, 0, 0, 0, 1],
+                 [1, 1, 5, 1, 1]], dtype=np.int8)
+#: the only cells in front of the board, the crate, the window and the plates
+ONLY_WAYS = {(1, 2), (2, 1), (2, 3), (3, 2)}
+
+
+def test_a_spawn_cell_is_never_the_only_way_to_a_station():
+    from ocplus_plan.sim.generate import _place_cooks
+    from ocplus_plan.sim.generate_checks import spawn_cuts_off
+    from ocplus_plan.sim.generate_families import Sketch
+
+    floor = [(r, c) for r in range(1, 4) for c in range(1, 4)]
+    assert {c for c in floor if spawn_cuts_off([ROOM], c, floor)} == ONLY_WAYS
+    sketch = Sketch(ROOM.copy(), {"room": floor}, cook_regions=("room", "room"))
+    for seed in range(20):
+        spawns = _place_cooks(sketch, np.random.default_rng(seed), [ROOM])
+        assert not set(spawns) & ONLY_WAYS, (seed, spawns)
+
+
+def test_a_one_lane_region_keeps_its_drawn_cell():
+    from ocplus_plan.sim.generate import _place_cooks
+    from ocplus_plan.sim.generate_families import Sketch
+
+    lane = np.array([[1, 1, 1, 1, 1], [3, 0, 0, 0, 6], [1, 7, 1, 5, 1]], dtype=np.int8)
+    cells = [(1, 1), (1, 2), (1, 3)]  # every one cuts the lane: nothing better to move to
+    sketch = Sketch(lane.copy(), {"lane": cells}, cook_regions=("lane",))
+    drawn = cells[int(np.random.default_rng(3).integers(3))]
+    assert _place_cooks(sketch, np.random.default_rng(3), [lane]) == [drawn]
+
+
+def test_an_idle_cook_on_its_spawn_cell_cuts_no_other_cook_off_outside_one_lane_regions():
+    from ocplus_plan.sim.queries import stations_cut_off
+
+    for family in FAMILIES:
+        for index in range(6):
+            rules = make_rules("medium", map=f"gen:{family}:test:{index}:medium", n_agents=2,
+                               dynamic=family == "switching")
+            state = new_state(rules, 0)
+            geo, idle = state.geo, state.agent_pos[1]
+            for layout in range(len(geo.walkables)):
+                cut = stations_cut_off(geo, layout, idle, [state.agent_pos[0]])
+                floor_nbrs = [n for n in geo.neighbors[idle] if n >= 0 and geo.walkables[layout][n]]
+                # (a corridor kitchen may put a cook in a one-lane region: no cell there is free)
+                assert not cut or (family == "corridor" and len(floor_nbrs) <= 2), \
+                    (family, index, layout, cut)

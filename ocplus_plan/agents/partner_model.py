@@ -1,0 +1,79 @@
+"""The partner model: what each cook a controller does not drive will do next.
+
+:class:`PartnerModel` is the callable the planner-backed controller gives its executive
+(:data:`~ocplus_plan.execution.partner.PartnerModel`). Each step it predicts, per cook the
+controller does not drive, the cell it bumps next and the walk it takes there
+(:class:`~ocplus_plan.execution.partner.Prediction`):
+
+- a **known** partner whose policy is the greedy controller's is predicted by running that
+  policy's decision (:meth:`GreedyAgent.goals`, the same code the partner runs) on the
+  current state, with a copy of the controller driving the partner's cooks;
+- any **other** partner (idle, random, a learned policy) is predicted from its recent moves
+  and what it holds: a cook that has neither moved nor changed what it holds for
+  ``patience`` steps is expected to stay; one that moves is expected to do what a greedy
+  cook would do in its place (carry what it holds where it is useful, or fetch what the
+  open orders need).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from ..execution.partner import Prediction
+from ..sim.queries import interaction_spots, walk_to, walks
+from ..sim.state import State
+from .base import Controller
+from .greedy import GreedyAgent
+
+
+class PartnerModel:
+    """Predicts the cooks a controller does not drive (see the module docstring)."""
+
+    def __init__(self, known: Controller | None = None, patience: int = 3) -> None:
+        self.known = known
+        self.patience = patience
+        self.cooks: tuple[int, ...] = ()
+
+    @property
+    def by_policy(self) -> bool:
+        """Is the partner a known greedy cook, predicted by its own policy?"""
+        return isinstance(self.known, GreedyAgent)
+
+    def reset(self, state: State, driven: Sequence[int]) -> None:
+        self.cooks = tuple(c for c in range(state.n_agents) if c not in set(driven))
+        self.shadow = GreedyAgent(getattr(self.known, "seed", 0))
+        self.shadow.reset(state, self.cooks)
+        self.last = {c: (state.agent_pos[c], state.agent_hand[c]) for c in self.cooks}
+        self.still = dict.fromkeys(self.cooks, 0)
+        self.seen_t = state.t
+
+    def _watch(self, state: State) -> None:
+        """Count the steps each cook has stood still with the same hand."""
+        if state.t == self.seen_t:
+            return
+        self.seen_t = state.t
+        for c in self.cooks:
+            now = (state.agent_pos[c], state.agent_hand[c])
+            self.still[c] = self.still[c] + 1 if now == self.last[c] else 0
+            self.last[c] = now
+
+    def __call__(self, state: State) -> dict[int, Prediction]:
+        self._watch(state)
+        if not self.cooks:
+            return {}
+        view, goals = self.shadow.goals(state)
+        out: dict[int, Prediction] = {}
+        for c in self.cooks:
+            goal = goals.get(c)
+            if goal is None or (not self.by_policy and self.still[c] >= self.patience):
+                out[c] = Prediction(c, None)
+                continue
+            spots = set(interaction_spots(view.nbrs, view.walk, goal[0]))
+            found = walks(view.nbrs, view.walk, [state.agent_pos[c]])
+            spot = next((f for f in found.order if f in spots), None)
+            path = walk_to(found, spot) if spot is not None else None
+            out[c] = Prediction(c, goal[0], tuple(path or ()))
+        return out
+
+
+__all__ = ["PartnerModel"]

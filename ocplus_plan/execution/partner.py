@@ -1,0 +1,297 @@
+"""The partner model's predictions and what the executive does with them.
+
+A cook the executive does not drive (a partner) is predicted by a *partner model*, a
+callable ``state -> {cook: Prediction}`` that the controller gives the executive
+(``agents/partner_model.py`` builds one: the partner's own policy when it is a known agent,
+else a guess from its recent moves and what it holds). A prediction is the cell the cook
+will bump next and the walk it takes there. The executive uses it three ways:
+
+- **routing**: the predicted walk is reserved in the space-time paths (the partner is a
+  moving obstacle whose moves are known, not one assumed to stand still);
+- **planning**: the planner is asked about the state the partner's next bump leaves
+  (:func:`predicted_state`): an item it carries to a board, a pan or a plate is already
+  there, so that work is not planned again, and the plan uses the item where it will be;
+- **repair**: when the partner takes an item a queued step needs, and its predicted bump
+  puts the item where a later step of the plan uses it, the steps that would have carried
+  it there are dropped and the rest of the plan kept (:func:`repair_taken`); only when the
+  prediction does not fit the plan is a new plan asked for (``taken``).
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, replace
+
+from ..sim.codes import Cell, Where
+from ..sim.queries import Bump, bump_effect, distances
+from ..sim.state import Geometry, State
+from .plans import PlanFunction, PlanOutcome, PlanStep
+from .tasks import Task
+
+_HAND, _CELL, _PLATE = int(Where.HAND), int(Where.CELL), int(Where.PLATE)
+_WAITING = int(Where.WAITING)
+#: steps of a predicted walk reserved in the executive's paths
+PREDICT_STEPS = 8
+
+
+@dataclass(frozen=True)
+class Prediction:
+    """What a cook the executive does not drive will do next: bump ``target`` (None: it
+    stays where it is) after walking ``path`` (floor cells, the next one first)."""
+
+    cook: int
+    target: int | None
+    path: tuple[int, ...] = ()
+
+
+#: state -> one prediction per cook the executive does not drive
+PartnerModel = Callable[[State], Mapping[int, Prediction]]
+
+
+def plan_around(planner: PlanFunction, state: State, agents: tuple[int, ...], reason: str,
+                predictions: Mapping[int, Prediction] | None) -> PlanOutcome:
+    """Ask ``planner`` about the state the partners' predicted next bumps leave
+    (:func:`predicted_state`); when that fails with a partner as a wall, ask again with the
+    partners' cells open (the partner may yet move). Without predictions: the state."""
+    if predictions is None:
+        return planner(state.copy(), agents, reason)
+    problem = predicted_state(state, predictions)
+    outcome = planner(problem, agents, reason)
+    if not outcome.ok and problem.geo is not state.geo:
+        outcome = planner(predicted_state(state, predictions, walls=False), agents, reason)
+    return outcome
+
+
+def predicted_state(state: State, predictions: Mapping[int, Prediction],
+                    walls: bool = True) -> State:
+    """A copy of ``state`` in which every partner's held item is where its predicted bump
+    puts it (put down on a counter, a board or a pan, or onto a plate lying there); other
+    bumps (serving, throwing away) leave the item in its hand. A partner predicted to stay
+    with empty hands is a wall where it stands (:func:`blocked_geometry`): the plan does
+    not count on passing it or on working from its cell."""
+    out = state.copy()
+    still = []
+    for cook, pred in predictions.items():
+        if pred.target is None and out.agent_hand[cook] < 0:
+            still.append(out.agent_pos[cook])
+        held = out.agent_hand[cook]
+        if held < 0 or pred.target is None:
+            continue
+        effect = bump_effect(out, held, pred.target)
+        if effect == Bump.PUT_DOWN:
+            out.cell_item[pred.target] = held
+            out.item_where[held], out.item_loc[held] = _CELL, pred.target
+        elif effect == Bump.ONTO_PLATE:
+            out.item_where[held], out.item_loc[held] = _PLATE, out.cell_item[pred.target]
+        else:
+            continue
+        out.agent_hand[cook] = -1
+    if still and walls:
+        out.geo = blocked_geometry(state.geo, frozenset(still))
+    return out
+
+
+_BLOCKED: dict[tuple[int, frozenset[int]], tuple[Geometry, Geometry]] = {}
+
+
+def blocked_geometry(geo: Geometry, cells: frozenset[int]) -> Geometry:
+    """``geo`` with ``cells`` walls in every layout (kept: the planner's caches key on it)."""
+    key = (id(geo), cells)
+    known = _BLOCKED.get(key)
+    if known is None or known[0] is not geo:
+        wall = int(Cell.BLOCK)
+        terrains = tuple(tuple(wall if c in cells else v for c, v in enumerate(t))
+                         for t in geo.terrains)
+        walkables = tuple(tuple(w and c not in cells for c, w in enumerate(ws))
+                          for ws in geo.walkables)
+        if len(_BLOCKED) > 256:
+            _BLOCKED.clear()
+        known = _BLOCKED[key] = (geo, replace(geo, terrains=terrains, walkables=walkables))
+    return known[1]
+
+
+def expected_by_plan(queues: Mapping[int, deque[Task]], item: int, target: int | None) -> bool:
+    """Does the first queued step that uses ``item`` at the partner's predicted ``target``
+    come before any step that would carry the item (so the plan already counts on it)?"""
+    if target is None:
+        return False
+    for q in queues.values():
+        for task in q:
+            if item not in task.step.items:
+                continue
+            if task.step.target == target:
+                return True
+            if task.step.kind == "pickup":
+                return False
+    return False
+
+
+def repair_taken(queues: Mapping[int, deque[Task]], done_steps: set[int], item: int,
+                 target: int | None) -> bool:
+    """The partner took ``item`` and will bump ``target`` with it: drop the queued steps that
+    would have fetched the item and carried it to ``target`` (they count as done, so the
+    steps waiting for them go on) and keep the rest. False (nothing changed) when no queued
+    step uses the item at ``target``: the plan does not fit the prediction."""
+    if target is None:
+        return False
+    plan = [(a, t) for a, q in queues.items() for t in q if item in t.step.items]
+    plan.sort(key=lambda at: at[1].step.index)
+    at_target = next((i for i, (_a, t) in enumerate(plan) if t.step.target == target), None)
+    if at_target is None:
+        return False
+    drop = [t for _a, t in plan[:at_target]]
+    a, last = plan[at_target]
+    carriers = {x for x, t in plan[:at_target] if t.step.kind == "pickup"}
+    if last.step.kind == "putdown" or (last.step.kind == "plate" and a in carriers):
+        drop.append(last)  # the partner's bump does this very step
+    gone = {id(t) for t in drop}
+    for cook, q in queues.items():
+        keep = [t for t in q if id(t) not in gone]
+        if len(keep) != len(q):
+            queues[cook].clear()  # type: ignore[attr-defined]
+            queues[cook].extend(keep)  # type: ignore[attr-defined]
+    done_steps.update(t.step.index for t in drop)
+    return True
+
+
+def partner_holding(state: State, task: Task, driven: Mapping[int, object]) -> tuple[int, int] | None:
+    """(cook, item): an item of ``task`` in the hand of a cook not in ``driven``, or None."""
+    for i in task.step.items:
+        if state.item_where[i] == _HAND and state.item_loc[i] not in driven:
+            return state.item_loc[i], i
+    return None
+
+
+def answer_taken(state: State, task: Task, queues: Mapping[int, deque[Task]],
+                 done_steps: set[int], predictions: Mapping[int, Prediction]) -> str | None:
+    """A partner holds an item of ``task``: ``expected`` (its predicted bump puts the item
+    where the plan uses it), ``repaired`` (:func:`repair_taken` fitted the plan to it) or
+    ``taken`` (the plan does not fit: plan again). None when no partner holds one."""
+    found = partner_holding(state, task, queues)
+    if found is None:
+        return None
+    pred = predictions.get(found[0])
+    target = None if pred is None else pred.target
+    if expected_by_plan(queues, found[1], target):
+        return "expected"
+    if repair_taken(queues, done_steps, found[1], target) or substitute(state, queues, found[1]):
+        return "repaired"
+    return "taken"
+
+
+def substitute(state: State, queues: Mapping[int, deque[Task]], item: int) -> bool:
+    """Items of one kind in one state are interchangeable: when the plan's first step with
+    ``item`` picks it up from a cell and somebody else has it, the plan takes the nearest
+    free item of the same kind and state lying on a cell (or coming back to its crate)
+    instead, in every queued step. False when there is none or the plan's first step with
+    the item is not such a pickup."""
+    tasks = sorted((t for q in queues.values() for t in q if item in t.step.items),
+                   key=lambda t: t.step.index)
+    if not tasks or tasks[0].step.kind != "pickup" or len(tasks[0].step.items) != 1:
+        return False
+    used = {i for q in queues.values() for t in q for i in t.step.items}
+    kind, st = state.geo.item_kind[item], state.item_state[item]
+    rc = state.geo.rc
+    here = rc(tasks[0].step.target)
+    free = [i for i in range(state.n_items) if i not in used and state.geo.item_kind[i] == kind
+            and state.item_state[i] == st and state.item_where[i] in (_CELL, _WAITING)]
+    if not free:
+        return False
+
+    def far(i: int) -> tuple[int, int]:
+        r, c = rc(state.item_loc[i])
+        return abs(r - here[0]) + abs(c - here[1]), i
+
+    other = min(free, key=far)
+    for task in tasks:
+        step = task.step
+        items = tuple(other if i == item else i for i in step.items)
+        target = state.item_loc[other] if task is tasks[0] else step.target
+        task.step = replace(step, items=items, target=target)
+    return True
+
+
+def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: set[int],
+                 predictions: Mapping[int, Prediction], warned: set) -> tuple[bool, int]:
+    """Every queued step, not only the ones being done, against the world: (does the plan
+    no longer fit, repairs made). The first queued step that uses each item is checked
+    once: a partner holding the item is answered by :func:`answer_taken`; an item a
+    pickup or a chop expects at its target that is elsewhere (and in none of our cooks'
+    hands) means somebody moved it: the plan no longer fits."""
+    repairs, seen = 0, set()
+    for task in sorted((t for q in queues.values() for t in q), key=lambda t: t.step.index):
+        for i in task.step.items:
+            key = ("taken", task.step.index, i)
+            if i in seen or key in warned:
+                continue
+            seen.add(i)
+            where, loc = state.item_where[i], state.item_loc[i]
+            if where == _HAND and loc not in queues:
+                warned.add(key)
+                answer = answer_taken(state, task, queues, done_steps, predictions)
+                if answer == "taken":
+                    return True, repairs
+                repairs += answer == "repaired"
+            elif task.step.kind in ("pickup", "chop") and where != _HAND \
+                    and not _lies_at(state, i, task.step.target):
+                warned.add(key)
+                if not substitute(state, queues, i):
+                    return True, repairs
+                repairs += 1
+    return False, repairs
+
+
+def _lies_at(state: State, item: int, cell: int) -> bool:
+    """Is ``item`` on ``cell`` (or coming back there, or on a plate that is)?"""
+    where, loc = state.item_where[item], state.item_loc[item]
+    if where == _PLATE:
+        return _lies_at(state, loc, cell)
+    return where in (_CELL, _WAITING) and loc == cell
+
+
+def hand_off(state: State, cook: int, index: int) -> list[Task]:
+    """The step of a cook that gives way beside partners: put what it holds on the nearest
+    free plain counter it reaches that a partner reaches too (a partner can take it on;
+    greedy gathers onto a plate lying free, never onto one in somebody else's hand); none
+    when its hand is empty or no such counter exists."""
+    held = state.agent_hand[cook]
+    if held < 0:
+        return []
+    geo = state.geo
+    walk, counter = geo.walkables[state.layout_index], int(Cell.COUNTER)
+    mine = distances(geo.neighbors, walk, [state.agent_pos[cook]])
+    theirs = distances(geo.neighbors, walk, [p for b, p in enumerate(state.agent_pos)
+                                             if b != cook])
+    best = None
+    for c, code in enumerate(geo.terrains[state.layout_index]):
+        if code != counter or state.cell_item[c] >= 0:
+            continue
+        spots = [n for n in geo.neighbors[c] if n >= 0 and walk[n]]
+        d = min((mine[n] for n in spots if mine[n] >= 0), default=-1)
+        if d >= 0 and any(theirs[n] >= 0 for n in spots) and (best is None or d < best[0]):
+            best = (d, c)
+    if best is None:
+        return []
+    return [Task(PlanStep(index, cook, "putdown", best[1], (held,)), frozenset())]
+
+
+def reserved_walks(state: State, predictions: Mapping[int, Prediction],
+                   driven: Mapping[int, object], steps: int = PREDICT_STEPS) -> dict[int, object]:
+    """What the executive's paths hold for every cook it does not drive: its predicted walk
+    (cells per step from now, its current cell first) when it has one that our cooks do not
+    stand on, else its current cell (it stays)."""
+    ours = {state.agent_pos[a] for a in driven}
+    out: dict[int, object] = {}
+    for b in range(state.n_agents):
+        if b in driven:
+            continue
+        pred = predictions.get(b)
+        walk = (state.agent_pos[b], *pred.path[:steps]) if pred is not None else ()
+        out[b] = walk if len(walk) > 1 and not ours & set(walk) else state.agent_pos[b]
+    return out
+
+
+__all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "blocked_geometry",
+           "check_queues", "expected_by_plan", "hand_off", "partner_holding", "plan_around",
+           "predicted_state", "repair_taken", "reserved_walks", "substitute"]

@@ -1,0 +1,54 @@
+"""Fallbacks on failure, not only on proof: a configuration that keeps timing out on a
+kitchen makes the pipeline try every cook, then the default planner."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import pytest
+
+from ocplus_plan.execution.planning_step import FAILURES_BEFORE_FALLBACK, compile_and_solve
+from ocplus_plan.execution.spec import DEFAULT_PLANNER
+from ocplus_plan.sim import make_rules, new_state
+
+pytest.importorskip("ocplus_plan.planning.compile")
+
+
+def _timeouts(monkeypatch):
+    from ocplus_plan.planning import engines
+
+    asked = []
+
+    def solve(problem, planner, timeout=None, validate=False):
+        asked.append(planner)
+        return SimpleNamespace(status="timeout", plan=None, reason="cpu limit", cpu_time=0.0)
+
+    monkeypatch.setattr(engines, "solve", solve)
+    return asked
+
+
+def test_a_one_cook_problem_that_keeps_timing_out_is_given_up_for_every_cook(monkeypatch):
+    _timeouts(monkeypatch)
+    state = new_state(make_rules("easy", n_agents=2, horizon=50), 0)
+    pipeline = compile_and_solve("fast-downward", plan_cooks="one")
+    modelled = []
+    once = pipeline.solve_once
+    pipeline.solve_once = lambda s, m, *a: modelled.append(m) or once(s, m, *a)
+    for _ in range(FAILURES_BEFORE_FALLBACK):
+        assert pipeline(state, (0, 1), "initial").status == "timeout"
+    assert pipeline.proven.info()["failure_fallbacks"] >= 1
+    assert [0] in modelled and modelled[-1] is None  # then asked with both cooks at once
+    modelled.clear()
+    pipeline(state, (0, 1), "initial")
+    assert [0] not in modelled  # and from then on
+
+
+def test_a_planner_that_keeps_failing_hands_over_to_the_default_planner(monkeypatch):
+    asked = _timeouts(monkeypatch)
+    state = new_state(make_rules("easy", n_agents=1, horizon=50), 0)
+    pipeline = compile_and_solve("fast-downward")
+    for _ in range(FAILURES_BEFORE_FALLBACK + 1):
+        pipeline(state, (0,), "initial")
+    names = asked
+    assert names[-1] == DEFAULT_PLANNER and "fast-downward" in names
+    assert pipeline.proven.info()["default_planner_fallbacks"] >= 1

@@ -1,0 +1,159 @@
+"""The partner model on hand-drawn kitchens: predictions, the state planned from, repairs,
+and the walks the executive's paths keep clear."""
+
+from __future__ import annotations
+
+from collections import deque
+
+from ocplus_plan.agents import StayAgent
+from ocplus_plan.agents.greedy import GreedyAgent
+from ocplus_plan.agents.partner_model import PartnerModel
+from ocplus_plan.execution.partner import (
+    Prediction,
+    answer_taken,
+    hand_off,
+    predicted_state,
+    repair_taken,
+    reserved_walks,
+)
+from ocplus_plan.execution.plans import PlanStep
+from ocplus_plan.execution.tasks import Task, ready
+from ocplus_plan.sim import make_rules, new_state, transition
+from ocplus_plan.sim.codes import Action, Where
+from ocplus_plan.sim.queries import distances, interaction_spots
+
+# board on top, tomato crate left, window right, plate below; our cook 0 right, partner 1 left
+KITCHEN = {"name": "two", "max_n_agent": 2,
+           "game_map": [[1, 1, 6, 1, 1],
+                        [3, 0, 0, 0, 7],
+                        [1, 5, 1, 1, 1]],
+           "agent_spawn_points": [[1, 3], [1, 1]]}
+# one lane from the crate to the board: the partner stands in the middle of it
+LANE = {"name": "lane", "max_n_agent": 2,
+        "game_map": [[1, 1, 1, 1, 1, 1, 1],
+                     [3, 0, 0, 0, 0, 0, 6],
+                     [1, 7, 1, 1, 1, 5, 1]],
+        "agent_spawn_points": [[1, 1], [1, 3]]}
+S, L = int(Action.STAY), int(Action.LEFT)
+
+
+def _state(spec, horizon=60):
+    return new_state(make_rules("easy", map=spec, n_agents=2, recipes=["tomato"],
+                                horizon=horizon), 0)
+
+
+def _carrying_partner():
+    """The partner (cook 1) has just taken the tomato from its crate."""
+    state = _state(KITCHEN)
+    transition(state, [S, L])
+    tomato = state.agent_hand[1]
+    assert tomato >= 0
+    return state, tomato
+
+
+def test_a_greedy_partner_carrying_the_needed_item_is_predicted_by_its_own_policy():
+    state, _tomato = _carrying_partner()
+    model = PartnerModel(GreedyAgent(0))
+    model.reset(state, [0])
+    pred = model(state)[1]
+    board = state.geo.flat(0, 2)
+    assert pred.target == board
+    assert pred.path == (state.geo.flat(1, 2),)  # one step right, then it bumps up
+
+
+def test_work_the_partner_is_about_to_do_is_not_planned_again():
+    # the state the planner is asked about has the tomato on the board already: the plan
+    # chops it there instead of fetching another one, and the partner is not modelled
+    state, tomato = _carrying_partner()
+    board = state.geo.flat(0, 2)
+    problem = predicted_state(state, {1: Prediction(1, board, (state.geo.flat(1, 2),))})
+    assert problem.cell_item[board] == tomato and problem.agent_hand[1] == -1
+    assert problem.item_where[tomato] == Where.CELL
+    assert state.agent_hand[1] == tomato  # the real state is left alone
+    # a queued step on the tomato waits while the partner still carries it
+    chop = Task(PlanStep(0, 0, "chop", board, (tomato,)), frozenset())
+    assert not ready(state, 0, chop, set())
+
+
+def test_a_partner_that_takes_an_item_repairs_the_plan_instead_of_replacing_it():
+    state, tomato = _carrying_partner()
+    crate, board = state.geo.flat(1, 0), state.geo.flat(0, 2)
+    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
+    steps = [PlanStep(0, 0, "pickup", crate, (tomato,)), PlanStep(1, 0, "putdown", board, (tomato,)),
+             PlanStep(2, 0, "chop", board, (tomato,)), PlanStep(3, 0, "pickup", board, (tomato,)),
+             PlanStep(4, 0, "plate", 11, (plate, tomato))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    done: set[int] = set()
+    preds = {1: Prediction(1, board)}
+    assert answer_taken(state, queues[0][0], queues, done, preds) == "repaired"
+    assert [t.step.kind for t in queues[0]] == ["chop", "pickup", "plate"]
+    assert done == {0, 1}
+    # now the plan counts on the partner's bump: no replan
+    assert answer_taken(state, queues[0][0], queues, done, preds) == "expected"
+    # a partner predicted to take the item elsewhere does not fit: plan again
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    assert answer_taken(state, queues[0][0], queues, set(),
+                        {1: Prediction(1, state.geo.flat(1, 4))}) == "taken"
+    assert not repair_taken(queues, set(), tomato, None)
+    assert len(queues[0]) == 5
+
+
+def test_a_partner_blocking_the_only_corridor_is_a_wall_in_the_plan_and_in_the_paths():
+    state = _state(LANE)
+    model = PartnerModel(StayAgent())
+    model.reset(state, [0])
+    for _ in range(model.patience):
+        transition(state, [S, S])
+        preds = model(state)
+    assert preds[1].target is None  # it has not moved: it is expected to stay
+    problem = predicted_state(state, preds)
+    board = state.geo.flat(1, 6)
+    spot = interaction_spots(state.geo.neighbors, state.geo.walkables[0], board)[0]
+    reach = distances(problem.geo.neighbors, problem.geo.walkables[0], [state.agent_pos[0]])
+    assert reach[spot] < 0  # the board is cut off in the problem
+    reach = distances(state.geo.neighbors, state.geo.walkables[0], [state.agent_pos[0]])
+    assert reach[spot] > 0  # (not in the kitchen itself)
+    assert reserved_walks(state, preds, {0: None}) == {1: state.agent_pos[1]}
+
+
+def test_a_partner_walking_down_the_corridor_has_its_walk_reserved():
+    state = _state(LANE)
+    transition(state, [S, L])  # partner one step left: next to our cook
+    model = PartnerModel(GreedyAgent(0))
+    model.reset(state, [0])
+    pred = model(state)[1]
+    assert pred.target is not None and pred.path
+    walk = reserved_walks(state, {1: pred}, {0: None})[1]
+    if state.agent_pos[0] in (state.agent_pos[1], *pred.path):
+        assert walk == state.agent_pos[1]  # through our cook: it cannot pass; it stays
+    else:
+        assert walk == (state.agent_pos[1], *pred.path[:8])
+
+
+def test_a_taken_item_is_replaced_by_an_equivalent_one_in_the_plan():
+    # two tomato crates: the partner takes the tomato of the left one, which the plan
+    # meant to fetch; the plan fetches the right one instead and keeps every other step
+    spec = dict(KITCHEN, game_map=[[1, 1, 6, 1, 1], [3, 0, 0, 0, 3], [1, 5, 1, 7, 1]])
+    state = _state(spec)
+    left, right, board = state.geo.flat(1, 0), state.geo.flat(1, 4), state.geo.flat(0, 2)
+    mine = state.cell_item[left]
+    transition(state, [S, L])
+    assert state.agent_hand[1] == mine
+    steps = [PlanStep(0, 0, "pickup", left, (mine,)), PlanStep(1, 0, "putdown", board, (mine,)),
+             PlanStep(2, 0, "chop", board, (mine,))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    # the partner is predicted to take it to the window: the plan does not fit that
+    assert answer_taken(state, queues[0][0], queues, set(),
+                        {1: Prediction(1, state.geo.flat(2, 3))}) == "repaired"
+    other = state.cell_item[right]
+    assert [(t.step.kind, t.step.target, t.step.items) for t in queues[0]] == [
+        ("pickup", right, (other,)), ("putdown", board, (other,)), ("chop", board, (other,))]
+
+
+def test_a_lone_cook_that_gives_way_to_a_partner_hands_off_what_it_holds():
+    state, tomato = _carrying_partner()  # (the partner holds the tomato: swap the roles)
+    assert hand_off(state, 0, 7) == []  # our cook holds nothing
+    steps = hand_off(state, 1, 7)
+    (task,) = steps
+    assert task.step.kind == "putdown" and task.step.items == (tomato,)
+    assert state.geo.terrains[0][task.step.target] == 1  # a plain counter both reach

@@ -1,0 +1,88 @@
+"""The stall measure: progress toward an open order read from the state alone."""
+
+from __future__ import annotations
+
+from ocplus_plan.agents import make_controller, run_episode
+from ocplus_plan.execution.executive import Executive, PlanOutcome
+from ocplus_plan.execution.stall import STALL_PATIENCE, STALL_STRETCH, ProgressMeter, StallWatch
+from ocplus_plan.sim import make_rules, new_state, transition
+from ocplus_plan.sim.codes import Action
+
+# a corridor: tomato crate on the left, board on the right, window below the middle
+LANE = {"name": "lane", "game_map": [[1, 1, 1, 1, 1, 1],
+                                     [3, 0, 0, 0, 0, 6],
+                                     [1, 1, 7, 5, 1, 1]],
+        "agent_spawn_points": [[1, 1]]}
+R, L, S = int(Action.RIGHT), int(Action.LEFT), int(Action.STAY)
+
+
+def _lane(horizon: int = 60):
+    rules = make_rules("easy", map=LANE, n_agents=1, recipes=["tomato"], horizon=horizon)
+    return new_state(rules, 0)
+
+
+def test_carrying_an_item_toward_its_station_is_progress_and_to_and_fro_is_not():
+    state = _lane()
+    meter = ProgressMeter(state)
+    transition(state, [L])  # pick up the tomato from its crate
+    assert state.agent_hand[0] >= 0
+    meter.update(state)
+    transition(state, [R])
+    assert meter.update(state)  # one step nearer the board
+    transition(state, [L])
+    assert not meter.update(state)  # back: farther
+    transition(state, [R])
+    assert not meter.update(state)  # forward to where it was: no new low
+    transition(state, [R])
+    assert meter.update(state)  # a new low
+
+
+def test_a_cook_standing_still_is_one_stall_of_the_whole_episode():
+    state = _lane(horizon=50)
+    watch = StallWatch(state)
+    while not state.done:
+        transition(state, [S])
+        watch.update(state)
+    assert watch.info()["stall_stretches"] == [(0, 50)]
+    assert watch.info()["longest_stall"] == 50
+
+
+def test_greedy_serving_dishes_has_no_stall():
+    state = new_state(make_rules("easy", n_agents=1, horizon=120), 0)
+    ctrl = make_controller("greedy", 0)
+    ctrl.reset(state)
+    watch = StallWatch(state)
+    while not state.done:
+        transition(state, ctrl.act(state))
+        watch.update(state)
+    assert state.stats["dishes_served"] >= 3
+    assert watch.info()["stall_stretches"] == []
+    assert watch.info()["longest_stall"] < STALL_STRETCH
+
+
+def test_the_executive_changes_strategy_in_a_stall():
+    asked: list[str] = []
+
+    def nothing(state, agents, reason=""):  # a plan that never moves anything
+        asked.append(reason)
+        return PlanOutcome("solved", [], 0.0)
+
+    state = _lane(horizon=2 * STALL_PATIENCE + 5)
+    ex = Executive(nothing)
+    run_episode(state, [(ex, [0])])
+    info = ex.info()
+    assert "stall_all" in asked  # every cook modelled, one order at a time
+    assert info["stall_strategies"].get("every_cook", 0) >= 1
+    (first, last), = info["stall_stretches"]
+    assert first == 0 and last >= 2 * STALL_PATIENCE
+
+
+def test_result_rows_record_stalls_for_any_agent(tmp_path):
+    from ocplus_plan.eval.results import read_results
+    from ocplus_plan.eval.runner import EvalConfig, run_eval
+
+    run_eval(EvalConfig(presets=["easy"], agents=["stay", "greedy"], seeds=[0], out=tmp_path,
+                        horizon=40, n_agents=1, jobs=1, quiet=True), echo=lambda *a: None)
+    rows = {r["agent"]: r for r in read_results(tmp_path)}
+    assert rows["stay"]["stall_stretches"] == [[0, 40]]
+    assert rows["greedy"]["stall_stretches"] == []
