@@ -23,7 +23,8 @@ and no progress are a stall (recorded as ``(first, last)`` step).
 
 from __future__ import annotations
 
-from ..sim.codes import READY_STATE, Cell, Item, ItemState, Where
+from ..sim.codes import Cell, Item, ItemState, Where
+from ..sim.processes import READY_STATE
 from ..sim.queries import distances, interaction_spots, walkable_in_any_layout
 from ..sim.state import State
 
