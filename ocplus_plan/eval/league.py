@@ -55,6 +55,8 @@ class LeagueSpec:
     memory_limit: float | None = None
     instances: tuple[str, ...] | None = None
     jobs: int = 1
+    #: the wall-clock safety per run (None: the default, 10 x the CPU limit + 60 s)
+    wall_limit: float | None = None
 
 
 @dataclass(frozen=True)
@@ -189,7 +191,7 @@ def run_cell(spec: LeagueSpec, cell: Cell) -> dict[str, Any]:
     instance = load_instance(spec.suite / cell.instance)
     compiled = instance.compiled(cell.encoding)
     result = solve(compiled.problem, cell.planner, timeout=spec.cpu_limit,
-                   memory_limit=spec.memory_limit)
+                   memory_limit=spec.memory_limit, wall_limit=spec.wall_limit)
     value = result.makespan if cell.encoding == "temporal" else result.cost
     row: dict[str, Any] = {
         "planner": cell.planner, "instance": cell.instance, "encoding": cell.encoding,
