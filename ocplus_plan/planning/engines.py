@@ -25,6 +25,7 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import os
+import re
 import resource
 import shutil
 import tempfile
@@ -448,6 +449,11 @@ def _from_report(result: PlanResult, report: dict[str, Any], problem: Any, valid
         return result
     if result.status == "error" and _command.out_of_memory(report["log"]):
         result.status = "memout"
+    compiled_in = re.search(r"recompiled with a higher value for the parameter (\w+)", report["log"])
+    if result.status == "error" and compiled_in:  # LPG-td's fixed array sizes
+        result.status, result.reason = "unsupported", (
+            f"too big for LPG-td: its compiled-in limit {compiled_in.group(1)} is exceeded "
+            "(fixed in the binary up-lpg ships; no runtime option raises it)")
     if result.status != "solved":
         if not result.reason:
             result.reason = f"engine reported {report['up_status']}" + _tail_hint(report["log"])
