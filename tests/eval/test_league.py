@@ -160,3 +160,22 @@ def test_bad_input_is_refused_in_one_line(suite, tmp_path, capsys):
     assert "no instance p09" in capsys.readouterr().err
     assert main(["league", str(tmp_path), "--planners", "fast-downward", "--cpu-limit", "1",
                  "--out", str(tmp_path / "o")]) == 2
+
+
+def test_the_judge_refuses_a_plan_with_the_step_it_cannot_realise(suite):
+    instance = load_instance(suite / "p02")
+    compiled = instance.compiled("classical")
+    lines = [line for line in (suite / "p02/classical.plan").read_text().splitlines()
+             if line.strip() and not line.startswith(";")]
+    first_move = next(i for i, line in enumerate(lines) if "(move " in line)
+    # without its first move, the step after it acts from a cell the model's cook is not on
+    plan = read_plan_text(lines[:first_move] + lines[first_move + 1:], compiled.problem)
+    verdict = fidelity_judge.judge(compiled, plan, instance.state)
+    assert not verdict.faithful and verdict.failed_step == first_move
+    assert verdict.reason == "not applicable in the model"
+
+
+def read_plan_text(lines, problem):
+    from ocplus_plan.planning.plan_io import parse_plan
+
+    return parse_plan("\n".join(lines) + "\n", problem)
