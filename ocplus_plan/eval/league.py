@@ -109,10 +109,31 @@ def _manifest(suite: Path, name: str) -> dict[str, Any]:
     return data
 
 
-def track_of(manifest: dict[str, Any], encoding: str) -> str:
-    """The track an instance's encoding is scored in: the manifest's ``track`` (per
-    encoding or for the instance) when it names one, else temporal, classical-1cook or
-    classical-multicook."""
+def suite_tracks(suite: Path) -> dict[tuple[str, str], str]:
+    """(instance, encoding) -> track label, from the set manifest's ``tracks`` (label ->
+    instance names; a label starts with its encoding: ``classical``,
+    ``temporal-unsolvable`` ...); empty when the set names none."""
+    try:
+        tracks = json.loads((suite / "manifest.json").read_text("utf-8")).get("tracks")
+    except (OSError, ValueError):
+        return {}
+    out: dict[tuple[str, str], str] = {}
+    if not isinstance(tracks, dict):
+        return out
+    for label, names in tracks.items():
+        encoding = str(label).split("-", 1)[0]
+        if isinstance(names, list):
+            out.update({(str(n), encoding): str(label) for n in names})
+    return out
+
+
+def track_of(manifest: dict[str, Any], encoding: str, label: str | None = None) -> str:
+    """The track an instance's encoding is scored in: the set's label (``label``) or the
+    instance manifest's ``track``, where given; a label that is the bare encoding
+    ``classical`` (or none) is split by cooks: classical-1cook, classical-multicook; a
+    temporal instance is in temporal."""
+    if label and label != "classical":
+        return label
     entry = manifest["encodings"].get(encoding) or {}
     for where in (entry, manifest):
         track = where.get("track") if isinstance(where, dict) else None
@@ -189,13 +210,14 @@ def run_cell(spec: LeagueSpec, cell: Cell) -> dict[str, Any]:
     from .suite import load_instance
 
     instance = load_instance(spec.suite / cell.instance)
+    label = suite_tracks(spec.suite).get((cell.instance, cell.encoding))
     compiled = instance.compiled(cell.encoding)
     result = solve(compiled.problem, cell.planner, timeout=spec.cpu_limit,
                    memory_limit=spec.memory_limit, wall_limit=spec.wall_limit)
     value = result.makespan if cell.encoding == "temporal" else result.cost
     row: dict[str, Any] = {
         "planner": cell.planner, "instance": cell.instance, "encoding": cell.encoding,
-        "track": track_of(instance.manifest, cell.encoding), "status": row_status(result),
+        "track": track_of(instance.manifest, cell.encoding, label), "status": row_status(result),
         "reason": result.reason[:600], "cpu_time": result.cpu_time,
         "wall_time": round(result.planning_time, 3), "cpu_limit": spec.cpu_limit,
         "memory_limit": spec.memory_limit, "value": value, "plan_length": result.plan_length,
@@ -332,6 +354,8 @@ def _add(s: dict[str, Any], row: dict[str, Any], best: dict[tuple[str, str], flo
     s["statuses"][row["status"]] = s["statuses"].get(row["status"], 0) + 1
     s["valid"] += row.get("valid") is True
     s["faithful"] += row.get("faithful") is True
+    if row["status"] == "unsolvable" and "unsolvable" in row["track"]:
+        s["coverage"] += 1  # the unsolvability track: a proof is what counts
     if row["status"] != "solved":
         return
     s["coverage"] += 1
@@ -391,5 +415,5 @@ def plot_coverage(rows: list[dict[str, Any]], out: Path) -> Path:
 
 __all__ = ["PLOT_FILE", "ROW_STATUSES", "RUNS_FILE", "SCORES_FILE", "Cell", "LeagueSpec",
            "agile", "best_known", "best_values", "league_cells", "plot_coverage", "read_rows",
-           "row_status", "run_cell", "run_league", "scores", "suite_instances", "table_text",
+           "row_status", "run_cell", "suite_tracks", "run_league", "scores", "suite_instances", "table_text",
            "track_of", "write_scores"]
