@@ -287,7 +287,7 @@ def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False,
                             "per planner call" + (" (None: the planner's configured limit)"
                                                   if limits is None else ""))
         p.add_argument("--wall-limit", type=_types.seconds, default=None,
-                       help="wall-clock safety per planner call, in seconds (None: 10 x "
+                       help="wall-clock safety per planner call, in seconds (None: 30 x "
                             "--timeout + 60)")
     if many:
         p.add_argument("--encoding", "--encodings", dest="encoding", default=",".join(ENCODINGS),

@@ -4,7 +4,7 @@ Every planner of --planners (registry names, planner YAML paths, ``command:`` bi
 run on every instance of SUITE (a folder written by ``ocplus export-suite``, e.g.
 suites/v1) in each encoding it takes, one run per process session, under --cpu-limit CPU
 seconds (the planner's whole process group, as the IPC counts them), an optional
---memory-limit (MiB of address space) and a wall-clock safety of 10 x the CPU limit +
+--memory-limit (MiB of address space) and a wall-clock safety of 30 x the CPU limit +
 60 s. Every plan is validated (unified-planning and VAL) and judged in the kitchen
 (collision-free routing, waits allowed): a plan the kitchen cannot carry out to its goal
 is ``unfaithful`` and scores 0, like an invalid one.
@@ -24,7 +24,15 @@ import argparse
 from pathlib import Path
 
 from . import _types
-from ._common import HelpFormatter, add_output_args, add_plots_arg, emit, note, say
+from ._common import (
+    HelpFormatter,
+    add_jobs_arg,
+    add_output_args,
+    add_plots_arg,
+    emit,
+    note,
+    say,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -42,8 +50,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="MiB of address space per run (None: no limit)")
     p.add_argument("--instances", type=_types.name, default=None,
                    help="comma-separated instance names, e.g. p01,p02 (None: all)")
-    p.add_argument("--jobs", type=_types.whole("--jobs", 1, 64), default=1,
-                   help="runs at once (each in its own process session)")
+    add_jobs_arg(p)  # here: planner runs at once, each in its own process session
     p.add_argument("--resume", action="store_true",
                    help="continue the league in --out: keep its rows, run the others")
     g = p.add_argument_group("figures")
@@ -65,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
     instances = (tuple(parse_list(args.instances, "instances"))
                  if args.instances else None)
     spec = league.LeagueSpec(suite, planners, args.cpu_limit, args.memory_limit, instances,
-                             args.jobs)
+                             args.jobs or 1)
     league.league_cells(spec)  # bad planners or instances: refused before any run
 
     def progress(row: dict, done: int, total: int) -> None:

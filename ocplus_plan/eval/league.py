@@ -55,7 +55,7 @@ class LeagueSpec:
     memory_limit: float | None = None
     instances: tuple[str, ...] | None = None
     jobs: int = 1
-    #: the wall-clock safety per run (None: the default, 10 x the CPU limit + 60 s)
+    #: the wall-clock safety per run (None: the default, 30 x the CPU limit + 60 s)
     wall_limit: float | None = None
 
 

@@ -61,9 +61,10 @@ GRACE_SECONDS = 2.0
 #: The default wall-clock safety limit of a call with CPU limit ``c``:
 #: ``WALL_FACTOR * c + WALL_SLACK`` seconds. A planner beside six busy processes on two
 #: cores gets about a quarter of a core, at a load average of 25 about a tenth (measured:
-#: 0.9 CPU s of Fast Downward took 10 s); the safety only stops a planner that waits without computing, never
-#: one that is merely slowed down.
-WALL_FACTOR = 10.0
+#: 0.9 CPU s of Fast Downward took 10 s), and under ``nice`` less: TAMER was killed by a
+#: 10 x + 60 s safety after 5 of its 10 CPU s at a load of 25. The safety only stops a
+#: planner that waits without computing, never one that is merely slowed down.
+WALL_FACTOR = 30.0
 WALL_SLACK = 60.0
 
 
