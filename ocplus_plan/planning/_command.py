@@ -101,7 +101,8 @@ def render(command: tuple[str, ...], values: dict[str, str]) -> list[str]:
 
 #: what planners print when they run out of memory (Python, C++, Java, Fast Downward, libc)
 _MEMORY_WORDS = ("MemoryError", "std::bad_alloc", "OutOfMemoryError", "out of memory",
-                 "Cannot allocate memory", "memory limit")
+                 "Cannot allocate memory", "memory limit", "insufficient memory",
+                 "Not enough space")
 
 
 def out_of_memory(text: str) -> bool:
