@@ -59,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
                              instances, 1)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    before = _uptime()
+    before, commit = _uptime(), _commit()
     spinners = [multiprocessing.get_context("fork").Process(target=_spin, daemon=True)
                 for _ in range(args.busy)]
     for proc in spinners:
@@ -75,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
     score = league.write_scores(rows, out)
     conditions = {
-        "command": " ".join([Path(sys.executable).name, *sys.argv]), "commit": _commit(),
+        "command": " ".join([Path(sys.executable).name, *sys.argv]), "commit": commit,
         "machine": f"{platform.machine()}, {os.cpu_count()} shared cores",
         "load_before": before, "load_after": _uptime(), "busy": args.busy,
         "cpu_limit": args.cpu_limit, "memory_limit": args.memory_limit,
