@@ -27,10 +27,9 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import threading
+import multiprocessing
 from collections.abc import Callable, Iterable
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -283,25 +282,26 @@ def run_league(spec: LeagueSpec, out: Path,
             skipped.append(f"{name}: {found.reason}")
     cells = [c for c in league_cells(spec) if c.planner in ok]
     todo = [c for c in cells if c.key not in done]
-    lock = threading.Lock()
-    count = [0]
+    count = 0
 
-    def one(cell: Cell) -> None:
-        row = run_cell(spec, cell)
-        with lock:
-            with runs.open("a", encoding="utf-8") as fh:
-                fh.write(json.dumps(row, sort_keys=True) + "\n")
-            done[cell.key] = row
-            count[0] += 1
-            if progress:
-                progress(row, count[0], len(todo))
+    def keep(cell: Cell, row: dict[str, Any]) -> None:
+        nonlocal count
+        with runs.open("a", encoding="utf-8") as fh:
+            fh.write(json.dumps(row, sort_keys=True) + "\n")
+        done[cell.key] = row
+        count += 1
+        if progress:
+            progress(row, count, len(todo))
 
     if spec.jobs <= 1:
         for cell in todo:
-            one(cell)
-    else:
-        with ThreadPoolExecutor(max_workers=spec.jobs) as pool:
-            list(pool.map(one, todo))
+            keep(cell, run_cell(spec, cell))
+    else:  # worker processes: unified-planning's environment is not thread-safe
+        context = multiprocessing.get_context("fork")
+        with ProcessPoolExecutor(max_workers=spec.jobs, mp_context=context) as pool:
+            futures = {pool.submit(run_cell, spec, cell): cell for cell in todo}
+            for future in as_completed(futures):
+                keep(futures[future], future.result())
     return [done[c.key] for c in cells if c.key in done], skipped
 
 
@@ -406,6 +406,7 @@ def plot_coverage(rows: list[dict[str, Any]], out: Path) -> Path:
         ys = [0, *range(1, len(times) + 1), len(times)]
         ax.step(xs, ys, where="post", label=planner)
     ax.set_xscale("log")
+    ax.yaxis.get_major_locator().set_params(integer=True)
     ax.set_xlabel("CPU seconds")
     ax.set_ylabel("instances solved (valid and faithful)")
     ax.set_title("coverage against CPU time")

@@ -104,7 +104,8 @@ def test_fast_downward_in_the_league_and_resume(suite, tmp_path, capsys):
     out = tmp_path / "out"
     args = ["league", str(suite), "--planners", "fast-downward", "--cpu-limit", "20",
             "--out", str(out), "--quiet"]
-    assert main(args) == 0
+    assert main([*args, "--jobs", "2", "--plots"]) == 0  # two worker processes
+    assert (out / league.PLOT_FILE).is_file()
     table = capsys.readouterr().out
     assert "fast-downward" in table and "classical-multicook" in table
     rows = league.read_rows(out / league.RUNS_FILE)
