@@ -77,7 +77,7 @@ def run(args: argparse.Namespace) -> int:
     conditions = {
         "command": " ".join([Path(sys.executable).name, *sys.argv]), "commit": commit,
         "machine": f"{platform.machine()}, {os.cpu_count()} shared cores",
-        "load_before": before, "load_after": _uptime(), "busy": args.busy,
+        "load_before": before, "pythonhashseed": os.environ.get("PYTHONHASHSEED"), "load_after": _uptime(), "busy": args.busy,
         "cpu_limit": args.cpu_limit, "memory_limit": args.memory_limit,
         "planners": list(planners), "skipped": skipped,
         "cells": [[r["planner"], r["instance"], r["encoding"]] for r in rows],
@@ -128,6 +128,11 @@ def compare(a: Path, b: Path) -> dict:
 
 
 def main(argv: list[str] | None = None) -> int:
+    if os.environ.get("PYTHONHASHSEED") != "0" and argv is None:
+        # in-process Python engines (pyperplan) break ties in the order of sets of strings,
+        # which Python's hash randomisation changes from process to process: fix it
+        os.execve(sys.executable, [sys.executable, *sys.argv],
+                  {**os.environ, "PYTHONHASHSEED": "0"})
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--suite", default="suites/v1")
     p.add_argument("--planners", default=None, help="comma-separated (default: every "
