@@ -61,10 +61,47 @@ def grade_one(folder: Path, encoding: str, planner: str, cpu: float) -> dict[str
             "valid": result.validated, "faithful": faithful, "reason": result.reason[:160]}
 
 
+def _grades(results: Path) -> dict[tuple[str, str], list[str]]:
+    """(track, instance) -> "planner status@limit" of every graded row."""
+    out: dict[tuple[str, str], list[str]] = {}
+    for path in sorted(results.glob("grade_*.jsonl")):
+        for line in path.read_text(encoding="utf-8").splitlines():
+            r = json.loads(line)
+            cpu = r["cpu_time"] or 0.0
+            out.setdefault((r["track"], r["instance"]), []).append(
+                f"{r['planner']} {r['status']} ({cpu:.0f}/{r['cpu_limit']:.0f} s)")
+    return out
+
+
+def table(suite: Path, results: Path) -> str:
+    """The docs' table of every track: levers, status, best known, bound, grading rows."""
+    manifest = json.loads((suite / "manifest.json").read_text(encoding="utf-8"))
+    grades = _grades(results)
+    lines = []
+    for track, info in manifest["tracks"].items():
+        enc = info["encoding"]
+        key = "cost" if enc == "classical" else "makespan"
+        lines += [f"\n**{track}** ({len(info['scored'])} scored, unsolvable "
+                  f"{info['unsolvable'] or 'none'}, dropped {info['dropped'] or 'none'})\n",
+                  "| inst | preset, kitchen | cooks | orders | status | best known (by) | "
+                  "optimal | faithful | bound | graded |", "|---|---|---|---|---|---|---|---|---|---|"]
+        for name in info["scored"] + info["unsolvable"] + info["dropped"]:
+            m = json.loads((suite / info["folder"] / name / "manifest.json").read_text())
+            e = m["encodings"][enc]
+            ref = e["reference"]
+            best = f"{ref.get(key)} ({ref.get('planner')})" if ref.get("planner") else "-"
+            lines.append(f"| {name} | {m['preset']}, {m['layout']} | {m['n_agents']} | "
+                         f"{len(m['goal_orders'])} | {e['status']} | {best} | "
+                         f"{ref.get('optimal', '-')} | {ref.get('faithful', '-')} | "
+                         f"{m['bound'][key]} | {'; '.join(grades.get((track, name), []))} |")
+    return "\n".join(lines) + "\n"
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--suite", default="suites/v1")
-    ap.add_argument("--fifth", choices=("first", "last"), required=True)
+    ap.add_argument("--fifth", choices=("first", "last"))
+    ap.add_argument("--table", action="store_true", help="print the docs' table and stop")
     ap.add_argument("--planners", default=None, help="comma-separated (default: all working "
                     "planners for the first fifth, the strongest for the last)")
     ap.add_argument("--tracks", default=None)
@@ -73,6 +110,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--memory-limit", type=int, default=None, help="MiB")
     ap.add_argument("--out", default="experiments/results/suite_v1")
     args = ap.parse_args(argv)
+    if args.table or not args.fifth:
+        print(table(Path(args.suite), Path(args.out)))
+        return 0
     if args.memory_limit:
         cap = args.memory_limit * 1024 * 1024
         resource.setrlimit(resource.RLIMIT_AS, (cap, cap))

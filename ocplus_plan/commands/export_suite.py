@@ -7,6 +7,13 @@ reference plan (from a portfolio: lama-first, then BJOLP and weighted A*, each w
 ``--timeout`` CPU seconds, then any other registered planner when none solves it; the
 best validated plan that the simulator replays faithfully),
 the lower bound on plan quality and a manifest saying how the state was reached.
+``--orders K`` above the preset's queue raises the queue (rule ``n_orders``): the state
+holds K open orders drawn from the preset's recipes by the episode's seeded generator.
+``--rules`` overrides rules (``dynamic=false`` puts hard's stations on a ``gen:``
+kitchen). An instance no reference planner solves gets a goal-agenda witness (one order
+at a time, ``--witness-timeout`` CPU s each; the concatenation validated) and is scored
+``open``; one a complete search proves unsolvable goes to the ``-unsolvable`` track, one
+with neither is dropped (the manifest's ``tracks`` say which).
 Layout and formats: OUT/README.txt and ``ocplus_plan/eval/suite.py``. Same arguments,
 same bytes (planning times are printed, never written into the set). Check a plan
 against an instance with ``ocplus check-plan OUT/p01``.

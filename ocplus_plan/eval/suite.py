@@ -2,10 +2,12 @@
 
 :func:`export_suite` samples reachable kitchen states (random rollouts of
 :func:`~ocplus_plan.planning.fidelity.sample_state`) for every preset, map and number
-of cooks asked for, compiles each in every encoding asked for, solves it with the
-reference planners, and writes::
+of cooks asked for (or for each :class:`Cell` of an explicit list: preset, map, cooks,
+goal orders, sample, rule overrides), compiles each in every encoding asked for, solves
+it with the reference planners, and writes::
 
-    OUT/manifest.json              the arguments, the encodings, the instance names
+    OUT/manifest.json              the arguments, the encodings, the instance names, the
+                                   tracks (see below)
     OUT/README.txt                 this layout and the formats, for whoever gets the set
     OUT/<encoding>/domain.pddl     one domain per encoding (the checked-in domains/ one)
     OUT/<encoding>/domain.txt      the same domain in English
@@ -38,6 +40,13 @@ best unfaithful one when none is faithful). Its manifest entry names the ``plann
 ``engine``, says whether it is ``faithful`` (with the first ``divergence`` when not) and
 ``optimal`` (an optimal planner found a plan of the same value), and lists each planner
 of the ``portfolio`` with its status, value, faithfulness and optimality.
+
+Tracks (:mod:`.suite_witness`): an encoding of an instance is ``solved`` (a reference
+planner's plan), ``open`` (none solved it; a goal-agenda witness plan, validated, proves it
+solvable and is its reference), ``unsolvable`` (a complete search proved it) or
+``unknown`` (none of these). The set's manifest lists the scored instances under the
+encoding's name, the others under ``<encoding>-unsolvable`` and ``<encoding>-unknown``
+(dropped: in no scored track).
 """
 
 from __future__ import annotations

@@ -63,6 +63,8 @@ def agenda_witness(state: State, encoding: str, granularity: str, timeout: float
         if not result.solved:
             return None, {**info, "failed": f"order {number + 1}: {planner} {result.status}"}
         after = advance(part, result.plan, current)
+        if after is None and not temporal:  # cooks in each other's way: plan in the model
+            return pddl_agenda(whole, planner, timeout, wall_limit, info)
         if after is None:
             return None, {**info, "failed": f"order {number + 1}: the simulator refused "
                                             "the segment"}
@@ -78,6 +80,50 @@ def agenda_witness(state: State, encoding: str, granularity: str, timeout: float
         current = after
     plan = plan_from_steps(whole.problem, steps, temporal)
     check = validate_plan(whole.problem, plan)
+    if check.ok is not True:
+        return None, {**info, "failed": f"the concatenation is not valid: {check.detail[:200]}"}
+    return plan, {**info, "validated": check.detail, "cpu_time": round(cpu, 1)}
+
+
+def pddl_agenda(whole: Any, planner: str, timeout: float, wall_limit: float | None,
+                info: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
+    """The classical goal agenda in the model alone: segment ``i`` is planned from the
+    model state the first ``i - 1`` segments reach (UP's sequential simulator) for the
+    first ``i`` goals; used when the simulator refuses a segment (cooks in each other's
+    way), so the witness proves the instance solvable and its replay says if it is
+    faithful."""
+    from unified_planning.shortcuts import SequentialSimulator
+
+    from ..planning.engines import solve
+    from ..planning.validate import plan_from_steps, plan_to_steps, validate_plan
+
+    problem = whole.problem
+    goals = list(problem.goals)
+    info = {**info, "method": "goal agenda in the model: the first i goal orders from the "
+                              "state the previous segments reach, i = 1, 2, ..."}
+    steps: list[dict[str, Any]] = []
+    cpu = 0.0
+    with SequentialSimulator(problem, name="sequential_simulator") as sim:
+        state = sim.get_initial_state()
+        for i in range(len(goals)):
+            part = problem.clone()
+            part.clear_goals()
+            for goal in goals[: i + 1]:
+                part.add_goal(goal)
+            for fluent in problem.initial_values:
+                part.set_initial_value(fluent, state.get_value(fluent))
+            result = solve(part, planner, timeout=timeout, wall_limit=wall_limit)
+            cpu += result.cpu_time or 0.0
+            if not result.solved:
+                return None, {**info, "failed": f"goal {i + 1}: {planner} {result.status}"}
+            segment = plan_to_steps(result.plan)
+            for ai in plan_from_steps(problem, segment, False).actions:
+                state = sim.apply(state, ai)
+                if state is None:
+                    return None, {**info, "failed": f"goal {i + 1}: a step does not apply"}
+            steps.extend(segment)
+    plan = plan_from_steps(problem, steps, False)
+    check = validate_plan(problem, plan)
     if check.ok is not True:
         return None, {**info, "failed": f"the concatenation is not valid: {check.detail[:200]}"}
     return plan, {**info, "validated": check.detail, "cpu_time": round(cpu, 1)}
@@ -108,5 +154,5 @@ def track_status(reference: dict[str, Any], witness: dict[str, Any] | None) -> s
     return "unknown"
 
 
-__all__ = ["GAP", "PROVERS", "STATUS_SCORED", "WITNESS_PLANNER", "agenda_witness",
+__all__ = ["GAP", "PROVERS", "STATUS_SCORED", "WITNESS_PLANNER", "agenda_witness", "pddl_agenda",
            "track_status"]

@@ -109,3 +109,16 @@ def test_an_unsolved_instance_is_scored_open_with_a_validated_goal_agenda_witnes
     assert "Plan valid" in ref["witness"]["validated"] and ref["faithful"] is True
     assert ref["tried"] == {"fast-downward-bjolp": "timeout"}
     assert (tmp_path / "w" / "p01" / "classical.plan").is_file()
+
+
+def test_the_model_agenda_proves_a_multi_cook_instance_solvable():
+    """Where cooks would walk into each other in the simulator, the classical agenda
+    plans in the model alone; the concatenation is still one validated plan."""
+    _need("fast-downward")
+    from ocplus_plan.eval.suite_witness import pddl_agenda
+    from ocplus_plan.planning import compile
+
+    rules, _ = cell_rules(Cell("easy", None, 2, 3, 1), 1000)
+    whole = compile(sample_state(rules, 0, 1), encoding="classical")
+    plan, info = pddl_agenda(whole, "fast-downward", 20, None, {})
+    assert "Plan valid" in info["validated"] and len(plan.actions) > 0
