@@ -52,14 +52,13 @@ def agenda_witness(state: State, encoding: str, granularity: str, timeout: float
     info: dict[str, Any] = {"method": "goal agenda: one goal order at a time, oldest first",
                             "planner": planner, "cpu_limit_per_order": timeout}
     chain = _next_same_recipe(state, whole.goal_orders)
-    current, steps, offset, cpu = state, [], 0.0, 0.0
+    current, steps, offset = state, [], 0.0
     for number, order_id in enumerate(whole.goal_orders):
         order = next((o for o in current.orders if o.order_id == order_id), None)
         if order is None:
             return None, {**info, "failed": f"order {order_id} is no longer open"}
         part = compile(current, orders=[order], encoding=encoding, granularity=granularity)
         result = solve(part.problem, planner, timeout=timeout, wall_limit=wall_limit)
-        cpu += result.cpu_time or 0.0
         if not result.solved:
             return None, {**info, "failed": f"order {number + 1}: {planner} {result.status}"}
         after = advance(part, result.plan, current)
@@ -82,7 +81,7 @@ def agenda_witness(state: State, encoding: str, granularity: str, timeout: float
     check = validate_plan(whole.problem, plan)
     if check.ok is not True:
         return None, {**info, "failed": f"the concatenation is not valid: {check.detail[:200]}"}
-    return plan, {**info, "validated": check.detail, "cpu_time": round(cpu, 1)}
+    return plan, {**info, "validated": check.detail}
 
 
 def pddl_agenda(whole: Any, planner: str, timeout: float, wall_limit: float | None,
@@ -102,7 +101,6 @@ def pddl_agenda(whole: Any, planner: str, timeout: float, wall_limit: float | No
     info = {**info, "method": "goal agenda in the model: the first i goal orders from the "
                               "state the previous segments reach, i = 1, 2, ..."}
     steps: list[dict[str, Any]] = []
-    cpu = 0.0
     with SequentialSimulator(problem, name="sequential_simulator") as sim:
         state = sim.get_initial_state()
         for i in range(len(goals)):
@@ -113,7 +111,6 @@ def pddl_agenda(whole: Any, planner: str, timeout: float, wall_limit: float | No
             for fluent in problem.initial_values:
                 part.set_initial_value(fluent, state.get_value(fluent))
             result = solve(part, planner, timeout=timeout, wall_limit=wall_limit)
-            cpu += result.cpu_time or 0.0
             if not result.solved:
                 return None, {**info, "failed": f"goal {i + 1}: {planner} {result.status}"}
             segment = plan_to_steps(result.plan)
@@ -126,7 +123,7 @@ def pddl_agenda(whole: Any, planner: str, timeout: float, wall_limit: float | No
     check = validate_plan(problem, plan)
     if check.ok is not True:
         return None, {**info, "failed": f"the concatenation is not valid: {check.detail[:200]}"}
-    return plan, {**info, "validated": check.detail, "cpu_time": round(cpu, 1)}
+    return plan, {**info, "validated": check.detail}
 
 
 def _next_same_recipe(state: State, goal_orders: tuple[int, ...]) -> dict[int, str]:
