@@ -73,20 +73,42 @@ class Cell:
 
 # ---------------------------------------------------------------- the set
 
-def suite_instances(suite: Path, names: Iterable[str] | None = None) -> list[str]:
-    """The instance folders of a set (its manifest's list, else every ``pNN/``), or the
-    ``names`` asked for (an unknown one raises ConfigError naming those there are)."""
-    if not (suite / "manifest.json").is_file():
-        raise ConfigError(f"{suite} is not an instance set (no manifest.json); give a folder "
-                          "written by `ocplus export-suite`, e.g. suites/v1")
+def _release_tracks(manifest: dict[str, Any]) -> dict[str, dict[str, Any]]:
+    """A release's tracks (``suites/v1/manifest.json``: name -> its folder, a set, and the
+    instances ``scored`` and proven ``unsolvable``); empty for a plain set."""
+    tracks = manifest.get("tracks")
+    if not isinstance(tracks, dict):
+        return {}
+    return {str(k): v for k, v in tracks.items()
+            if isinstance(v, dict) and isinstance(v.get("folder"), str)
+            and "/" not in v["folder"] and ".." not in v["folder"]}
+
+
+def _listed(suite: Path) -> list[str]:
     try:
-        listed = json.loads((suite / "manifest.json").read_text("utf-8")).get("instances")
+        manifest = json.loads((suite / "manifest.json").read_text("utf-8"))
     except (OSError, ValueError) as exc:
         raise ConfigError(f"{suite}/manifest.json cannot be read ({exc}); export the set "
                           "again") from None
+    release = _release_tracks(manifest)
+    if release:  # a release of several sets: instances are TRACK_FOLDER/pNN
+        return [f"{t['folder']}/{n}" for t in release.values()
+                for key in ("scored", "unsolvable") for n in t.get(key) or []
+                if isinstance(n, str) and "/" not in n]
+    listed = manifest.get("instances")
     if not isinstance(listed, list) or not all(isinstance(x, str) for x in listed):
         listed = sorted(p.name for p in suite.iterdir() if (p / "manifest.json").is_file())
-    have = [n for n in listed if "/" not in n and (suite / n / "manifest.json").is_file()]
+    return [n for n in listed if "/" not in n]
+
+
+def suite_instances(suite: Path, names: Iterable[str] | None = None) -> list[str]:
+    """The instance folders of a set (its manifest's list, else every ``pNN/``) or of a
+    release of sets (``TRACK/pNN``), or the ``names`` asked for (an unknown one raises
+    ConfigError naming those there are)."""
+    if not (suite / "manifest.json").is_file():
+        raise ConfigError(f"{suite} is not an instance set (no manifest.json); give a folder "
+                          "written by `ocplus export-suite`, e.g. suites/v1")
+    have = [n for n in _listed(suite) if (suite / n / "manifest.json").is_file()]
     if names is None:
         return have
     wanted = list(names)
@@ -113,11 +135,17 @@ def suite_tracks(suite: Path) -> dict[tuple[str, str], str]:
     instance names; a label starts with its encoding: ``classical``,
     ``temporal-unsolvable`` ...); empty when the set names none."""
     try:
-        tracks = json.loads((suite / "manifest.json").read_text("utf-8")).get("tracks")
+        manifest = json.loads((suite / "manifest.json").read_text("utf-8"))
     except (OSError, ValueError):
         return {}
     out: dict[tuple[str, str], str] = {}
-    if not isinstance(tracks, dict):
+    for name, track in _release_tracks(manifest).items():
+        encoding = str(track.get("encoding") or name.split("-", 1)[0])
+        for key, label in (("scored", name), ("unsolvable", f"{name}-unsolvable")):
+            out.update({(f"{track['folder']}/{n}", encoding): label
+                        for n in track.get(key) or [] if isinstance(n, str)})
+    tracks = manifest.get("tracks")
+    if out or not isinstance(tracks, dict):
         return out
     for label, names in tracks.items():
         encoding = str(label).split("-", 1)[0]
