@@ -183,3 +183,19 @@ def read_plan_text(lines, problem):
     from ocplus_plan.planning.plan_io import parse_plan
 
     return parse_plan("\n".join(lines) + "\n", problem)
+
+
+def test_a_release_of_sets_is_read_by_its_tracks(tmp_path):
+    (tmp_path / "manifest.json").write_text(json.dumps({"tracks": {"temporal": {
+        "folder": "t", "encoding": "temporal", "scored": ["p01"], "unsolvable": ["p02"]},
+        "bad": {"folder": "../x", "scored": ["p01"]}}}))
+    for name in ("p01", "p02"):
+        (tmp_path / "t" / name).mkdir(parents=True)
+        (tmp_path / "t" / name / "manifest.json").write_text('{"encodings": {"temporal": {}}}')
+    assert league.suite_instances(tmp_path) == ["t/p01", "t/p02"]
+    assert league.suite_tracks(tmp_path) == {("t/p01", "temporal"): "temporal",
+                                             ("t/p02", "temporal"): "temporal-unsolvable"}
+    row = {"planner": "a", "instance": "t/p02", "encoding": "temporal",
+           "track": "temporal-unsolvable", "status": "unsolvable", "cpu_time": 1.0,
+           "cpu_limit": 10.0}
+    assert league.scores([row])["planners"]["a"]["temporal-unsolvable"]["coverage"] == 1
