@@ -118,8 +118,8 @@ class _Router(_World):
         geo = self.state.geo
         target = geo.flat(*step.spot)
         trouble = self.go(step.agent, target)
-        if trouble or step.kind == "move":
-            return trouble
+        if trouble or step.kind == "move" or step.place is None:
+            return trouble  # nothing to bump (a temporal action's end): being there is all
         if step.kind == "rescue":  # walked already: wait out the rest of its time, bump
             for _ in range(max(0, step.duration - self.detour - 1)):
                 self.act(step.agent, int(Action.STAY))
@@ -167,7 +167,10 @@ def _realise_steps(compiled: Compiled, world: _Router, steps: list[Any],
             doomed.update(step.items)
         before, t0 = len(world.events), world.state.t
         world.detour = 0
-        trouble = world.realise(step)
+        try:
+            trouble = world.realise(step)
+        except (TypeError, ValueError, KeyError, IndexError) as exc:  # a step it cannot map
+            trouble = f"the judge cannot realise a {step.kind} step ({type(exc).__name__})"
         out.actions, out.steps = index + 1, out.steps + world.state.t - t0
         out.waits += max(0, world.detour - (step.duration if step.kind == "move" else 0))
         events = world.events[before:]
