@@ -111,8 +111,8 @@ class _Router(_World):
 
     def realise(self, step: Any) -> str:
         """Carry out one mapped plan step; '' or why it cannot be done."""
-        if step.kind == "abandon" or step.agent is None:
-            return ""
+        if step.kind in ("abandon", "wait") or step.agent is None:
+            return ""  # the simulator has nothing to do (as in the timed replay)
         if step.spot is None:
             return self.run(step)[1]
         geo = self.state.geo
