@@ -39,6 +39,7 @@ COMMANDS: dict[str, str] = {
     "pddl": "pddl",
     "export-suite": "export_suite",
     "check-plan": "check_plan",
+    "league": "league",
     "generate": "generate",
 }
 

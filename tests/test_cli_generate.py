@@ -29,6 +29,14 @@ def test_generate_writes_one_yaml_per_kitchen_and_a_manifest(tmp_path):
     assert manifest["proved"] is False and manifest["not_proved_because"] == "--no-prove"
 
 
+def test_generate_proves_only_when_asked(tmp_path):
+    out = tmp_path / "plain"
+    assert main(["generate", "--family", "open", "--n", "1", "--out", str(out), "--quiet"]) == 0
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["proved"] is False
+    assert manifest["not_proved_because"] == "not asked for (give --prove)"
+
+
 def test_generate_twice_gives_the_same_bytes(tmp_path):
     _, a = _generate(tmp_path, "a")
     _, b = _generate(tmp_path, "b")

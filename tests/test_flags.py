@@ -98,12 +98,12 @@ def test_json_and_quiet_are_on_every_command_and_off_by_default():
 
 
 def test_commands_that_write_files_take_an_optional_out():
-    writers = {"eval", "demo", "train", "export-suite", "pddl", "generate"}
+    writers = {"eval", "demo", "train", "export-suite", "pddl", "generate", "league"}
     assert {n for n, s in SUBS.items() if "--out" in _options(s)} == writers
 
 
 def test_plots_is_one_on_off_switch_wherever_plots_are_made():
-    for name in ("eval", "demo", "report"):
+    for name in ("eval", "demo", "report", "league"):
         opts = _options(SUBS[name])
         assert opts["--plots"] is opts["--no-plots"], name
 

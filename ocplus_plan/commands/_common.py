@@ -311,7 +311,7 @@ def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False,
                             "per planner call" + (" (None: the planner's configured limit)"
                                                   if limits is None else ""))
         p.add_argument("--wall-limit", type=_types.seconds, default=None,
-                       help="wall-clock safety per planner call, in seconds (None: 10 x "
+                       help="wall-clock safety per planner call, in seconds (None: 30 x "
                             "--timeout + 60)")
     if many:
         p.add_argument("--encoding", "--encodings", dest="encoding", default=",".join(ENCODINGS),
@@ -323,7 +323,10 @@ def add_compile_args(p: argparse.ArgumentParser, *, auto_encoding: bool = False,
         p.add_argument("--encoding", choices=ENCODINGS, default=ENCODINGS[0])
     p.add_argument("--granularity", choices=GRANULARITIES, default=GRANULARITIES[0])
     p.add_argument("--orders", type=_types.whole("--orders", 1, 1000), default=None,
-                   help="serve only the first k open orders (default: all)")
+                   help="serve only the first k open orders (default: all)" if not many else
+                   "goal orders per instance: the first k open orders; k above the "
+                   "preset's queue raises the queue (rule n_orders), so the state holds k "
+                   "open orders drawn from the preset's recipes (default: the queue)")
     if switches:
         p.add_argument("--anticipate-switches", action="store_true",
                        help="temporal only: the coming layout switches as timed initial literals")

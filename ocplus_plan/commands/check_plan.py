@@ -7,16 +7,18 @@ plan defaults to its reference plan, ``--plan FILE`` checks yours), or ``--domai
 (``0.000: (move a0 s_1_1 s_1_2) [1.000]``). It is parsed (never evaluated; a bad line is
 reported with its number), validated with unified-planning's validator and VAL, and, for
 an instance, replayed in the simulator from the instance's state; the first divergence
-is printed in kitchen words.
+is printed in kitchen words. A plan that diverges is then judged as ``ocplus league``
+judges it: its steps realised with collision-free routing, waits allowed; if the kitchen
+still reaches the goal the plan is valid (``realised`` says how).
 
 Exit codes: 0 valid (and, for an instance, faithful: the simulator did what the plan
-says); 4 invalid (unreadable, or rejected by a validator); 5 unfaithful (valid, but the
-simulator diverges from it); 2 bad input: no such instance, an edited problem, or a
-plan, domain or problem path that is not a readable regular file (missing, a directory,
-a device such as /dev/zero, unreadable), a plan file over 4 MB or of more than 20,000
-actions, a domain or problem file over 1 MB, or a check that needs more than
---cpu-limit CPU seconds (60 by default). A plan with a UTF-8 byte-order mark or CRLF line
-ends reads as the same plan without them.
+says, or reaches the goal with waits); 4 invalid (unreadable, or rejected by a
+validator); 5 unfaithful (valid, but the kitchen cannot carry it out to its goal); 2 bad
+input: no such instance, an edited problem, or a plan, domain or problem path that is not
+a readable regular file (missing, a directory, a device such as /dev/zero, unreadable), a
+plan file over 4 MB or of more than 20,000 actions, a domain or problem file over 1 MB, or
+a check that needs more than --cpu-limit CPU seconds (60 by default). A plan with a UTF-8
+byte-order mark or CRLF line ends reads as the same plan without them.
 """
 
 from __future__ import annotations

@@ -7,6 +7,13 @@ reference plan (from a portfolio: lama-first, then BJOLP and weighted A*, each w
 ``--timeout`` CPU seconds, then any other registered planner when none solves it; the
 best validated plan that the simulator replays faithfully),
 the lower bound on plan quality and a manifest saying how the state was reached.
+``--orders K`` above the preset's queue raises the queue (rule ``n_orders``): the state
+holds K open orders drawn from the preset's recipes by the episode's seeded generator.
+``--rules`` overrides rules (``dynamic=false`` puts hard's stations on a ``gen:``
+kitchen). An instance no reference planner solves gets a goal-agenda witness (one order
+at a time, ``--witness-timeout`` CPU s each; the concatenation validated) and is scored
+``open``; one a complete search proves unsolvable goes to the ``-unsolvable`` track, one
+with neither is dropped (the manifest's ``tracks`` say which).
 Layout and formats: OUT/README.txt and ``ocplus_plan/eval/suite.py``. Same arguments,
 same bytes (planning times are printed, never written into the set). Check a plan
 against an instance with ``ocplus check-plan OUT/p01``.
@@ -26,6 +33,7 @@ from ._common import (
     emit,
     parse_int_list,
     say,
+    sweep_rules,
 )
 
 
@@ -33,7 +41,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("export-suite", help="write an instance set (PDDL, English, reference "
                        "plans, bounds) for outside planners and language models",
                        description=__doc__, formatter_class=HelpFormatter)
-    add_kitchen_args(p, sweep=True, grid=True, seeds=False, horizon=False, rules=False)
+    add_kitchen_args(p, sweep=True, grid=True, seeds=False, horizon=False, rules=True)
     p.add_argument("--states", type=_types.whole("--states", 1, 1000), default=1,
                    help="sampled states per preset, map and number of cooks")
     p.add_argument("--max-steps", type=_types.random_steps, default=120,
@@ -46,6 +54,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-fallback", action="store_true",
                    help="when the reference planners solve nothing, leave the instance "
                         "without a reference instead of trying every registered planner")
+    p.add_argument("--witness-timeout", type=_types.seconds, default=20.0,
+                   help="CPU seconds per goal order of the goal-agenda witness, tried when "
+                        "no reference planner solves an instance and none proves it "
+                        "unsolvable (0: no witness; the instance is then dropped)")
     add_output_args(p, out=True, writes="the instance set (a new or empty folder)")
     p.set_defaults(func=run)
 
@@ -74,7 +86,8 @@ def run(args: argparse.Namespace) -> int:
         states=args.states, encodings=tuple(parse_list(args.encoding, "encoding")),
         seed=args.seed, granularity=args.granularity, orders=args.orders,
         max_steps=args.max_steps, timeout=args.timeout, wall_limit=args.wall_limit,
-        fallback=not args.no_fallback,
+        fallback=not args.no_fallback, witness_timeout=args.witness_timeout,
+        rules=tuple(sorted(sweep_rules(args).items())),
         **({"planners": p} if (p := _planners(args.planners)) is not None else {}))
     rows = export_suite(spec, args.out, progress=lambda m: say(args, m))
     if args.json:
@@ -85,7 +98,7 @@ def run(args: argparse.Namespace) -> int:
             bound = r["bound"]["cost" if r["encoding"] == "classical" else "makespan"]
             times = ", ".join(f"{t['planner']} {t['status']} {t['cpu_time'] or 0:.1f} CPU s "
                               f"({t['planning_time']:.1f} s)" for t in r["tried"])
-            print(f"{r['instance']} {r['encoding']:9s} reference {r['planner']} value {value} "
+            print(f"{r['instance']} {r['encoding']:9s} {r['status']:10s} reference {r['planner']} value {value} "
                   f"(bound {bound}, faithful {r['faithful']}, optimal {r['optimal']}); "
                   f"tried: {times}")
     return 0

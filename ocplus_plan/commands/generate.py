@@ -3,8 +3,8 @@
 ``--family F --n N --seed S`` writes the kitchens of seeds S .. S+N-1; with ``--split
 train|test`` the kitchens of indices S .. S+N-1 of that split instead (the ones
 ``gen:F:SPLIT:INDEX`` names, with the same bytes). Sizes and cooks are drawn from each
-seed unless ``--rows``, ``--cols`` or ``--cooks`` fix them. With ``--prove`` (on by
-default when Fast Downward is installed) every kitchen must get a validated plan for one
+seed unless ``--rows``, ``--cols`` or ``--cooks`` fix them. With ``--prove`` (opt-in:
+it runs Fast Downward per kitchen, seconds to minutes each) every kitchen must get a validated plan for one
 order with all its cooks, which the simulator follows (``ocplus_plan.planning.prove``);
 a kitchen that fails is replaced by the next candidate of its seed, and ``manifest.json``
 lists what was replaced and why. The YAML files are the same bytes for the same arguments.
@@ -51,9 +51,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="cooks = spawn points (None: 3 or 4, drawn per seed)")
     proof = p.add_mutually_exclusive_group()
     proof.add_argument("--prove", dest="prove", action="store_true", default=None,
-                       help="prove each kitchen solvable (default: when Fast Downward is here)")
+                       help="prove each kitchen solvable with Fast Downward (slow; default: off)")
     proof.add_argument("--no-prove", dest="prove", action="store_false",
-                       help="write the kitchens without proving them")
+                       help="write the kitchens without proving them (the default)")
     p.add_argument("--candidates", type=_types.whole("--candidates", 1, 100), default=5,
                    help="candidates tried per kitchen before it is given up")
     p.add_argument("--timeout", type=_types.seconds, default=60.0,
@@ -66,6 +66,8 @@ def _should_prove(flag: bool | None) -> tuple[bool, str]:
     """(prove?, why not) from ``--prove`` / ``--no-prove`` / the default."""
     if flag is False:
         return False, "--no-prove"
+    if flag is None:
+        return False, "not asked for (give --prove)"
     try:
         from ..planning.prove import proof_available
         why = proof_available()

@@ -11,8 +11,12 @@ instance of an exported set (:mod:`.suite`) or for any domain and problem files:
 3. **replay** (instances only: domain and problem files alone name no simulator
    state): the fidelity harness runs it in the simulator from the instance's state and
    compares the two worlds after every action; the first divergence is reported in
-   kitchen words (:func:`~ocplus_plan.planning.language.kitchen_words`) and makes it
-   ``unfaithful``.
+   kitchen words (:func:`~ocplus_plan.planning.language.kitchen_words`);
+4. **judge**: a plan whose strict replay diverges is judged as the league judges it
+   (:func:`~ocplus_plan.planning.fidelity_judge.judge`: its steps realised with
+   collision-free routing, waits allowed); if the kitchen still reaches the goal it is
+   ``valid`` (``realised`` says how, ``divergence`` keeps the strict replay's words), else
+   ``unfaithful`` with the step the judge could not realise.
 
 Verdicts and the exit codes of ``ocplus check-plan``: ``valid`` 0, ``invalid`` 4,
 ``unfaithful`` 5 (see ``ocplus_plan/cli.py``).
@@ -111,6 +115,7 @@ class PlanCheck:
     simulator_steps: int | None = None
     served: list[int] | None = None
     divergence: str = ""
+    realised: str = ""
     error: str = ""
 
     @property
@@ -139,6 +144,7 @@ def check_instance_plan(instance_dir: str | Path, encoding: str | None = None,
                         plan_path: str | Path | None = None, use_val: bool = True) -> PlanCheck:
     """Check a plan for an exported instance (default: its reference plan of ``encoding``,
     or of its only / first encoding)."""
+    from ..planning.fidelity_judge import judge
     from ..planning.language import kitchen_words, step_words
     from ..planning.plan_io import read_plan
     from .suite import load_instance, replay_plan
@@ -181,6 +187,15 @@ def check_instance_plan(instance_dir: str | Path, encoding: str | None = None,
             mismatch = mismatch.removeprefix(f"{ai}: ")
         out.divergence = where + kitchen_words(mismatch, compiled) + (
             f" (kind: {replay.category})" if replay.category else "")
+        verdict = judge(compiled, plan, instance.state)
+        if verdict.faithful:
+            out.verdict = "valid"
+            out.realised = (f"{verdict.how}, the kitchen reaches the goal "
+                            f"({verdict.waits} extra steps of waiting and walking around)")
+        else:
+            out.realised = (f"{verdict.how}: fails at plan step {verdict.failed_step}: "
+                            if verdict.failed_step is not None else f"{verdict.how}: ") + \
+                kitchen_words(verdict.reason, compiled)
     return out
 
 

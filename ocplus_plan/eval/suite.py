@@ -2,10 +2,12 @@
 
 :func:`export_suite` samples reachable kitchen states (random rollouts of
 :func:`~ocplus_plan.planning.fidelity.sample_state`) for every preset, map and number
-of cooks asked for, compiles each in every encoding asked for, solves it with the
-reference planners, and writes::
+of cooks asked for (or for each :class:`Cell` of an explicit list: preset, map, cooks,
+goal orders, sample, rule overrides), compiles each in every encoding asked for, solves
+it with the reference planners, and writes::
 
-    OUT/manifest.json              the arguments, the encodings, the instance names
+    OUT/manifest.json              the arguments, the encodings, the instance names, the
+                                   tracks (see below)
     OUT/README.txt                 this layout and the formats, for whoever gets the set
     OUT/<encoding>/domain.pddl     one domain per encoding (the checked-in domains/ one)
     OUT/<encoding>/domain.txt      the same domain in English
@@ -38,6 +40,13 @@ best unfaithful one when none is faithful). Its manifest entry names the ``plann
 ``engine``, says whether it is ``faithful`` (with the first ``divergence`` when not) and
 ``optimal`` (an optimal planner found a plan of the same value), and lists each planner
 of the ``portfolio`` with its status, value, faithfulness and optimality.
+
+Tracks (:mod:`.suite_witness`): an encoding of an instance is ``solved`` (a reference
+planner's plan), ``open`` (none solved it; a goal-agenda witness plan, validated, proves it
+solvable and is its reference), ``unsolvable`` (a complete search proved it) or
+``unknown`` (none of these). The set's manifest lists the scored instances under the
+encoding's name, the others under ``<encoding>-unsolvable`` and ``<encoding>-unknown``
+(dropped: in no scored track).
 """
 
 from __future__ import annotations
@@ -52,6 +61,7 @@ from typing import Any
 from ..errors import ConfigError
 from ..sim.rules import make_rules
 from ..sim.state import State, state_from_dict
+from .suite_witness import STATUS_SCORED
 
 #: the reference portfolio per encoding, in the order run (and best first on ties): a
 #: satisficing search first (lama-first), then an optimal one (BJOLP) and a cost-aware
@@ -61,6 +71,41 @@ REFERENCE_PLANNERS: dict[str, tuple[str, ...]] = {
     "temporal": ("kairos",),
 }
 FORMAT = "ocplus-suite/1"
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One instance of a set: a preset's stations on a map with a number of cooks, ``orders``
+    goal orders (more than the preset's queue raises the queue: rule ``n_orders``, so the
+    state holds that many open orders, drawn from the preset's recipes by the episode's
+    seeded generator), the ``sample``-th sampled state, and rule overrides."""
+
+    preset: str
+    map: str | None = None
+    cooks: int | None = None
+    orders: int | None = None
+    sample: int = 0
+    rules: tuple[tuple[str, Any], ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"preset": self.preset, "map": self.map, "cooks": self.cooks,
+                "orders": self.orders, "sample": self.sample, "rules": dict(self.rules)}
+
+
+def cell_rules(cell: Cell, horizon: int | None = None) -> tuple[Any, dict[str, Any]]:
+    """(the rules of a cell, the overrides its manifest records to rebuild them)."""
+    overrides: dict[str, Any] = dict(cell.rules)
+    if horizon is not None:
+        overrides["horizon"] = horizon
+    if cell.cooks:
+        overrides["n_agents"] = cell.cooks
+    rules = make_rules(cell.preset, map=cell.map, **overrides)
+    if cell.orders is not None and cell.orders > rules.n_orders:
+        overrides["n_orders"] = cell.orders
+        rules = make_rules(cell.preset, map=cell.map, **overrides)
+    overrides.pop("n_agents", None)
+    overrides.pop("horizon", None)
+    return rules, overrides
 
 
 @dataclass(frozen=True)
@@ -83,6 +128,23 @@ class SuiteSpec:
     wall_limit: float | None = None
     #: try the other registered planners of an encoding when the portfolio solves nothing
     fallback: bool = True
+    #: rule overrides (``--rules``), sorted (key, value) pairs, e.g. (("dynamic", False),)
+    rules: tuple[tuple[str, Any], ...] = ()
+    #: the episode horizon of every instance (None: the preset's)
+    horizon: int | None = None
+    #: CPU seconds per goal order of the goal-agenda witness tried when no reference
+    #: planner solves an instance and none proved it unsolvable (0: no witness)
+    witness_timeout: float = 20.0
+    #: the instances, one per cell, instead of the grid presets x maps x cooks x states
+    cells: tuple[Cell, ...] | None = None
+
+    def grid(self) -> list[Cell]:
+        """The cells of the set: :attr:`cells`, else presets x maps x cooks x states."""
+        if self.cells is not None:
+            return list(self.cells)
+        return [Cell(p, m, c, self.orders, k, self.rules)
+                for p in self.presets for m in self.maps for c in self.cooks
+                for k in range(self.states)]
 
     def arguments(self) -> dict[str, Any]:
         return {"presets": list(self.presets), "maps": list(self.maps), "cooks": list(self.cooks),
@@ -90,7 +152,9 @@ class SuiteSpec:
                 "granularity": self.granularity, "orders": self.orders,
                 "max_steps": self.max_steps, "timeout": self.timeout,
                 "planners": {k: list(v) for k, v in sorted(self.planners.items())},
-                "fallback": self.fallback}
+                "fallback": self.fallback, "rules": dict(self.rules),
+                "horizon": self.horizon, "witness_timeout": self.witness_timeout,
+                **({"cells": [c.to_dict() for c in self.cells]} if self.cells else {})}
 
 
 README = """\
@@ -246,7 +310,7 @@ def rules_of(instance: dict[str, Any], root: Path) -> Any:
     if map_spec is not None and map_spec.startswith("maps/"):
         map_spec = str(root / map_spec)
     return make_rules(instance["preset"], map=map_spec, n_agents=instance["n_agents"],
-                      horizon=instance["horizon"])
+                      horizon=instance["horizon"], **instance.get("rules", {}))
 
 
 def export_suite(spec: SuiteSpec, out: str | Path,
@@ -255,12 +319,9 @@ def export_suite(spec: SuiteSpec, out: str | Path,
 
     Returns one row per instance and encoding (planning times included) for the caller
     to print; ``progress(message)`` is called as instances are done."""
-    from ..planning import compile
-    from ..planning.fidelity import SAMPLE_RECIPE, sample_state
-    from ..planning.language import describe_domain, describe_problem
+    from ..planning.language import describe_domain
     from ..planning.model import ENCODINGS
-    from ..planning.pddl import domain_text, pddl_texts
-    from ..planning.plan_io import format_plan
+    from ..planning.pddl import domain_text
 
     bad = [e for e in spec.encodings if e not in ENCODINGS]
     if bad or not spec.encodings:
@@ -268,6 +329,8 @@ def export_suite(spec: SuiteSpec, out: str | Path,
                           f"{', '.join(ENCODINGS)}")
     if spec.states < 1:
         raise ConfigError(f"--states must be at least 1, got {spec.states}")
+    cells = spec.grid()
+    rules = [cell_rules(c, spec.horizon) for c in cells]  # bad arguments fail before work
     root = Path(out)
     if root.exists() and any(root.iterdir()):
         raise ConfigError(f"--out {root} exists and is not empty; give a new folder (an "
@@ -278,66 +341,114 @@ def export_suite(spec: SuiteSpec, out: str | Path,
         _write(root / enc / "domain.txt", describe_domain(enc, spec.granularity))
     names: list[str] = []
     rows: list[dict[str, Any]] = []
-    combos = [(p, m, c) for p in spec.presets for m in spec.maps for c in spec.cooks]
-    width = max(2, len(str(len(combos) * spec.states)))
-    for preset, map_spec, cooks in combos:
-        rules = make_rules(preset, map=map_spec, **({"n_agents": cooks} if cooks else {}))
-        cooks = rules.n_agents
-        map_entry = _map_entry(map_spec, root)
-        for k in range(spec.states):
-            name = f"p{len(names) + 1:0{width}d}"
-            names.append(name)
-            state = sample_state(rules, spec.seed, k, spec.max_steps)
-            folder = root / name
-            _write(folder / "state.json", _dump(state.to_dict()))
-            instance: dict[str, Any] = {
-                "name": name, "preset": preset, "map": map_entry, "layout": rules.layout.name,
-                "n_agents": cooks, "horizon": rules.horizon, "seed": spec.seed, "sample": k,
-                "max_steps": spec.max_steps, "step": state.t,
-                "reached": f"sample {k} of seed {spec.seed}: {SAMPLE_RECIPE}",
-                "state_hash": state.state_hash(), "granularity": spec.granularity,
-                "orders": [{"id": o.order_id, "recipe": [i.name.lower() for i in o.recipe]}
-                           for o in state.orders],
-                "max_orders": spec.orders, "bound": _bound(state, spec.orders),
-                "encodings": {},
-            }
-            for enc in spec.encodings:
-                compiled = compile(state, encoding=enc, granularity=spec.granularity,
-                                   max_orders=spec.orders)
-                instance["goal_orders"] = list(compiled.goal_orders)
-                domain, problem = pddl_texts(compiled.problem)
-                entry: dict[str, Any] = {"problem": f"{enc}.pddl", "text": f"{enc}.txt",
-                                         "domain": f"../{enc}/domain.pddl"}
-                if domain != (root / enc / "domain.pddl").read_text(encoding="utf-8"):
-                    _write(folder / f"{enc}-domain.pddl", domain)
-                    entry["domain"] = f"{enc}-domain.pddl"
-                _write(folder / f"{enc}.pddl", problem)
-                _write(folder / f"{enc}.txt", describe_problem(compiled))
-                plan, info, tried = reference_plan(compiled, state, spec.planners.get(enc, ()),
-                                                   spec.timeout, spec.wall_limit,
-                                                   spec.fallback)
-                entry["reference"] = info
-                if plan is not None:
-                    entry["plan"] = f"{enc}.plan"
-                    _write(folder / f"{enc}.plan", format_plan(
-                        plan, f"reference plan of {name} ({enc}) by {info['planner']}"))
-                instance["encodings"][enc] = entry
-                rows.append({"instance": name, "encoding": enc, "preset": preset,
-                             "n_agents": cooks, "step": state.t, "bound": instance["bound"],
-                             **{k: info.get(k) for k in ("planner", "cost", "makespan",
-                                                         "faithful", "optimal")},
-                             "tried": tried})
-            _write(folder / "manifest.json", _dump(instance))
-            if progress is not None:
-                progress(f"{name}: {preset}, map {rules.layout.name}, {cooks} cook(s), "
-                         f"step {state.t}")
+    tracks: dict[str, list[str]] = {}
+    width = max(2, len(str(len(cells))))
+    for cell, (cell_rule, overrides) in zip(cells, rules):
+        name = f"p{len(names) + 1:0{width}d}"
+        names.append(name)
+        instance, cell_rows = _export_instance(spec, root, name, cell, cell_rule, overrides)
+        rows.extend(cell_rows)
+        for enc, entry in instance["encodings"].items():
+            label = enc if STATUS_SCORED[entry["status"]] else f"{enc}-{entry['status']}"
+            tracks.setdefault(label, []).append(name)
+        if progress is not None:
+            progress(f"{name}: {cell.preset}, map {cell_rule.layout.name}, "
+                     f"{cell_rule.n_agents} cook(s), {len(instance['goal_orders'])} "
+                     f"order(s), step {instance['step']}: " + ", ".join(
+                         f"{e} {v['status']}" for e, v in instance["encodings"].items()))
     _write(root / "README.txt", README)
     _write(root / "manifest.json", _dump({
         "format": FORMAT, "generated_by": "ocplus export-suite", "arguments": spec.arguments(),
         "encodings": {e: {"domain": f"{e}/domain.pddl", "text": f"{e}/domain.txt"}
                       for e in spec.encodings},
-        "instances": names}))
+        "instances": names, "tracks": dict(sorted(tracks.items()))}))
     return rows
+
+
+def _export_instance(spec: SuiteSpec, root: Path, name: str, cell: Cell, rules: Any,
+                     overrides: dict[str, Any]) -> tuple[dict[str, Any], list[dict[str, Any]]]:
+    """Write one instance folder; (its manifest, one row per encoding)."""
+    from ..planning.fidelity import SAMPLE_RECIPE, sample_state
+
+    state = sample_state(rules, spec.seed, cell.sample, spec.max_steps)
+    folder = root / name
+    _write(folder / "state.json", _dump(state.to_dict()))
+    max_orders = cell.orders
+    instance: dict[str, Any] = {
+        "name": name, "preset": cell.preset, "map": _map_entry(cell.map, root),
+        "layout": rules.layout.name, "n_agents": rules.n_agents, "horizon": rules.horizon,
+        "rules": dict(sorted(overrides.items())), "seed": spec.seed, "sample": cell.sample,
+        "max_steps": spec.max_steps, "step": state.t,
+        "reached": f"sample {cell.sample} of seed {spec.seed}: {SAMPLE_RECIPE}",
+        "state_hash": state.state_hash(), "granularity": spec.granularity,
+        "orders": [{"id": o.order_id, "recipe": [i.name.lower() for i in o.recipe]}
+                   for o in state.orders],
+        "max_orders": max_orders, "bound": _bound(state, max_orders), "encodings": {},
+    }
+    rows = []
+    for enc in spec.encodings:
+        entry, row = _export_encoding(spec, root, folder, enc, state, max_orders, instance)
+        instance["encodings"][enc] = entry
+        rows.append({"instance": name, "encoding": enc, "preset": cell.preset,
+                     "n_agents": rules.n_agents, "step": state.t, "bound": instance["bound"],
+                     **row})
+    _write(folder / "manifest.json", _dump(instance))
+    return instance, rows
+
+
+def _export_encoding(spec: SuiteSpec, root: Path, folder: Path, enc: str, state: State,
+                     max_orders: int | None, instance: dict[str, Any],
+                     ) -> tuple[dict[str, Any], dict[str, Any]]:
+    """Write one encoding of an instance: problem, English, reference plan or witness."""
+    from ..planning import compile
+    from ..planning.language import describe_problem
+    from ..planning.pddl import pddl_texts
+    from ..planning.plan_io import format_plan
+    from .suite_witness import agenda_witness, track_status
+
+    compiled = compile(state, encoding=enc, granularity=spec.granularity, max_orders=max_orders)
+    instance["goal_orders"] = list(compiled.goal_orders)
+    domain, problem = pddl_texts(compiled.problem)
+    entry: dict[str, Any] = {"problem": f"{enc}.pddl", "text": f"{enc}.txt",
+                             "domain": f"../{enc}/domain.pddl"}
+    if domain != (root / enc / "domain.pddl").read_text(encoding="utf-8"):
+        _write(folder / f"{enc}-domain.pddl", domain)
+        entry["domain"] = f"{enc}-domain.pddl"
+    _write(folder / f"{enc}.pddl", problem)
+    _write(folder / f"{enc}.txt", describe_problem(compiled))
+    plan, info, tried = reference_plan(compiled, state, spec.planners.get(enc, ()),
+                                       spec.timeout, spec.wall_limit, spec.fallback)
+    status = track_status(info, None)
+    if status == "unknown" and spec.witness_timeout > 0:
+        plan, witness = agenda_witness(state, enc, spec.granularity, spec.witness_timeout,
+                                       spec.wall_limit, max_orders)
+        info["witness"] = witness
+        if plan is not None:
+            status = "open"
+            _reference_from_witness(compiled, plan, state, info, witness)
+    entry["status"] = status
+    entry["reference"] = info
+    if plan is not None:
+        entry["plan"] = f"{enc}.plan"
+        _write(folder / f"{enc}.plan", format_plan(
+            plan, f"reference plan of {instance['name']} ({enc}) by {info['planner']}"))
+    return entry, {"status": status, "tried": tried,
+                   **{k: info.get(k) for k in ("planner", "cost", "makespan", "faithful",
+                                               "optimal")}}
+
+
+def _reference_from_witness(compiled: Any, plan: Any, state: State, info: dict[str, Any],
+                            witness: dict[str, Any]) -> None:
+    """Fill the reference entry from a validated goal-agenda witness plan."""
+    from ..planning.validate import plan_quality
+
+    replay = replay_plan(compiled, plan, state)
+    quality = plan_quality(compiled.problem, plan)
+    info.update(planner=f"goal-agenda:{witness['planner']}", engine="goal-agenda",
+                cost=quality.cost, makespan=quality.makespan,
+                plan_length=len(getattr(plan, "actions", None) or plan.timed_actions),
+                validated=witness["validated"], faithful=replay.ok,
+                divergence=replay.mismatch or None, optimal=False)
 
 
 @dataclass
@@ -433,5 +544,5 @@ def load_instance(folder: str | Path) -> Instance:
     return Instance(path, manifest, state)
 
 
-__all__ = ["FORMAT", "OPTIMAL_PLANNERS", "REFERENCE_PLANNERS", "Instance", "SuiteSpec", "export_suite",
+__all__ = ["FORMAT", "Cell", "cell_rules", "OPTIMAL_PLANNERS", "REFERENCE_PLANNERS", "Instance", "SuiteSpec", "export_suite",
            "load_instance", "reference_plan", "replay_plan", "rules_of"]

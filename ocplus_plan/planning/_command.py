@@ -99,10 +99,29 @@ def render(command: tuple[str, ...], values: dict[str, str]) -> list[str]:
     return [_FIELD.sub(lambda m: values[m.group(1)], a) for a in command]
 
 
+#: what planners print when they run out of memory (Python, C++, Java, Fast Downward, libc)
+_MEMORY_WORDS = ("MemoryError", "std::bad_alloc", "OutOfMemoryError", "out of memory",
+                 "Cannot allocate memory", "memory limit", "insufficient memory",
+                 "Not enough space")
+
+
+def out_of_memory(text: str) -> bool:
+    """Whether a planner's message or output says it ran out of memory."""
+    return any(word.lower() in text.lower() for word in _MEMORY_WORDS)
+
+
+def limit_memory(megabytes: float | None) -> None:
+    """Cap this process's address space (and that of what it starts) at ``megabytes`` MiB."""
+    if megabytes:
+        size = int(megabytes * 1024 * 1024)
+        resource.setrlimit(resource.RLIMIT_AS, (size, size))
+
+
 def _run_in_child(argv: list[str], workdir: str, wall: float,
-                  env: dict[str, str]) -> dict[str, Any]:
+                  env: dict[str, str], memory: float | None = None) -> dict[str, Any]:
     """In the isolated child: run the planner (same process group), report how it ended.
     ``wall`` is the wall-clock safety; the CPU limit is watched by the parent."""
+    limit_memory(memory)
     try:
         run = subprocess.run(argv, cwd=workdir, stdin=subprocess.DEVNULL, timeout=wall,
                              check=False, shell=False, env={**os.environ, **env})
@@ -123,7 +142,8 @@ def plan_file(path: Path) -> Path | None:
 
 
 def run_command(problem: Any, command: tuple[str, ...], limit: float, workdir: str,
-                wall: float, env: dict[str, str] | None = None) -> _proc.Outcome:
+                wall: float, env: dict[str, str] | None = None,
+                memory: float | None = None) -> _proc.Outcome:
     """Write the problem's PDDL into ``workdir``, run the planner command on it in an
     isolated process group (with ``env`` added to its environment) and read its plan.
     The group is stopped when it has used ``limit`` CPU seconds, or after ``wall`` seconds
@@ -143,7 +163,7 @@ def run_command(problem: Any, command: tuple[str, ...], limit: float, workdir: s
     values = {"domain": str(work / "domain.pddl"), "problem": str(work / "problem.pddl"),
               "plan": str(work / "plan"), "timeout": str(max(1, int(limit)))}
     argv = render(command, values)
-    outcome = _proc.run_isolated(_run_in_child, (argv, workdir, wall, dict(env or {})),
+    outcome = _proc.run_isolated(_run_in_child, (argv, workdir, wall, dict(env or {}), memory),
                                  hard_limit=wall + _GRACE, cpu_limit=limit)
     if outcome.kind != _proc.OK:
         return outcome
@@ -160,9 +180,12 @@ def run_command(problem: Any, command: tuple[str, ...], limit: float, workdir: s
         return outcome
     found = plan_file(work / "plan")
     if found is None:
-        report["up_status"] = "UNSOLVABLE_INCOMPLETELY" if code == 0 else "INTERNAL_ERROR"
+        # exit 0 without a plan: the planner's claim that there is none
+        report["up_status"] = "UNSOLVABLE_PROVEN" if code == 0 else "INTERNAL_ERROR"
         report["reason"] = (f"the planner command exited with code {code} and wrote no plan"
                             + (" (reported as unsolvable)" if code == 0 else ""))
+        if code != 0 and out_of_memory(report["log"]):
+            report["status"] = "memout"
         return outcome
     try:
         plan = read_plan(found, problem)

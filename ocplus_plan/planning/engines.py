@@ -25,6 +25,7 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import os
+import re
 import resource
 import shutil
 import tempfile
@@ -49,8 +50,10 @@ warnings.filterwarnings("ignore", message="pkg_resources is deprecated")
 
 
 #: Every status a :class:`PlanResult` can have.
-STATUSES = ("solved", "unsolvable", "timeout", "memout", "error", "crashed", "unsupported",
-            "unavailable", "invalid")
+#: ``unsolvable`` is a proof (or a planner binary's claim: exit 0 without a plan);
+#: ``gave-up`` an incomplete search that stopped without a plan (LPG's restarts ran out).
+STATUSES = ("solved", "unsolvable", "gave-up", "timeout", "memout", "error", "crashed",
+            "unsupported", "unavailable", "invalid")
 
 #: Seconds a planner gets past its own time limit to report before its group is killed.
 GRACE_SECONDS = 2.0
@@ -58,9 +61,10 @@ GRACE_SECONDS = 2.0
 #: The default wall-clock safety limit of a call with CPU limit ``c``:
 #: ``WALL_FACTOR * c + WALL_SLACK`` seconds. A planner beside six busy processes on two
 #: cores gets about a quarter of a core, at a load average of 25 about a tenth (measured:
-#: 0.9 CPU s of Fast Downward took 10 s); the safety only stops a planner that waits without computing, never
-#: one that is merely slowed down.
-WALL_FACTOR = 10.0
+#: 0.9 CPU s of Fast Downward took 10 s), and under ``nice`` less: TAMER was killed by a
+#: 10 x + 60 s safety after 5 of its 10 CPU s at a load of 25. The safety only stops a
+#: planner that waits without computing, never one that is merely slowed down.
+WALL_FACTOR = 30.0
 WALL_SLACK = 60.0
 
 
@@ -72,7 +76,7 @@ _UP_STATUS = {
     "SOLVED_SATISFICING": "solved",
     "SOLVED_OPTIMALLY": "solved",
     "UNSOLVABLE_PROVEN": "unsolvable",
-    "UNSOLVABLE_INCOMPLETELY": "unsolvable",
+    "UNSOLVABLE_INCOMPLETELY": "gave-up",
     "TIMEOUT": "timeout",
     "MEMOUT": "memout",
     "INTERNAL_ERROR": "error",
@@ -356,7 +360,7 @@ def _register(config: PlannerConfig) -> None:
 
 def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = None,
           validate: bool = True, use_val: bool = True,
-          wall_limit: float | None = None) -> PlanResult:
+          wall_limit: float | None = None, memory_limit: float | None = None) -> PlanResult:
     """Solve a UP problem with a named planner in an isolated, CPU-limited process.
 
     ``timeout`` is the CPU limit (default: the planner's): the CPU seconds (user + system)
@@ -368,6 +372,8 @@ def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = No
     machine), except an anytime engine (``anytime: true`` in its params), which uses its
     time limit as its improvement budget and gets the CPU limit (its budget is then wall
     time: how far it improves depends on the load, not whether it finds a plan).
+    ``memory_limit`` (MiB; None: none) caps the address space of the engine's process
+    and every process it starts (``RLIMIT_AS``); running out is status ``memout``.
     With ``validate``, the plan is checked by UP's validator and by VAL (unless
     ``use_val`` is False or VAL is missing); a rejected plan gets status ``invalid``.
     """
@@ -397,9 +403,10 @@ def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = No
     try:
         if config.command:
             outcome = _command.run_command(problem, config.command, limit, workdir,
-                                           wall, config.env)
+                                           wall, config.env, memory_limit)
         else:
-            outcome = _proc.run_isolated(_solve_in_child, (problem, config, own_limit, workdir),
+            outcome = _proc.run_isolated(_solve_in_child,
+                                         (problem, config, own_limit, workdir, memory_limit),
                                          hard_limit=wall + GRACE_SECONDS,
                                          cpu_limit=limit + (GRACE_SECONDS if anytime else 0.0))
     finally:
@@ -415,6 +422,8 @@ def solve(problem: Any, planner: str | PlannerConfig, timeout: float | None = No
     if outcome.kind in (_proc.CRASHED, _proc.RAISED):
         result.status = "crashed" if outcome.kind == _proc.CRASHED else "error"
         result.reason = outcome.value + _tail_hint(outcome.log_tail)
+        if memory_limit and _command.out_of_memory(outcome.value + outcome.log_tail):
+            result.status = "memout"
         return result
 
     return _from_report(result, outcome.value, problem, validate, use_val)
@@ -439,6 +448,13 @@ def _from_report(result: PlanResult, report: dict[str, Any], problem: Any, valid
                          "so the planner failed rather than proved anything")
         result.reason += _tail_hint(report["log"])
         return result
+    if result.status == "error" and _command.out_of_memory(report["log"]):
+        result.status = "memout"
+    compiled_in = re.search(r"recompiled with a higher value for the parameter (\w+)", report["log"])
+    if result.status == "error" and compiled_in:  # LPG-td's fixed array sizes
+        result.status, result.reason = "unsupported", (
+            f"too big for LPG-td: its compiled-in limit {compiled_in.group(1)} is exceeded "
+            "(fixed in the binary up-lpg ships; no runtime option raises it)")
     if result.status != "solved":
         if not result.reason:
             result.reason = f"engine reported {report['up_status']}" + _tail_hint(report["log"])
@@ -523,9 +539,10 @@ def short_temp_base() -> str:
 
 
 def _solve_in_child(problem: Any, config: PlannerConfig, limit: float,
-                    workdir: str) -> dict[str, Any]:
+                    workdir: str, memory_limit: float | None = None) -> dict[str, Any]:
     """Runs in the forked child: call the engine and return a picklable report."""
     warnings.simplefilter("ignore")
+    _command.limit_memory(memory_limit)
     os.chdir(workdir)
     # the engines' own temporary files go here too: a short path whatever TMPDIR is
     # (LPG aborts with "buffer overflow detected" on long file names)

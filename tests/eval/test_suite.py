@@ -86,14 +86,15 @@ def test_a_faithful_reference_plan_checks_valid(suite, capsys):
     assert main(["check-plan", str(suite / "p01"), "--encoding", "temporal"]) == 0
 
 
-def test_an_unfaithful_plan_exits_5_with_the_divergence_in_kitchen_words(suite, capsys):
+def test_a_plan_walking_a_cook_through_another_is_realised_with_waits(suite, capsys):
     # wastar's plan for two cooks walks cook 0 past the cell cook 1 stands on: the model
-    # ignores cooks on the way, the simulator detours (the manifest already says so)
+    # ignores cooks on the way, the strict replay detours (the manifest already says so);
+    # the judge lets cook 1 step aside and the kitchen reaches the goal
     ref = json.loads((suite / "p02/manifest.json").read_text())["encodings"]["classical"]
     assert ref["reference"]["faithful"] is False
-    assert main(["check-plan", str(suite / "p02"), "--json"]) == 5
+    assert main(["check-plan", str(suite / "p02"), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["verdict"] == "unfaithful"
+    assert out["verdict"] == "valid" and out["realised"].startswith("realised, the kitchen")
     assert out["divergence"].startswith("at plan step ") and "cook 0 walks from the floor at" \
         in out["divergence"]
 

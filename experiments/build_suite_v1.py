@@ -1,0 +1,139 @@
+"""Build the frozen instance set ``suites/v1/``: three tracks graded from trivial to open.
+
+    nice -n 10 .venv/bin/python experiments/build_suite_v1.py --out suites/v1
+
+Each track is an ``ocplus export-suite`` set (``eval/suite.py``) of explicit cells
+(:data:`TRACKS`), ordered by the levers planners feel: preset stations (easy, medium,
+hard), kitchen (the preset's, or a generated ``gen:`` kitchen), cooks (1 to 4) and goal
+orders (1 to 16; above the preset's queue of 2 the queue is raised, rule ``n_orders``).
+``suites/v1/manifest.json`` lists the tracks, their scored instances, and the instances
+that went to an unsolvability track or were dropped (no plan, no witness, no proof).
+Reference planners run with CPU-second limits (:data:`CLASSICAL`, :data:`TEMPORAL`), so
+the set does not depend on the machine's load; ``--track`` and ``--cells`` rebuild a
+slice (``tests/eval/test_suite_v1.py`` rebuilds one instance and compares bytes).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from ocplus_plan.eval.suite import Cell, SuiteSpec, export_suite
+
+#: reference portfolios and their CPU seconds per planner call
+CLASSICAL = ("fast-downward", "fast-downward-bjolp", "fast-downward-wastar")
+TEMPORAL = ("kairos", "kairos-anytime")
+TIMEOUT = 10.0
+WITNESS_TIMEOUT = 20.0
+HORIZON = 1000
+FLAT = (("dynamic", False),)  # hard's stations on a kitchen without a layout switch
+
+
+def _c(preset: str, orders: int, cooks: int, sample: int = 0, map: str | None = None,
+       rules: tuple[tuple[str, object], ...] = ()) -> Cell:
+    return Cell(preset, map, cooks, orders, sample, rules)
+
+
+#: track -> (encoding, cells), easiest first
+TRACKS: dict[str, tuple[str, tuple[Cell, ...]]] = {
+    "classical-1cook": ("classical", (
+        _c("easy", 1, 1, 0), _c("easy", 1, 1, 1), _c("easy", 1, 1, 2), _c("easy", 1, 1, 3),
+        _c("easy", 2, 1, 0), _c("easy", 3, 1, 1), _c("medium", 1, 1, 0),
+        _c("medium", 1, 1, 1),
+        _c("medium", 2, 1, 2), _c("medium", 3, 1, 3), _c("easy", 6, 1, 2),
+        _c("medium", 2, 1, 0, "gen:open:test:0:medium"),
+        _c("medium", 4, 1, 0), _c("medium", 6, 1, 1),
+        _c("hard", 3, 1, 0, "gen:open:test:0", FLAT),
+        _c("hard", 4, 1, 1, "gen:multiroom:test:1", FLAT),
+        _c("medium", 10, 1, 2), _c("hard", 8, 1, 0, "gen:open:test:2", FLAT),
+        _c("medium", 16, 1, 3, "gen:multiroom:test:2:medium"),
+        _c("hard", 16, 1, 1, "gen:corridor:test:3", FLAT),
+        _c("hard", 1, 1, 0),  # hard's own map with one cook: unsolvable by construction
+        _c("hard", 16, 1, 2, "gen:corridor:test:0", FLAT),
+        _c("hard", 20, 1, 3, "gen:multiroom:test:1", FLAT),
+        _c("hard", 24, 1, 0, "gen:open:test:2", FLAT),
+    )),
+    "classical-multicook": ("classical", (
+        _c("easy", 1, 2, 0), _c("easy", 1, 2, 1), _c("easy", 1, 2, 2), _c("easy", 1, 2, 3),
+        _c("easy", 2, 2, 0), _c("easy", 3, 2, 1), _c("easy", 2, 3, 2, "trio_kitchen"),
+        _c("medium", 1, 2, 0),
+        _c("medium", 1, 2, 1), _c("medium", 2, 2, 2), _c("hard", 1, 2, 0, None, FLAT),
+        _c("hard", 2, 2, 1, None, FLAT),
+        _c("medium", 3, 2, 3), _c("medium", 2, 2, 0, "gen:open:test:1:medium"),
+        _c("hard", 3, 2, 2, None, FLAT), _c("medium", 2, 3, 1, "gen:open:test:4:medium"),
+        _c("medium", 6, 2, 0, "gen:open:test:5:medium"),
+        _c("hard", 8, 3, 1, "gen:multiroom:test:6", FLAT),
+        _c("medium", 10, 4, 2, "gen:open:test:6:medium"),
+        _c("hard", 12, 4, 3, "gen:split:test:8", FLAT),
+        _c("hard", 16, 4, 0, "gen:open:test:8", FLAT),
+        _c("hard", 12, 3, 2, "gen:corridor:test:10", FLAT),
+    )),
+    "temporal": ("temporal", (
+        _c("easy", 1, 1, 0), _c("easy", 1, 1, 1), _c("easy", 1, 1, 2), _c("easy", 1, 1, 3),
+        _c("easy", 2, 1, 0), _c("easy", 1, 2, 1), _c("easy", 3, 1, 2), _c("easy", 2, 2, 3),
+        _c("medium", 1, 1, 0), _c("medium", 2, 1, 1), _c("medium", 1, 2, 2),
+        _c("hard", 1, 2, 0, None, FLAT),
+        _c("medium", 3, 1, 3), _c("medium", 4, 1, 0), _c("medium", 2, 2, 1),
+        _c("hard", 3, 1, 2, "gen:open:test:0", FLAT),
+        _c("medium", 6, 1, 2),
+        # the open end: one cook (a goal-agenda witness with two or more cooks is refused
+        # by the simulator when their time-triggered segments cross)
+        _c("medium", 8, 1, 1), _c("hard", 8, 1, 2, "gen:open:test:5", FLAT),
+        _c("medium", 12, 1, 3, "gen:multiroom:test:2:medium"),
+        _c("hard", 16, 1, 0, "gen:open:test:8", FLAT),
+    )),
+}
+
+
+def spec_of(track: str, cells: tuple[Cell, ...] | None = None) -> SuiteSpec:
+    """The export-suite spec of a track (``cells``: a slice of it, for a rebuild)."""
+    encoding, all_cells = TRACKS[track]
+    planners = {"classical": CLASSICAL, "temporal": TEMPORAL}
+    return SuiteSpec(encodings=(encoding,), cells=cells or all_cells, timeout=TIMEOUT,
+                     planners={encoding: planners[encoding]}, fallback=False,
+                     horizon=HORIZON, witness_timeout=WITNESS_TIMEOUT)
+
+
+def suite_manifest(out: Path) -> dict[str, object]:
+    """The suite-level manifest, read from the tracks' own manifests."""
+    tracks = {}
+    for track, (encoding, _) in TRACKS.items():
+        path = out / track / "manifest.json"
+        if not path.is_file():
+            continue
+        sets = json.loads(path.read_text(encoding="utf-8"))["tracks"]
+        tracks[track] = {"encoding": encoding, "folder": track,
+                         "scored": sets.get(encoding, []),
+                         "unsolvable": sets.get(f"{encoding}-unsolvable", []),
+                         "dropped": sets.get(f"{encoding}-unknown", [])}
+    return {"format": "ocplus-suite-release/1", "name": "v1",
+            "command": "python experiments/build_suite_v1.py --out suites/v1",
+            "tracks": tracks}
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--out", default="suites/v1")
+    ap.add_argument("--track", action="append", choices=sorted(TRACKS),
+                    help="build only these tracks (default: all)")
+    ap.add_argument("--manifest-only", action="store_true",
+                    help="only (re)write OUT/manifest.json from the tracks' manifests")
+    args = ap.parse_args(argv)
+    out = Path(args.out)
+    for track in [] if args.manifest_only else args.track or list(TRACKS):
+        rows = export_suite(spec_of(track), out / track,
+                            progress=lambda m, t=track: print(f"[{t}] {m}", flush=True))
+        for r in rows:
+            cpu = sum(t["cpu_time"] or 0 for t in r["tried"])
+            print(f"[{track}] {r['instance']} {r['status']} {r['planner']} "
+                  f"cost {r['cost']} makespan {r['makespan']} faithful {r['faithful']} "
+                  f"optimal {r['optimal']} portfolio CPU {cpu:.1f} s", flush=True)
+    (out / "manifest.json").write_text(json.dumps(suite_manifest(out), indent=1,
+                                                  sort_keys=True) + "\n", encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
