@@ -31,6 +31,16 @@ HORIZON = 1000
 FLAT = (("dynamic", False),)  # hard's stations on a kitchen without a layout switch
 
 
+#: the generated kitchens of v1, frozen as map files: a later generator may draw other
+#: kitchens under the same gen: names, and the release must not move with it
+KITCHENS = "experiments/suite_v1_kitchens"
+
+
+def _k(name: str) -> str:
+    """The frozen map file of the generated kitchen ``name`` (run from the repository root)."""
+    return f"{KITCHENS}/{name.replace(':', '-')}.yaml"
+
+
 def _c(preset: str, orders: int, cooks: int, sample: int = 0, map: str | None = None,
        rules: tuple[tuple[str, object], ...] = ()) -> Cell:
     return Cell(preset, map, cooks, orders, sample, rules)
@@ -43,17 +53,17 @@ TRACKS: dict[str, tuple[str, tuple[Cell, ...]]] = {
         _c("easy", 2, 1, 0), _c("easy", 3, 1, 1), _c("medium", 1, 1, 0),
         _c("medium", 1, 1, 1),
         _c("medium", 2, 1, 2), _c("medium", 3, 1, 3), _c("easy", 6, 1, 2),
-        _c("medium", 2, 1, 0, "gen:open:test:0:medium"),
+        _c("medium", 2, 1, 0, _k("gen:open:test:0:medium")),
         _c("medium", 4, 1, 0), _c("medium", 6, 1, 1),
-        _c("hard", 3, 1, 0, "gen:open:test:0", FLAT),
-        _c("hard", 4, 1, 1, "gen:multiroom:test:1", FLAT),
-        _c("medium", 10, 1, 2), _c("hard", 8, 1, 0, "gen:open:test:2", FLAT),
-        _c("medium", 16, 1, 3, "gen:multiroom:test:2:medium"),
-        _c("hard", 16, 1, 1, "gen:corridor:test:3", FLAT),
+        _c("hard", 3, 1, 0, _k("gen:open:test:0"), FLAT),
+        _c("hard", 4, 1, 1, _k("gen:multiroom:test:1"), FLAT),
+        _c("medium", 10, 1, 2), _c("hard", 8, 1, 0, _k("gen:open:test:2"), FLAT),
+        _c("medium", 16, 1, 3, _k("gen:multiroom:test:2:medium")),
+        _c("hard", 16, 1, 1, _k("gen:corridor:test:3"), FLAT),
         _c("hard", 1, 1, 0),  # hard's own map with one cook: unsolvable by construction
-        _c("hard", 16, 1, 2, "gen:corridor:test:0", FLAT),
-        _c("hard", 20, 1, 3, "gen:multiroom:test:1", FLAT),
-        _c("hard", 24, 1, 0, "gen:open:test:2", FLAT),
+        _c("hard", 16, 1, 2, _k("gen:corridor:test:0"), FLAT),
+        _c("hard", 20, 1, 3, _k("gen:multiroom:test:1"), FLAT),
+        _c("hard", 24, 1, 0, _k("gen:open:test:2"), FLAT),
     )),
     "classical-multicook": ("classical", (
         _c("easy", 1, 2, 0), _c("easy", 1, 2, 1), _c("easy", 1, 2, 2), _c("easy", 1, 2, 3),
@@ -61,14 +71,14 @@ TRACKS: dict[str, tuple[str, tuple[Cell, ...]]] = {
         _c("medium", 1, 2, 0),
         _c("medium", 1, 2, 1), _c("medium", 2, 2, 2), _c("hard", 1, 2, 0, None, FLAT),
         _c("hard", 2, 2, 1, None, FLAT),
-        _c("medium", 3, 2, 3), _c("medium", 2, 2, 0, "gen:open:test:1:medium"),
-        _c("hard", 3, 2, 2, None, FLAT), _c("medium", 2, 3, 1, "gen:open:test:4:medium"),
-        _c("medium", 6, 2, 0, "gen:open:test:5:medium"),
-        _c("hard", 8, 3, 1, "gen:multiroom:test:6", FLAT),
-        _c("medium", 10, 4, 2, "gen:open:test:6:medium"),
-        _c("hard", 12, 4, 3, "gen:split:test:8", FLAT),
-        _c("hard", 16, 4, 0, "gen:open:test:8", FLAT),
-        _c("hard", 12, 3, 2, "gen:corridor:test:10", FLAT),
+        _c("medium", 3, 2, 3), _c("medium", 2, 2, 0, _k("gen:open:test:1:medium")),
+        _c("hard", 3, 2, 2, None, FLAT), _c("medium", 2, 3, 1, _k("gen:open:test:4:medium")),
+        _c("medium", 6, 2, 0, _k("gen:open:test:5:medium")),
+        _c("hard", 8, 3, 1, _k("gen:multiroom:test:6"), FLAT),
+        _c("medium", 10, 4, 2, _k("gen:open:test:6:medium")),
+        _c("hard", 12, 4, 3, _k("gen:split:test:8"), FLAT),
+        _c("hard", 16, 4, 0, _k("gen:open:test:8"), FLAT),
+        _c("hard", 12, 3, 2, _k("gen:corridor:test:10"), FLAT),
     )),
     "temporal": ("temporal", (
         _c("easy", 1, 1, 0), _c("easy", 1, 1, 1), _c("easy", 1, 1, 2), _c("easy", 1, 1, 3),
@@ -76,13 +86,13 @@ TRACKS: dict[str, tuple[str, tuple[Cell, ...]]] = {
         _c("medium", 1, 1, 0), _c("medium", 2, 1, 1), _c("medium", 1, 2, 2),
         _c("hard", 1, 2, 0, None, FLAT),
         _c("medium", 3, 1, 3), _c("medium", 4, 1, 0), _c("medium", 2, 2, 1),
-        _c("hard", 3, 1, 2, "gen:open:test:0", FLAT),
+        _c("hard", 3, 1, 2, _k("gen:open:test:0"), FLAT),
         _c("medium", 6, 1, 2),
         # the open end: one cook (a goal-agenda witness with two or more cooks is refused
         # by the simulator when their time-triggered segments cross)
-        _c("medium", 8, 1, 1), _c("hard", 8, 1, 2, "gen:open:test:5", FLAT),
-        _c("medium", 12, 1, 3, "gen:multiroom:test:2:medium"),
-        _c("hard", 16, 1, 0, "gen:open:test:8", FLAT),
+        _c("medium", 8, 1, 1), _c("hard", 8, 1, 2, _k("gen:open:test:5"), FLAT),
+        _c("medium", 12, 1, 3, _k("gen:multiroom:test:2:medium")),
+        _c("hard", 16, 1, 0, _k("gen:open:test:8"), FLAT),
     )),
 }
 
