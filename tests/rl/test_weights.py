@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-import base64
 import io
 import json
 import os
-import pickle
 import subprocess
 import sys
 import zipfile
@@ -21,35 +19,12 @@ from ocplus_plan.errors import ConfigError
 from ocplus_plan.rl import weights
 from ocplus_plan.rl.weights import WeightsPolicy, read_arrays, save_weights
 from ocplus_plan.sim import make_rules, new_state, transition
+from tests.fuzz.corpus_data import _System
+from tests.fuzz.corpus_data import planted_sb3 as plant_sb3
 
 ROOT = Path(__file__).resolve().parents[2]
 SHIPPED = ROOT / "experiments" / "checkpoints"
 OCPLUS = [sys.executable, "-m", "ocplus_plan.cli"]
-
-
-class _System:
-    """Pickles as a call of ``os.system(command)``: what a hostile checkpoint carries."""
-
-    def __init__(self, command: str) -> None:
-        self.command = command
-
-    def __reduce__(self):
-        return (os.system, (self.command,))
-
-
-def plant_sb3(path: Path, marker: Path) -> Path:
-    """A real SB3 checkpoint (the shipped easy one) whose ``data`` member pickles
-    ``os.system('touch MARKER')`` in place of its observation space."""
-    with zipfile.ZipFile(SHIPPED / "easy_1agent.zip") as zf:
-        members = {n: zf.read(n) for n in zf.namelist()}
-    data = json.loads(members["data"])
-    blob = base64.b64encode(pickle.dumps(_System(f"touch {marker}"))).decode()
-    data["observation_space"] = {":type:": "x", ":serialized:": blob}
-    members["data"] = json.dumps(data).encode()
-    with zipfile.ZipFile(path, "w") as zf:
-        for name, raw in members.items():
-            zf.writestr(name, raw)
-    return path
 
 
 def tiny_policy(path: Path, size: int = 6, hidden: int = 4, **meta) -> Path:
