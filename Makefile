@@ -2,7 +2,7 @@
 PYTHON ?= python3
 VENV ?= .venv
 PY := $(VENV)/bin/python
-EXTRAS ?= test,planners,plots,rl,gui,cluster,fast,jax
+EXTRAS ?= test,planners,plots,rl,tensorboard,gui,cluster,fast,jax
 comma := ,
 STAMP := $(VENV)/.installed-$(subst $(comma),-,$(EXTRAS))
 
