@@ -21,7 +21,7 @@ rollouts, 512 minibatch, 8 epochs); ``before_grid`` the same with grid observati
 ``after`` the default trainer now (the same settings on the batched engine, which
 ``TrainConfig`` picks with the ``fast`` extra); ``fast`` the batched engine with grid
 observations and larger batches (``--n-kitchens``, ``--fast-*``); ``fast_features`` those
-batch settings on the loop engine with features (what the shipped checkpoints of issue 16
+batch settings on the loop engine with features (what the shipped PPO checkpoints
 trained with); ``fast_batch_features`` the same on the batched engine; ``lean`` and
 ``lean_bf16`` those batch settings in the lean loop (``--algo lean``, rl/lean.py, float32
 or bfloat16), which keeps its own split (``sim`` + ``encode`` = its ``env``; ``train`` = its

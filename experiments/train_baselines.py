@@ -71,7 +71,7 @@ RUNS: dict[str, list[str]] = {
     "_medium_1agent_v1": ["--preset", "medium", "--steps", "300000", "--seed", "3",
                           "--anneal-fraction", "0.5",
                           "--init", "experiments/runs/_medium_stage2/policy.npz"],
-    # issue 16: long runs at the fast settings (bench_train.py), each under a wall budget;
+    # long runs at the fast settings (bench_train.py), each under a wall budget;
     # each starts from the shipped checkpoint before it (its record is kept as init_record)
     "medium_1agent": ["--preset", "medium", "--steps", "8000000", "--seed", "4",
                       "--anneal-fraction", "0.5", "--max-wall", "720",
@@ -90,7 +90,7 @@ RUNS: dict[str, list[str]] = {
                     "--curriculum", "hard:steak+tomato/steak+lettuce/steak+onion",
                     "--curriculum-fraction", "0.4",
                     "--init", "experiments/checkpoints/medium_2agent.npz", *FAST],
-    # issue 16, session 5: behaviour cloning from the greedy cook (4 DAgger rounds of 60k
+    # behaviour cloning from the greedy cook (4 DAgger rounds of 60k
     # kitchen steps), then PPO on the true reward only (no shaping: the clone already
     # serves), with a small learning rate and entropy so PPO refines the clone
     "hard_2agent": ["--preset", "hard", "--n-agents", "2", "--steps", "20000000",
@@ -111,7 +111,7 @@ RUNS: dict[str, list[str]] = {
                            "--obs", "grid", "--engine", "batch", *BC_GRID, "--max-wall", "420",
                            *GRID_FAST],
     "hard_2agent_grid": _grid_run("hard", 2, 12),
-    # session 6: the same grid recipe on the kitchens that had no grid row
+    # the same grid recipe on the kitchens that had no grid row
     "easy_1agent_grid": _grid_run("easy", 1, 14),
     "easy_2agent_grid": _grid_run("easy", 2, 15),
     "medium_2agent_grid": _grid_run("medium", 2, 16),
