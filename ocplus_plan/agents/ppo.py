@@ -189,7 +189,7 @@ def load_checkpoint(path: str) -> Any:
             return weights.WeightsPolicy(path, arrays)
         from ..rl.npz_policy import NpzPolicy
 
-        return NpzPolicy(path)
+        return NpzPolicy(path, arrays)
     if not weights.pickled_trusted():
         raise weights.refuse_pickled(path)
     from ..rl.policy import load_policy, require_rl

@@ -10,7 +10,7 @@ a one-hot of the cook's index. ``train.json`` gives the observation radius and t
 from __future__ import annotations
 
 import json
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -27,13 +27,16 @@ MAX_RECORD_BYTES = 1 << 20
 class NpzPolicy:
     """A loaded ``policy.npz``: :meth:`probs` and :meth:`act` on input batches."""
 
-    def __init__(self, path: str | Path) -> None:
+    def __init__(self, path: str | Path,
+                 arrays: Mapping[str, np.ndarray] | None = None) -> None:
+        """``arrays``: the file's arrays when the caller has read them already."""
         self.path = Path(path)
         record = self.path.with_name("train.json")
         if not self.path.is_file() or not record.is_file():
             raise ConfigError(f"{str(self.path)!r}: a JAX policy is a policy.npz with the "
                               "train.json that ocplus train --engine jax writes beside it")
-        arrays = read_arrays(self.path, "JAX policy")  # sizes checked, nothing unpickled
+        if arrays is None:
+            arrays = read_arrays(self.path, "JAX policy")  # sizes checked, nothing unpickled
         self.weights = {k: np.asarray(v, np.float32) for k, v in arrays.items()}
         try:
             if record.stat().st_size > MAX_RECORD_BYTES:
