@@ -1,6 +1,6 @@
 """The planner league on an instance set (``suites/v1`` by default), with its conditions.
 
-Runs ``ocplus league`` (``ocplus_plan.eval.league``) at a CPU limit per run, ``--jobs 1``,
+Runs ``ocplus league`` (``ocplus_plan.eval.league``) at a CPU limit per run, ``--jobs N``,
 under ``nice``, on the instances asked for, and writes beside ``runs.jsonl`` and
 ``scores.json`` a ``conditions.json``: the command, the commit, the machine, the load
 (``uptime``) before and after, the cells run and the CPU seconds they used. ``--busy N``
@@ -56,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
     planners = tuple(args.planners.split(",")) if args.planners else tuple(planner_names())
     instances = tuple(args.instances.split(",")) if args.instances else None
     spec = league.LeagueSpec(Path(args.suite), planners, args.cpu_limit, args.memory_limit,
-                             instances, 1)
+                             instances, args.jobs)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     before, commit = _uptime(), _commit()
@@ -77,7 +77,8 @@ def run(args: argparse.Namespace) -> int:
     conditions = {
         "command": " ".join([Path(sys.executable).name, *sys.argv]), "commit": commit,
         "machine": f"{platform.machine()}, {os.cpu_count()} shared cores",
-        "load_before": before, "pythonhashseed": os.environ.get("PYTHONHASHSEED"), "load_after": _uptime(), "busy": args.busy,
+        "load_before": before, "pythonhashseed": os.environ.get("PYTHONHASHSEED"),
+        "load_after": _uptime(), "busy": args.busy, "jobs": args.jobs,
         "cpu_limit": args.cpu_limit, "memory_limit": args.memory_limit,
         "planners": list(planners), "skipped": skipped,
         "cells": [[r["planner"], r["instance"], r["encoding"]] for r in rows],
@@ -85,6 +86,10 @@ def run(args: argparse.Namespace) -> int:
         "children_cpu_seconds": round(usage.ru_utime + usage.ru_stime, 1),
         "wall_seconds": round(time.time() - start, 1),
     }
+    earlier = out / "conditions.json"
+    if earlier.is_file():  # a resumed league keeps the conditions of its earlier parts
+        old = json.loads(earlier.read_text("utf-8"))
+        conditions["earlier_parts"] = [*old.pop("earlier_parts", []), old]
     (out / "conditions.json").write_text(json.dumps(conditions, indent=1) + "\n", "utf-8")
     print(league.table_text(score))
     return 0
@@ -140,6 +145,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--instances", default=None, help="comma-separated (default: all)")
     p.add_argument("--cpu-limit", type=float, default=30.0)
     p.add_argument("--memory-limit", type=float, default=4096.0)
+    p.add_argument("--jobs", type=int, default=1, help="runs at once (each engine keeps "
+                   "its own CPU-second limit, so rows do not depend on it)")
     p.add_argument("--busy", type=int, default=0)
     p.add_argument("--out", default=None)
     p.add_argument("--report", type=Path, default=None)
