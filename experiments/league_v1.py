@@ -7,7 +7,7 @@ under ``nice``, on the instances asked for, and writes beside ``runs.jsonl`` and
 runs N processes spinning on the CPU beside the league (the load check: run the same
 cells once alone and once with ``--busy 2``, then ``--compare`` the two folders).
 
-``--report DIR`` prints the league's numbers: the table, the count of plans that VAL and
+``--report DIR [--markdown]`` prints the league's numbers: the table, the count of plans that VAL and
 unified-planning accept and the kitchen refuses (``valid`` and not ``faithful``), the plans
 realised only with waits (the strict replay diverged, the judge realised them), and per
 temporal engine its solved share of the temporal track's first three fifths.
@@ -95,7 +95,23 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def report(folder: Path) -> dict:
+def markdown(score: dict) -> str:
+    """The league table as the README shows it: one line per planner and track."""
+    lines = ["| planner | track | cells | solved | quality | agile | valid / faithful | "
+             "other statuses |", "|---|---|---|---|---|---|---|---|"]
+    for planner in sorted(score["planners"]):
+        for track, s in sorted(score["planners"][planner].items()):
+            if track == "all":
+                continue
+            other = ", ".join(f"{v} {k}" for k, v in sorted(s["statuses"].items())
+                              if k != "solved") or "-"
+            lines.append(f"| {planner} | {track} | {s['instances']} | {s['coverage']} | "
+                         f"{s['quality']:.2f} | {s['agile']:.2f} | {s['valid']} / "
+                         f"{s['faithful']} | {other} |")
+    return "\n".join(lines)
+
+
+def report(folder: Path, as_markdown: bool = False) -> dict:
     rows = league.read_rows(folder / league.RUNS_FILE)
     refused = [r for r in rows if r.get("valid") is True and r.get("faithful") is False]
     waited = [r for r in rows if r.get("faithful") is True and (r.get("waits") or 0) > 0]
@@ -111,7 +127,8 @@ def report(folder: Path) -> dict:
            "refused": [[r["planner"], r["instance"], r["reason"]] for r in refused],
            "realised_with_waits": len(waited),
            "temporal_first_three_fifths": first, "temporal_solved_share": share}
-    print(league.table_text(league.scores(rows)))
+    score = league.scores(rows)
+    print(markdown(score) if as_markdown else league.table_text(score))
     print(json.dumps(out, indent=1))
     return out
 
@@ -150,10 +167,12 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--busy", type=int, default=0)
     p.add_argument("--out", default=None)
     p.add_argument("--report", type=Path, default=None)
+    p.add_argument("--markdown", action="store_true", help="with --report: the table in "
+                   "Markdown, as the README shows it")
     p.add_argument("--compare", type=Path, nargs=2, default=None)
     args = p.parse_args(argv)
     if args.report:
-        report(args.report)
+        report(args.report, args.markdown)
         return 0
     if args.compare:
         compare(*args.compare)
