@@ -15,7 +15,7 @@ import numpy as np
 
 from .codes import STATIONS, WALKABLE, Cell
 from .generate_families import REQUIRED
-from .queries import distances, grid_neighbors
+from .grid import distances, grid_neighbors
 
 if TYPE_CHECKING:
     from .maps import Layout

@@ -28,7 +28,7 @@ from .codes import (
 )
 from .process_yaml import parse_processes
 from .processes import Process
-from .queries import distances, grid_neighbors
+from .grid import distances, grid_neighbors
 
 if TYPE_CHECKING:
     from importlib.resources.abc import Traversable
