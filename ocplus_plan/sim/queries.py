@@ -31,7 +31,7 @@ if TYPE_CHECKING:
 
 _STAY = int(Action.STAY)
 _COUNTERS = frozenset(int(c) for c in COUNTERS)
-_PAN = int(Cell.PAN)
+_STEAK = int(Item.STEAK)
 _DELIVERY, _TRASH = int(Cell.DELIVERY), int(Cell.TRASH)
 _PLATE = int(Item.PLATE)
 _CLEAN = int(ItemState.CLEAN)
@@ -266,14 +266,14 @@ def ticks_until_overrun(rules: Rules, code: int, ticks: int) -> int:
 
 def ticks_until_cooked(rules: Rules, ticks: int) -> int:
     """Pan ticks still needed, after ``ticks`` on the pan, before a raw steak is cooked
-    (0: it is)."""
-    return ticks_until_done(rules, _PAN, ticks)
+    (0: it is); the pan is the station that heats steak (an oven in a kitchen with one)."""
+    return ticks_until_done(rules, rules.tables.station_of(_STEAK), ticks)
 
 
 def ticks_until_burnt(rules: Rules, ticks: int) -> int:
     """Pan ticks, after ``ticks`` on the pan, until the steak burns (0: it has): it burns
     on the tick that takes it past ``burn_time``."""
-    return ticks_until_overrun(rules, _PAN, ticks)
+    return ticks_until_overrun(rules, rules.tables.station_of(_STEAK), ticks)
 
 
 # ---------------------------------------------------------------- plates

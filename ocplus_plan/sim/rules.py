@@ -166,7 +166,7 @@ def recipe_pool(
     ``required`` (exactly one steak) or ``allowed``.
     """
     supply = {}
-    for item, process in sorted(ingredient_process().items()):
+    for item, process in sorted(ingredient_process(layout.processes or PROCESSES).items()):
         if layout.cells_of(process.station):
             supply[item] = len(layout.cells_of(Cell(int(item))))
     kinds = sorted(k for k, n in supply.items() if n > 0)
@@ -200,6 +200,19 @@ def parse_recipe(spec: Any) -> Recipe:
     return tuple(sorted(items))
 
 
+def _needed_stations(p: Preset, layout: Layout) -> tuple[Cell, ...]:
+    """The stations preset ``p`` needs on ``layout``: a shipped process station whose item
+    kinds the kitchen's records give to another station (the pan's steak to an oven) is
+    needed as that one."""
+    own = layout.processes or PROCESSES
+    out: list[Cell] = []
+    for c in p.stations:
+        kinds = {k for q in PROCESSES if q.station == c for k in q.takes}
+        now = [q.station for q in own if kinds & set(q.takes)] if kinds else [c]
+        out += [s for s in now if s not in out]
+    return tuple(out)
+
+
 def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, **overrides: Any) -> Rules:
     """Rules for a preset, with any parameter overridden by keyword.
 
@@ -231,7 +244,7 @@ def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, 
             f"preset {preset!r} wants a dynamic layout but map {layout.name!r} {why}; "
             "use a dynamic map (e.g. mapC) or pass dynamic=False"
         )
-    missing = [c.name.lower() for c in p.stations if not layout.cells_of(c)]
+    missing = [c.name.lower() for c in _needed_stations(p, layout) if not layout.cells_of(c)]
     dirty = overrides.pop("dirty_plates", p.dirty_plates)
     if dirty and not layout.cells_of(Cell.SINK) and "sink" not in missing:
         missing.append("sink")

@@ -37,6 +37,8 @@ class Geometry:
     walkables: tuple[tuple[bool, ...], ...]
     #: per cell: flat index of the neighbour in direction RIGHT, DOWN, LEFT, UP (or -1)
     neighbors: tuple[tuple[int, int, int, int], ...]
+    #: the cells of the station that heats steak (the pan; an oven where a kitchen's
+    #: records give it the steak), in cell order
     pans: tuple[int, ...]
     switch_cells: tuple[int, ...]
     item_kind: tuple[int, ...]
@@ -63,9 +65,10 @@ class Geometry:
         switch = ()
         if len(terrains) > 1:
             switch = tuple(i for i, (a, b) in enumerate(zip(*terrains)) if a != b)
-        pans = tuple(i for i, v in enumerate(terrains[0]) if v == Cell.PAN)
         timed_codes = {p.station for p in rules.processes if p.timed}
         timed = tuple(i for i, v in enumerate(terrains[0]) if v in timed_codes)
+        heat = rules.tables.station_of(int(Item.STEAK))
+        pans = tuple(i for i, v in enumerate(terrains[0]) if v == heat)
         return cls(rows, cols, terrains, walk, grid_neighbors(rows, cols), pans, switch,
                    tuple(kinds), tuple(homes), tuple(names), timed)
 
