@@ -18,6 +18,7 @@ from ..errors import ConfigError, MapFormatError
 from .codes import ITEM_NAMES, VEGETABLES, Cell, Item
 from .kitchens import load_kitchen
 from .maps import Layout
+from .presets import PRESETS, Preset
 from .processes import (
     PROCESSES,
     Process,
@@ -113,39 +114,6 @@ class Rules:
 def recipe_name(recipe: Recipe) -> str:
     return "+".join(i.name.lower() for i in recipe)
 
-
-@dataclass(frozen=True)
-class Preset:
-    """A preset of SPEC section 7: a default map, agent count, and recipe rule."""
-
-    name: str
-    map: str
-    n_agents: int
-    recipe_sizes: tuple[int, ...]
-    steak: str  # "never" | "required" | "allowed"
-    stations: tuple[Cell, ...]
-    dirty_plates: bool
-    dynamic: bool
-    description: str
-
-
-PRESETS: dict[str, Preset] = {
-    "easy": Preset(
-        "easy", "easy_open", 1, (1,), "never", (Cell.BOARD,), False, False,
-        "one chopped vegetable; cutting boards; plates stay clean; static layout",
-    ),
-    "medium": Preset(
-        "medium", "medium_kitchen", 1, (2, 3), "required", (Cell.BOARD, Cell.PAN, Cell.TRASH),
-        False, False,
-        "one steak + 1-2 chopped vegetables; boards, pan, trash; plates stay clean; static layout",
-    ),
-    "hard": Preset(
-        "hard", "mapC", 2, (3,), "allowed",
-        (Cell.BOARD, Cell.PAN, Cell.TRASH, Cell.SINK), True, True,
-        "at least three ingredients, steak allowed; boards, pan, trash, sink; "
-        "plates dirty after delivery; dynamic layout",
-    ),
-}
 
 _RULE_FIELDS = {
     f.name for f in fields(Rules)
