@@ -17,8 +17,8 @@ Two counts over ``ocplus_plan/**/*.py``:
 * ``added_station``: files that name an added process station (the oven: ``Cell.OVEN``,
   ``CELL_OVEN``, ``_OVEN``), the files adding it touched (0 before the oven existed).
   ``examples/oven_kitchen.yaml`` (its record in a kitchen file) is outside the package and
-  counted by hand; ``golden_domains`` counts the checked-in domains that differ from the
-  first commit given (adding the oven changed none).
+  counted by hand; ``golden_domains`` counts the checked-in domains (``domains/``) that
+  differ from the commit given before it (adding the oven changed none).
 
 Example::
 
@@ -89,8 +89,10 @@ def main() -> None:
     p.add_argument("commits", nargs="+")
     p.add_argument("--out", type=Path, default=None)
     args = p.parse_args()
-    base = golden_at(args.commits[0])
-    lines = [counts(c, base) for c in args.commits]
+    lines, base = [], None
+    for c in args.commits:  # golden domains: against the commit given before
+        lines.append(counts(c, base))
+        base = golden_at(c)
     for line in lines:
         print(json.dumps(line))
     if args.out:
