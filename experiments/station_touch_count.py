@@ -10,7 +10,15 @@ Two counts over ``ocplus_plan/**/*.py``:
   planning name in place: a line with a station code followed by a string or a tuple
   literal (``Cell.PAN: "pan"``, ``CellKind(Cell.PAN, "pan", ...``), or, under
   ``render/``, a drawing branch (``elif code == Cell.PAN:``). A station whose rules are
-  those of an existing one touches these files only.
+  those of an existing one touches these files only;
+* ``rule_code``: files outside ``sim/rules.py`` and ``sim/processes.py`` that write a process
+  station's rule in place (a comparison with the board's, pan's or sink's code, a walk over
+  ``geo.pans``, a read of ``chop_steps`` / ``cook_time`` / ``burn_time`` / ``wash_steps``);
+* ``added_station``: files that name an added process station (the oven: ``Cell.OVEN``,
+  ``CELL_OVEN``, ``_OVEN``), the files adding it touched (0 before the oven existed).
+  ``examples/oven_kitchen.yaml`` (its record in a kitchen file) is outside the package and
+  counted by hand; ``golden_domains`` counts the checked-in domains (``domains/``) that
+  differ from the commit given before it (adding the oven changed none).
 
 Example::
 
@@ -35,6 +43,8 @@ _PROC = CODE.format("|".join(PROCESS_STATIONS))
 RULE = re.compile(rf"(?:==|!=)\s*{_PROC}|{_PROC}\s*(?:==|!=)|\bgeo\.pans\b"
                   r"|\brules?\.(?:chop_steps|cook_time|burn_time|wash_steps)\b")
 RULE_HOMES = ("ocplus_plan/sim/rules.py", "ocplus_plan/sim/processes.py")
+ADDED = re.compile(CODE.format("OVEN"))
+GOLDEN = "domains"
 
 
 def files_at(commit: str) -> dict[str, str]:
@@ -45,7 +55,14 @@ def files_at(commit: str) -> dict[str, str]:
             for n in names if n.endswith(".py")}
 
 
-def counts(commit: str) -> dict:
+def golden_at(commit: str) -> dict[str, str]:
+    names = subprocess.run(["git", "ls-tree", "-r", "--name-only", commit, GOLDEN],
+                           capture_output=True, text=True, check=True).stdout.split()
+    return {n: subprocess.run(["git", "show", f"{commit}:{n}"], capture_output=True,
+                              text=True, check=True).stdout for n in names}
+
+
+def counts(commit: str, base: dict[str, str] | None = None) -> dict:
     files = files_at(commit)
     enumerating = sorted(n for n, text in files.items()
                          if all(re.search(CODE.format(s), text) for s in STATIONS))
@@ -53,12 +70,18 @@ def counts(commit: str) -> dict:
         n.startswith("ocplus_plan/render/") and DRAWING.search(text)))
     rule_code = sorted(n for n, text in files.items()
                        if n not in RULE_HOMES and RULE.search(text))
+    added = sorted(n for n, text in files.items() if ADDED.search(text))
+    golden = golden_at(commit)
+    changed = sorted(n for n in set(golden) | set(base or golden)
+                     if golden.get(n) != (base or golden).get(n))
     sha = subprocess.run(["git", "rev-parse", "--short", commit], capture_output=True,
                          text=True, check=True).stdout.strip()
     return {"commit": sha, "package_files": len(files), "enumerating": len(enumerating),
             "presentation": len(presentation), "rule_code": len(rule_code),
+            "added_station": len(added), "golden_domains": len(changed),
             "enumerating_files": enumerating, "presentation_files": presentation,
-            "rule_code_files": rule_code}
+            "rule_code_files": rule_code, "added_station_files": added,
+            "golden_domains_changed": changed}
 
 
 def main() -> None:
@@ -66,7 +89,10 @@ def main() -> None:
     p.add_argument("commits", nargs="+")
     p.add_argument("--out", type=Path, default=None)
     args = p.parse_args()
-    lines = [counts(c) for c in args.commits]
+    lines, base = [], None
+    for c in args.commits:  # golden domains: against the commit given before
+        lines.append(counts(c, base))
+        base = golden_at(c)
     for line in lines:
         print(json.dumps(line))
     if args.out:

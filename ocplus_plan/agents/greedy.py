@@ -121,7 +121,7 @@ class GreedyAgent(Controller):
         for k in (int(Item.TOMATO), int(Item.LETTUCE), int(Item.ONION), _STEAK):
             b[("need", k)] = max(0, v.need[k] - v.supply[k])
         b[("board", 0)] = sum(1 for f in v.stations(Cell.BOARD) if s.cell_item[f] < 0)
-        b[("pan", 0)] = sum(1 for f in v.stations(Cell.PAN) if s.cell_item[f] < 0)
+        b[("pan", 0)] = sum(1 for f in v.stations(v.heat) if s.cell_item[f] < 0)
         for p, miss in v.plate_missing.items():
             for k, n in miss.items():
                 b[("plate", k)] += n
@@ -164,7 +164,7 @@ class GreedyAgent(Controller):
             dests = [f for f in v.stations(Cell.BOARD) if bump_effect(s, item, f) == Bump.PUT_DOWN]
             label = "to_board"
         elif k == _STEAK and st == _FRESH:
-            dests = [f for f in v.stations(Cell.PAN) if bump_effect(s, item, f) == Bump.PUT_DOWN]
+            dests = [f for f in v.stations(v.heat) if bump_effect(s, item, f) == Bump.PUT_DOWN]
             label = "to_pan"
         elif is_plateable(s, item):
             plates = [p for p in v.plate_contents if s.item_where[p] == Where.CELL
@@ -179,7 +179,7 @@ class GreedyAgent(Controller):
         dests = [d for d in dests if v.near_pan(d)]
         if label in ("to_board", "to_pan") and not dests:
             # every board / pan is busy: wait at the nearest one (a bump there is harmless)
-            code = Cell.BOARD if label == "to_board" else Cell.PAN
+            code = Cell.BOARD if label == "to_board" else v.heat
             wait = self._nearest(v, a, [f for f in v.stations(code)
                                         if f not in claimed and v.near_pan(f)])
             if wait is not None:
@@ -275,7 +275,7 @@ class GreedyAgent(Controller):
                     out.append(Subtask("unsink", f, it, 3))
                 elif it in v.bad_plates and v.stations(Cell.TRASH):
                     out.append(Subtask("clear_plate", f, it, 6))
-            elif code == Cell.PAN and st in (_COOKED, _BURNT):
+            elif code == v.heat and st in (_COOKED, _BURNT):
                 out.append(Subtask("rescue", f, it, 1))
             elif code == Cell.BOARD and st == _FRESH:
                 out.append(Subtask("chop", f, it, 2))
@@ -363,7 +363,7 @@ class GreedyAgent(Controller):
         elif task.kind in ("clear_plate", "trash"):
             dests = v.stations(Cell.TRASH)
         elif task.kind == "fetch":
-            dests = v.stations(Cell.PAN) if k == _STEAK else v.stations(Cell.BOARD)
+            dests = v.stations(v.heat) if k == _STEAK else v.stations(Cell.BOARD)
         elif task.kind in ("gather", "rescue") and s.item_state[it] != _BURNT:
             dests = [s.item_loc[p] for p in v.plate_contents if s.item_where[p] == Where.CELL
                      and v.plate_wants(p, k)] or v.free_counters()

@@ -28,6 +28,8 @@ class KitchenView:
         self.s = state
         geo = state.geo
         self.terrain = geo.terrains[state.layout_index]
+        #: the station that heats steak: the pan (an oven where the kitchen's records say)
+        self.heat = state.rules.tables.station_of(int(Item.STEAK))
         self.walk = geo.walkables[state.layout_index]
         self.nbrs = geo.neighbors
         self.kind = geo.item_kind
@@ -155,7 +157,7 @@ class KitchenView:
             if k == _PLATE or w in (Where.PLATE, Where.WAITING):
                 continue
             if st == READY_STATE[Item(k)] or (st == _FRESH and (
-                    w == Where.HAND or self.terrain[s.item_loc[i]] in (Cell.BOARD, Cell.PAN))):
+                    w == Where.HAND or self.terrain[s.item_loc[i]] in (Cell.BOARD, self.heat))):
                 supply[k] += 1
         self.supply = supply
 

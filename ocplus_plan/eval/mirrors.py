@@ -10,7 +10,8 @@ caller can check the run reached the rules it meant to test. Mirrors:
 * ``numba``: :class:`~ocplus_plan.sim.fast.batch.BatchSim`, compiled (the ``fast`` extra);
 * ``kernels``: the same engine's kernels as plain Python;
 * ``jax``: the JAX kitchen (:mod:`ocplus_plan.sim.fast.jax_kitchen`, the ``jax`` extra), all
-  kitchens in one vmapped batch (padded to one shape), orders drawn from its keys.
+  kitchens in one vmapped batch (padded to one shape), orders drawn from its keys;
+* the batched RL features and shaping (``rl/fast``): :func:`check_features`.
 
 Kitchens are rule sets (:func:`kitchens` makes them from map names: registered maps, paths,
 ``gen:`` names), with any process records (``Rules.processes``).
@@ -116,6 +117,58 @@ def check_batch(rules: Rules, *, compiled: bool, steps: int, seed: int = 0,
             _expect(np.array_equal(out.obs[e], enc.encode(refs[e])), rules, t,
                     "the observation")
     return totals
+
+
+# ---------------------------------------------------------------- the batched features
+def check_features(rules: Rules, *, compiled: bool, steps: int, seed: int = 0,
+                   noise: float = 0.25, n_envs: int = 2, shaping: Any = None,
+                   team: bool = True, coef: float = 0.75) -> float:
+    """The batched RL features and shaped rewards (``rl/fast``) against ``FeatureEncoder``
+    and ``RewardShaper`` on the reference states, bit for bit, at every step; returns the
+    summed absolute shaping of the reference (so a caller can check shaping happened)."""
+    from ..rl.fast.features_batch import BatchFeatures
+    from ..rl.features import FeatureEncoder
+    from ..rl.shaping import RewardShaper, Shaping
+    from ..sim.fast.batch import BatchSim
+
+    shaping = Shaping() if shaping is None else shaping
+    sim = BatchSim(rules, n_envs, seed=seed, compiled=compiled, observe=False)
+    sim.reset()
+    feats = BatchFeatures(sim, shaping)
+    feats.reset(np.arange(n_envs))
+    enc = FeatureEncoder(rules)
+    refs = [new_state(rules, int(sim.seeds[e])) for e in range(n_envs)]
+    shapers = [RewardShaper(shaping) for _ in range(n_envs)]
+    cooks = [GreedyAgent(seed + e) for e in range(n_envs)]
+    for e in range(n_envs):
+        shapers[e].reset(refs[e])
+        cooks[e].reset(refs[e])
+    rng = np.random.default_rng(seed)
+    shaped_total = 0.0
+    for t in range(steps):
+        obs = feats.encode()
+        for e in range(n_envs):
+            _expect(obs[e].tobytes() == enc.encode_all(refs[e]).tobytes(), rules, t,
+                    "the features")
+        acts = _acts(cooks, refs, rng, noise)
+        terminated, truncated = sim.step_active(acts)
+        reward = feats.rewards(coef, team)
+        for e in range(n_envs):
+            res = transition(refs[e], acts[e].tolist())
+            true, shaped = shapers[e].step(refs[e], res.events, res.rewards)
+            mixed = [(sum(true) if team else r) + coef * x for r, x in zip(true, shaped)]
+            _expect(reward[e].tolist() == mixed, rules, t, "the shaped reward")  # exactly
+            shaped_total += sum(abs(x) for x in shaped)
+            if res.terminated or res.truncated:
+                _expect(bool(terminated[e] or truncated[e]), rules, t, "the episode end")
+                _expect(feats.encode()[e].tobytes() == enc.encode_all(refs[e]).tobytes(),
+                        rules, t, "the final features")
+                sim.reset_envs(np.array([e]))
+                feats.reset(np.array([e]))
+                refs[e] = new_state(rules, int(sim.seeds[e]))
+                shapers[e].reset(refs[e])
+                cooks[e].reset(refs[e])
+    return shaped_total
 
 
 # ---------------------------------------------------------------- the JAX kitchen

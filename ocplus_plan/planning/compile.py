@@ -19,7 +19,7 @@ from ..errors import CompileError
 from ..sim.codes import COUNTERS, Cell, Item, ItemState, Where
 from ..sim.state import Order, State
 from ..sim.processes import PROCESSES
-from ..sim.stations import PLACE_FLAGS
+from ..sim.stations import CELL_KINDS, PLACE_FLAGS
 from ._build import Builder as _Builder
 from ._build import new_problem as _new_problem
 from .model import BUMP_DONE_KINDS, build_domain, hand_change
@@ -29,9 +29,11 @@ from .spots import SpotGraph, build_spots, walk_distance
 _HOLDERS = frozenset(int(c) for c in COUNTERS)
 #: an empty hand picks up anything here (a board chops a fresh vegetable instead, a
 #: sink washes a dirty plate: those have their own pick actions)
-_GRABBABLE = _HOLDERS | {int(Cell.PAN)}
+#: the kinds the model's cooking covers: those whose place flag is the pan's (an oven)
+_HEATS = frozenset(int(k.code) for k in CELL_KINDS if k.pddl == PLACE_FLAGS[int(Cell.PAN)])
+_GRABBABLE = _HOLDERS | _HEATS
 #: a held clean plate takes a ready ingredient from here
-_TAKES_FROM = _HOLDERS | {int(Cell.BOARD), int(Cell.PAN)}
+_TAKES_FROM = _HOLDERS | {int(Cell.BOARD)} | _HEATS
 _PLACE_FLAGS = PLACE_FLAGS  # the place flag of each station kind (sim/stations.py)
 _STATE_FLAG = {ItemState.FRESH: "fresh", ItemState.CHOPPED: "ready",
                ItemState.COOKED: "ready", ItemState.BURNT: "burnt", ItemState.CLEAN: "clean",
@@ -178,13 +180,14 @@ def _check_processes(state: State) -> None:
     """The model's schemas are written for the shipped process records (any durations; a
     time-driven station may have another verb): refuse records of another shape rather
     than plan with wrong rules."""
-    def shape(p: Any) -> tuple:
-        return (p.station, p.drive, p.takes, p.takes_state, p.makes_state, p.overrun_state,
+    def shape(p: Any) -> tuple:  # a station with a shipped one's place flag plans as it
+        return (PLACE_FLAGS.get(int(p.station), p.station), p.drive, p.takes, p.takes_state, p.makes_state, p.overrun_state,
                 p.plates, "" if p.timed else p.verb)
 
-    shipped = {p.station: p for p in PROCESSES}
+    shipped = {shape(p)[0]: p for p in PROCESSES}
     for p in state.rules.processes:
-        if p.station not in shipped or shape(p) != shape(shipped[p.station]):
+        flag = shape(p)[0]
+        if flag not in shipped or shape(p) != shape(shipped[flag]):
             covered = ", ".join(f"{q.verb} on the {q.station.name.lower()}" for q in PROCESSES)
             raise CompileError(
                 f"the planning model covers the shipped process stations ({covered}, any "
@@ -351,9 +354,10 @@ def _agent_facts(builder: _Builder, state: State, spots: SpotGraph, objects: _Ob
 
 
 def _pan_times(state: State) -> tuple[int, int]:
-    """(cook, burn) ticks of the pan's record (the model's cooking is the pan's)."""
+    """(cook, burn) ticks of the record that heats steak (the pan's; an oven's)."""
     tables = state.rules.tables
-    return tables.duration_at(Cell.PAN), tables.overrun_at(Cell.PAN)
+    heat = tables.station_of(int(Item.STEAK))
+    return tables.duration_at(heat), tables.overrun_at(heat)
 
 
 def _rule_numbers(builder: _Builder, state: State) -> None:
@@ -389,7 +393,7 @@ def _item_facts(builder: _Builder, state: State, objects: _Objects,
             builder.true("is_steak" if kind == Item.STEAK else "is_veg", name)
             builder.true("kind_of", name, objects.kinds[kind])
         where, loc = state.item_where[i], state.item_loc[i]
-        heating = (where == Where.CELL and terrain[loc] == Cell.PAN
+        heating = (where == Where.CELL and terrain[loc] in _HEATS
                    and item_state != ItemState.BURNT)
         partial = progress > 0 and item_state in (ItemState.FRESH, ItemState.DIRTY)
         builder.true("partly" if partial else "untouched", name)

@@ -38,15 +38,12 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from functools import lru_cache
 
-from ..sim.codes import COUNTERS, Cell
+from ..sim.codes import COUNTERS, STATIONS, Cell
 from ..sim.queries import distances, interaction_spots, switching_walks, walkable_in_any_layout
 from ..sim.state import Geometry, State
 
 #: Cell codes that are places whatever they hold (counters are chosen, see the module doc).
-STATION_CODES = frozenset(int(c) for c in (
-    Cell.BOARD, Cell.PAN, Cell.SINK, Cell.TRASH, Cell.DELIVERY,
-    Cell.TOMATO, Cell.LETTUCE, Cell.ONION, Cell.STEAK, Cell.PLATE,
-))
+STATION_CODES = frozenset(int(c) for c in STATIONS)
 _HOLDERS = frozenset(int(c) for c in COUNTERS)
 
 

@@ -53,11 +53,11 @@ class RgbEncoder:
                 img[y : y + t, x : x + t] = terrain_tile(int(code))
             img.setflags(write=False)
             self._bg.append(img)
-        r_ = rules
+        scale = rules.tables.progress_scale  # the records' durations (an oven's for steak)
         self._progress_den = {
-            _STEAK: float(r_.burn_time + 1), _PLATE_KIND: float(r_.wash_steps),
+            _STEAK: float(scale(_STEAK)), _PLATE_KIND: float(scale(_PLATE_KIND)),
         }
-        self._chop_den = float(r_.chop_steps)
+        self._chop_den = float(scale(int(Item.TOMATO)))
         self._tiles: dict[tuple, np.ndarray] = {}
 
     def draw(self, state: State) -> np.ndarray:

@@ -32,6 +32,7 @@ from ..sim.codes import Action, Item, ItemState, Where
 from ..sim.queries import ticks_until_burnt, ticks_until_cooked
 from ..sim.rules import recipe_name
 from ..sim.state import State
+from ..sim.stations import KIND_OF
 from ..sim.words import state_word
 
 PANEL_WIDTH = 320
@@ -171,25 +172,28 @@ def panel_lines(
         else:
             out.append(PanelLine(f"{name}  (no time limit)"))
 
+    heat = rules.tables.station_of(int(Item.STEAK))  # the pan; an oven where it takes steak
+    word = KIND_OF[heat].word if heat >= 0 else "pan"
     if geo.pans:
-        out.append(PanelLine("pans", ACCENT, heading=True))
+        out.append(PanelLine(word + "s", ACCENT, heading=True))
     for pan in geo.pans:
         r, c = geo.rc(pan)
         item = state.cell_item[pan]
         if item < 0:
-            out.append(PanelLine(f"pan ({r},{c}): empty", DIM))
+            out.append(PanelLine(f"{word} ({r},{c}): empty", DIM))
             continue
         ticks = state.item_progress[item]
         st = state.item_state[item]
+        cook, burn = rules.tables.duration_at(heat), rules.tables.overrun_at(heat)
         if st == ItemState.BURNT:
-            out.append(PanelLine(f"pan ({r},{c}): burnt!", BAD, bar=1.0, bar_color=BAD))
+            out.append(PanelLine(f"{word} ({r},{c}): burnt!", BAD, bar=1.0, bar_color=BAD))
         elif ticks_until_cooked(rules, ticks):
-            out.append(PanelLine(f"pan ({r},{c}): cooking {ticks}/{rules.cook_time}",
-                                 bar=ticks / rules.cook_time, bar_color=WARN))
+            out.append(PanelLine(f"{word} ({r},{c}): cooking {ticks}/{cook}",
+                                 bar=ticks / cook, bar_color=WARN))
         else:
             left = ticks_until_burnt(rules, ticks)
-            out.append(PanelLine(f"pan ({r},{c}): cooked, burns in {left}", GOOD,
-                                 bar=min(1.0, ticks / max(1, rules.burn_time)), bar_color=BAD))
+            out.append(PanelLine(f"{word} ({r},{c}): cooked, burns in {left}", GOOD,
+                                 bar=min(1.0, ticks / max(1, burn)), bar_color=BAD))
 
     out.append(PanelLine("cooks", ACCENT, heading=True))
     for a in range(state.n_agents):

@@ -24,6 +24,7 @@ class Cell(IntEnum):
     STEAK = 10
     SINK = 11
     TRASH = 12
+    OVEN = 13
 
 
 class Item(IntEnum):
@@ -87,7 +88,7 @@ WALKABLE: frozenset[Cell] = frozenset({Cell.FLOOR, Cell.SPAWN})
 COUNTERS: frozenset[Cell] = frozenset({Cell.COUNTER}) | SPAWN_TILES
 #: Stations: fixed interaction cells that a switch layout may never move.
 STATIONS: frozenset[Cell] = frozenset(
-    {Cell.BOARD, Cell.DELIVERY, Cell.PAN, Cell.SINK, Cell.TRASH}
+    {Cell.BOARD, Cell.DELIVERY, Cell.PAN, Cell.SINK, Cell.TRASH, Cell.OVEN}
 ) | SPAWN_TILES
 #: The only codes a switch layout may change between.
 SWITCHABLE: frozenset[Cell] = frozenset({Cell.BLOCK, Cell.FLOOR, Cell.COUNTER})

@@ -1,62 +1,25 @@
 """Structure checks of generated kitchens: what each family of :mod:`.generate` promises.
 
-The checks read a map dict (as :func:`.generate.generate_map` returns it) or a loaded
-:class:`.maps.Layout`: both give the grids, the spawn points and the station cells. This
-module does not import :mod:`.maps` (which resolves ``gen:`` names through
-:mod:`.generate`), so the two never import each other.
+The checks read a loaded :class:`.maps.Layout` (a map dict, as
+:func:`.generate.generate_map` returns it, is loaded first): its grids, spawn points and
+station cells. The map parser knows nothing of ``gen:`` names (:mod:`.kitchens` resolves
+them, a floor above), so this module imports it and keeps no copy of its accessors.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from .codes import STATIONS, WALKABLE, Cell
 from .generate_families import REQUIRED
-from .queries import distances, grid_neighbors
-
-if TYPE_CHECKING:
-    from .maps import Layout
+from ..errors import MapFormatError
+from .grid import distances, grid_neighbors
+from .maps import Layout, load_map
 
 _BOARD, _DELIVERY = int(Cell.BOARD), int(Cell.DELIVERY)
 _STEPS = ((0, 1), (1, 0), (0, -1), (-1, 0))
-
-
-@dataclass(frozen=True)
-class Kitchen:
-    """The parts of a map the checks read (a :class:`.maps.Layout` has the same ones)."""
-
-    grid: np.ndarray
-    switch_grid: np.ndarray | None
-    spawn_points: tuple[tuple[int, int], ...]
-    is_dynamic: bool
-
-    @classmethod
-    def of(cls, kitchen: dict[str, Any] | Layout) -> Kitchen:
-        if not isinstance(kitchen, dict):
-            return cls(kitchen.grid, kitchen.switch_grid, tuple(kitchen.spawn_points),
-                       kitchen.is_dynamic)
-        switch = kitchen.get("switch_map")
-        return cls(np.array(kitchen["game_map"], dtype=np.int8),
-                   None if switch is None else np.array(switch, dtype=np.int8),
-                   tuple((int(r), int(c)) for r, c in kitchen["agent_spawn_points"]),
-                   bool(kitchen.get("is_dynamic_map", switch is not None)))
-
-    @property
-    def rows(self) -> int:
-        return int(self.grid.shape[0])
-
-    @property
-    def cols(self) -> int:
-        return int(self.grid.shape[1])
-
-    def grids(self) -> tuple[np.ndarray, ...]:
-        return (self.grid,) if self.switch_grid is None else (self.grid, self.switch_grid)
-
-    def cells_of(self, code: int) -> list[tuple[int, int]]:
-        return [(int(r), int(c)) for r, c in zip(*np.nonzero(self.grid == code))]
 
 
 def _walkable(grid: np.ndarray) -> list[bool]:
@@ -126,11 +89,11 @@ def lane_cells(grid: np.ndarray) -> list[tuple[int, int]]:
     return out
 
 
-def _touches(layout: Kitchen, code: int, comp: set[int]) -> bool:
+def _touches(layout: Layout, code: int, comp: set[int]) -> bool:
     return any(_touches_cell(layout, cell, comp) for cell in layout.cells_of(code))
 
 
-def station_reach(layout: Kitchen, index: int) -> list[tuple[int, tuple[int, int], set[int]]]:
+def station_reach(layout: Layout, index: int) -> list[tuple[int, tuple[int, int], set[int]]]:
     """(station code, cell, the spawn points whose floor touches it) in layout ``index``."""
     grid = layout.grids()[index]
     comps = floor_components(grid)
@@ -157,7 +120,13 @@ def structure_problems(kitchen: dict[str, Any] | Layout, family: str,
     floor with one-lane cells; ``switching`` a station kind reachable in the main layout and
     cut off from every cook in the switch layout; ``multiroom`` one floor of two rooms or
     more joined by one-cell doors."""
-    layout = Kitchen.of(kitchen)
+    if isinstance(kitchen, Layout):
+        layout = kitchen
+    else:
+        try:
+            layout = load_map(kitchen)
+        except MapFormatError as exc:
+            return [str(exc)]
     problems = [f"no {Cell(c).name.lower()}" for c in sorted(REQUIRED[preset])
                 if not layout.cells_of(c)]
     cols = layout.cols
@@ -171,11 +140,11 @@ def structure_problems(kitchen: dict[str, Any] | Layout, family: str,
     return problems
 
 
-def _check_open(layout: Kitchen, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
+def _check_open(layout: Layout, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
     return [] if len(comps) == 1 else [f"{len(comps)} separate floors; an open kitchen has one"]
 
 
-def _check_split(layout: Kitchen, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
+def _check_split(layout: Layout, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
     if len(comps) != 2:
         return [f"{len(comps)} separate floors; a split kitchen has two"]
     out = []
@@ -193,20 +162,20 @@ def _check_split(layout: Kitchen, comps: list[set[int]], spawn_comp: list[int]) 
     return out
 
 
-def _touches_cell(layout: Kitchen, cell: tuple[int, int], comp: set[int]) -> bool:
+def _touches_cell(layout: Layout, cell: tuple[int, int], comp: set[int]) -> bool:
     r, c = cell
     return any(0 <= r + dr < layout.rows and 0 <= c + dc < layout.cols
                and (r + dr) * layout.cols + c + dc in comp for dr, dc in _STEPS)
 
 
-def _check_corridor(layout: Kitchen, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
+def _check_corridor(layout: Layout, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
     out = [] if len(comps) == 1 else [f"{len(comps)} separate floors; a corridor kitchen has one"]
     if not lane_cells(layout.grid):
         out.append("no one-lane cell")
     return out
 
 
-def _check_switching(layout: Kitchen, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
+def _check_switching(layout: Layout, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
     if layout.switch_grid is None or not layout.is_dynamic:
         return ["no switch layout"]
     entries = station_reach(layout, 1)
@@ -214,7 +183,7 @@ def _check_switching(layout: Kitchen, comps: list[set[int]], spawn_comp: list[in
     return [] if cut else ["the switch layout cuts no station kind off"]
 
 
-def _check_multiroom(layout: Kitchen, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
+def _check_multiroom(layout: Layout, comps: list[set[int]], spawn_comp: list[int]) -> list[str]:
     if len(comps) != 1:
         return [f"{len(comps)} separate floors; the rooms must be joined by doors"]
     doors = frozenset(r * layout.cols + c for r, c in lane_cells(layout.grid))

@@ -15,6 +15,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .codes import Cell
+from .presets import PRESETS, Preset
+from .processes import PROCESSES
 
 Rc = tuple[int, int]
 
@@ -30,17 +32,30 @@ MAX_SIZE = 12
 #: the fewest cooks each family needs (a split kitchen needs one cook per half)
 MIN_COOKS: dict[str, int] = {"open": 1, "split": 2, "corridor": 1, "switching": 1, "multiroom": 1}
 
-_T, _L, _O, _S = int(Cell.TOMATO), int(Cell.LETTUCE), int(Cell.ONION), int(Cell.STEAK)
+_T, _L, _O = int(Cell.TOMATO), int(Cell.LETTUCE), int(Cell.ONION)
 _BOARD, _PLATE, _DELIVERY = int(Cell.BOARD), int(Cell.PLATE), int(Cell.DELIVERY)
-_PAN, _TRASH, _SINK = int(Cell.PAN), int(Cell.TRASH), int(Cell.SINK)
+#: what every generated kitchen gets: (station code, fewest, most)
+_BASE = ((_DELIVERY, 1, 1), (_BOARD, 1, 2), (_PLATE, 1, 2), (_T, 1, 1), (_L, 1, 1), (_O, 1, 1))
+
+
+def _preset_stations(preset: Preset) -> tuple[tuple[int, int, int], ...]:
+    """The stations placed on a preset's kitchens: the base, then one of each station the
+    preset needs (:data:`.presets.PRESETS`) with, for a process station, the crates of the
+    item kinds its shipped record takes that the base lacks (the pan brings steak's)."""
+    out = list(_BASE)
+    for station in preset.stations:
+        code = int(station)
+        if any(c == code for c, _, _ in out):
+            continue
+        out.append((code, 1, 1))
+        out += [(int(k), 1, 1) for p in PROCESSES if p.station == station for k in p.takes
+                if int(k) != _PLATE and all(c != int(k) for c, _, _ in out)]
+    return tuple(out)
+
+
 #: preset -> (station code, fewest, most) placed on its kitchens
 PRESET_STATIONS: dict[str, tuple[tuple[int, int, int], ...]] = {
-    "easy": ((_DELIVERY, 1, 1), (_BOARD, 1, 2), (_PLATE, 1, 2), (_T, 1, 1), (_L, 1, 1),
-             (_O, 1, 1)),
-}
-PRESET_STATIONS["medium"] = PRESET_STATIONS["easy"] + ((_PAN, 1, 1), (_S, 1, 1),
-                                                       (_TRASH, 1, 1))
-PRESET_STATIONS["hard"] = PRESET_STATIONS["medium"] + ((_SINK, 1, 1),)
+    name: _preset_stations(p) for name, p in PRESETS.items()}
 #: the stations :func:`.generate_checks.structure_problems` requires of a preset's kitchens
 REQUIRED: dict[str, frozenset[int]] = {p: frozenset(c for c, _, _ in s)
                                        for p, s in PRESET_STATIONS.items()}

@@ -27,8 +27,8 @@ from .codes import (
     Cell,
 )
 from .process_yaml import parse_processes
-from .processes import Process
-from .queries import distances, grid_neighbors
+from .processes import ADDED, PROCESSES, Process
+from .grid import distances, grid_neighbors
 
 if TYPE_CHECKING:
     from importlib.resources.abc import Traversable
@@ -323,6 +323,8 @@ def _parse(raw: dict[str, Any], src: str) -> Layout:
         if cells:
             stations[int(code)] = cells
 
+    processes = None if d.get("processes") is None else parse_processes(d["processes"], src)
+    _check_added_stations(stations, processes, src)
     default_name = Path(src).stem if src != "<dict>" else "unnamed"
     return Layout(
         name=_text(d, "name", "", src) or default_name,
@@ -337,8 +339,23 @@ def _parse(raw: dict[str, Any], src: str) -> Layout:
         description=_text(d, "description", "", src),
         stations=stations,
         declared_max_agents=declared,
-        processes=None if d.get("processes") is None else parse_processes(d["processes"], src),
+        processes=processes,
     )
+
+
+def _check_added_stations(stations: dict[int, Any], processes: tuple[Process, ...] | None,
+                          src: str) -> None:
+    """A process station added after the shipped ones (the oven) runs only by the
+    kitchen's own record: refuse a map that places one without it."""
+    running = {int(p.station) for p in processes or PROCESSES}
+    for p in ADDED:
+        code = int(p.station)
+        if code in stations and code not in running:
+            name = p.station.name.lower()
+            raise MapFormatError(
+                f"{src}: cell code {code} ({name}) at {list(stations[code][0])} has no record; "
+                f"add one under 'processes' (station: {name}, verb: {p.verb}, takes: "
+                f"[{', '.join(k.name.lower() for k in p.takes)}], ...) or remove the cell")
 
 
 #: the switch period of a dynamic map that does not give one (SPEC section 2's MapC value)

@@ -45,9 +45,13 @@ from .codes import Cell, Item, ItemState, Where
 from .processes import process_tables
 from .rules import Rules
 from .state import Geometry, State
+from .stations import CELL_KINDS, KIND_OF
 
-#: terrain codes with a one-hot channel, in channel order (``Cell.SPAWN`` reads as floor)
-TERRAIN_CODES: tuple[Cell, ...] = tuple(c for c in Cell if c != Cell.SPAWN)
+#: terrain codes with a one-hot channel, in channel order (``Cell.SPAWN`` reads as floor):
+#: the shipped kinds up to the trash can; a kind added later reads as its record's
+#: ``observe_as`` (``sim/stations.py``), so the layout of the channels never changes
+TERRAIN_CODES: tuple[Cell, ...] = tuple(c for c in Cell if c != Cell.SPAWN
+                                        and KIND_OF[int(c)].observe_as is None)
 ITEM_KINDS: tuple[Item, ...] = (Item.TOMATO, Item.LETTUCE, Item.ONION, Item.STEAK, Item.PLATE)
 INGREDIENT_KINDS: tuple[Item, ...] = ITEM_KINDS[:4]
 ITEM_STATES: tuple[ItemState, ...] = (
@@ -69,6 +73,8 @@ CH_SELF, CH_OTHER = _CH["agent:self"], _CH["agent:other"]
 _CH_KIND0, _CH_STATE0 = _CH["item:tomato"], _CH["state:fresh"]
 _KIND_INDEX = {int(k): i for i, k in enumerate(ITEM_KINDS)}
 _TERRAIN_INDEX = {int(c): i for i, c in enumerate(TERRAIN_CODES)} | {int(Cell.SPAWN): 1}
+_TERRAIN_INDEX |= {int(k.code): _TERRAIN_INDEX[int(k.observe_as)] for k in CELL_KINDS
+                   if k.observe_as is not None}
 _CELL, _HAND, _PLATE = int(Where.CELL), int(Where.HAND), int(Where.PLATE)
 _PLATE_KIND = int(Item.PLATE)
 

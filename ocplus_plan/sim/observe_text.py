@@ -21,7 +21,7 @@ from .codes import Action, Cell, Item, ItemState, Where
 from .processes import process_tables
 from .queries import ticks_until_burnt, ticks_until_cooked
 from .rules import Rules
-from .stations import WORK_PLACES
+from .stations import KIND_OF, WORK_PLACES
 from .state import State
 from .words import (
     ACTION_WORDS,
@@ -120,10 +120,12 @@ def rules_text(rules: Rules) -> str:
          "plate (use the plate while holding the ingredient, or use the ingredient while "
          "holding the plate), then carry the plate to the serving window."),
     ]
-    if any(Item.STEAK in r for r in rules.recipes):
-        lines.append(f"A raw steak put on a pan cooks by itself: cooked after "
-                     f"{work(Cell.PAN)} steps, burnt after "
-                     f"{process_tables(rules).overrun_at(Cell.PAN) + 1}. Take it "
+    heat = process_tables(rules).station_of(int(Item.STEAK))  # the pan (an oven with steak)
+    if any(Item.STEAK in r for r in rules.recipes) and heat >= 0:
+        lines.append(f"A raw steak put {'on' if heat == Cell.PAN else 'in'} "
+                     f"{indefinite(KIND_OF[heat].word)} cooks by itself: cooked after "
+                     f"{work(heat)} steps, burnt after "
+                     f"{process_tables(rules).overrun_at(heat) + 1}. Take it "
                      "off (or take it onto a plate) in time; the trash can takes burnt food "
                      "back to its counter fresh.")
     if rules.dirty_plates:

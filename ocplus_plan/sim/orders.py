@@ -5,29 +5,11 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from .codes import Item, ItemState, Where
-from .records import Event, Order
+from .records import Event
+from .state import draw_order
 
 if TYPE_CHECKING:
     from .state import State
-
-
-def draw_order(state: State, replaces: Order | None = None) -> None:
-    """Append one order drawn uniformly from the recipe pool with the episode's RNG.
-
-    With fixed orders (``rules.fixed_orders``) nothing is drawn: the order that
-    ``replaces`` a served or expired one has its recipe, and otherwise the fixed
-    recipes come in turn."""
-    fixed = state.rules.fixed_orders
-    if fixed is not None:
-        recipe = replaces.recipe if replaces is not None else \
-            fixed[state.next_order_id % len(fixed)]
-    else:
-        recipes = state.rules.recipes
-        recipe = recipes[int(state.rng.integers(len(recipes)))]
-    limit = state.rules.order_time_limit
-    deadline = state.t + limit if limit is not None else -1
-    state.orders.append(Order(state.next_order_id, recipe, state.t, deadline))
-    state.next_order_id += 1
 
 
 def plate_recipe(state: State, plate: int) -> tuple[Item, ...] | None:

@@ -1,7 +1,9 @@
 """A kitchen file's ``processes``: its own process-station records (SPEC section 2).
 
 Each entry replaces the shipped record of one process station (board, pan, sink) for that
-kitchen; the stations it does not list keep theirs. Entries are checked like the rest of
+kitchen, or adds a station of :data:`.processes.ADDED` (the oven), which takes the item
+kinds it lists over from the shipped records (one left with none is dropped); the
+stations it does not list keep theirs. Entries are checked like the rest of
 the map: a bounded list of mappings with known keys, each value of the right kind and
 range, and the resulting records together as :func:`.processes.check_processes` requires;
 every error is a :class:`MapFormatError` naming the file, the entry and the fix.
@@ -9,11 +11,12 @@ every error is a :class:`MapFormatError` naming the file, the entry and the fix.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 from ..errors import ConfigError, MapFormatError
 from .codes import ITEM_NAMES, ItemState
-from .processes import COUNTERS, DRIVES, PROCESSES, Process, check_processes
+from .processes import ADDED, COUNTERS, DRIVES, PROCESSES, Process, check_processes
 
 #: at most this many entries (one per process station)
 MAX_PROCESSES = 8
@@ -21,9 +24,9 @@ MAX_PROCESSES = 8
 MAX_DURATION = 1000
 KEYS = ("station", "verb", "past", "takes", "from", "to", "drive", "duration", "overrun",
         "plates", "counter")
-STATIONS = {p.station.name.lower(): p.station for p in PROCESSES}
+STATIONS = {p.station.name.lower(): p.station for p in PROCESSES + ADDED}
 STATES = {**{s.name.lower(): s for s in ItemState}, "raw": ItemState.RAW}
-_SHIPPED = {p.station: p for p in PROCESSES}
+_SHIPPED = {p.station: p for p in PROCESSES + ADDED}
 
 
 def parse_processes(value: Any, src: str) -> tuple[Process, ...]:
@@ -39,6 +42,10 @@ def parse_processes(value: Any, src: str) -> tuple[Process, ...]:
                                  f"{record.station.name.lower()} a second record; keep one")
         given[record.station] = record
     out = tuple(given.pop(p.station, p) for p in PROCESSES)
+    if given:  # added stations: each takes its kinds over from the shipped records
+        taken = {k for p in given.values() for k in p.takes}
+        kept = (replace(p, takes=tuple(k for k in p.takes if k not in taken)) for p in out)
+        out = tuple(p for p in kept if p.takes) + tuple(given.values())
     try:
         check_processes(out)
     except ConfigError as exc:
@@ -93,8 +100,9 @@ def _record(entry: Any, where: str) -> Process:
     plates = entry.get("plates", _SHIPPED[station].plates)
     if not isinstance(plates, bool):
         raise MapFormatError(f"{where}: 'plates' must be true or false, got {plates!r:.40}")
+    past = entry.get("past", verb + ("d" if verb.endswith("e") else "ed"))
     return Process(
-        verb, _word(entry.get("past", verb + "ed"), where, "past"), station, kinds,
+        verb, _word(past, where, "past"), station, kinds,
         _choice(entry["from"], STATES, where, "from"), _choice(entry["to"], STATES, where, "to"),
         _choice(entry["drive"], {d: d for d in DRIVES}, where, "drive"),
         _count(entry["duration"], where, "duration"), "", overrun_state, overrun, "",

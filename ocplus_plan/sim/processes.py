@@ -15,8 +15,9 @@ indexed ``[process, item kind, item state]`` (``accepts``: a cook may put it dow
 (``fast/jax_kitchen.py``) index these tables instead of branching per station; the
 planning model (``planning/model.py``) writes one schema per bump-driven record.
 
-Adding a station that processes an item (an oven that bakes) is one record in
-:data:`PROCESSES` plus its cell kind in ``stations.py`` (see docs/architecture.md).
+Adding a station that processes an item (the oven that bakes) is one record in
+:data:`ADDED` plus its cell code and kind (``codes.py``, ``stations.py``); a kitchen
+file then lists it under ``processes:`` (see docs/architecture.md).
 """
 
 from __future__ import annotations
@@ -83,6 +84,16 @@ PROCESSES: tuple[Process, ...] = (
             "cook_time", ItemState.BURNT, 20, "burn_time", stat="cooks"),
     Process("wash", "washed", Cell.SINK, (Item.PLATE,), ItemState.DIRTY, ItemState.CLEAN, "bump", 3,
             "wash_steps", stat="washes", plates=False),
+)
+
+
+#: process stations a kitchen file may add (``processes:``, ``sim/process_yaml.py``) with
+#: their default records; each takes its item kinds over from the shipped record that had
+#: them. The oven roasts steak in the clock's time and burns it when left (its cells are
+#: cell kind ``oven`` in ``stations.py``)
+ADDED: tuple[Process, ...] = (
+    Process("bake", "baked", Cell.OVEN, (Item.STEAK,), ItemState.FRESH, ItemState.COOKED,
+            "time", 8, "", ItemState.BURNT, 16, "", stat="cooks"),
 )
 
 
@@ -188,6 +199,12 @@ class ProcessTables:
             return 1
         return self.overrun[j] + 1 if self.overrun_state[j] >= 0 else self.duration[j]
 
+    def station_of(self, kind: int) -> int:
+        """The station code of the process that takes item kind ``kind`` (steak: the pan,
+        or an oven where a kitchen's records give it the steak; -1: none)."""
+        j = self.index_of(kind)
+        return int(self.processes[j].station) if j >= 0 else -1
+
     def duration_at(self, code: int) -> int:
         """The duration of station ``code``'s process."""
         return self.duration[self.by_code[code]]
@@ -236,5 +253,5 @@ def _compile(procs: tuple[Process, ...], durations: tuple[tuple[int, int], ...])
         accepts, works, plateable, accepts.tolist(), works.tolist(), plateable.tolist())
 
 
-__all__ = ["COUNTERS", "DRIVES", "check_processes", "N_KINDS", "N_STATES", "PROCESSES", "PROCESS_STATION", "READY_STATE", "Process", "ProcessTables",
+__all__ = ["ADDED", "COUNTERS", "DRIVES", "check_processes", "N_KINDS", "N_STATES", "PROCESSES", "PROCESS_STATION", "READY_STATE", "Process", "ProcessTables",
            "ingredient_process", "process_tables", "ready_state"]

@@ -18,6 +18,7 @@ from ..errors import ConfigError, MapFormatError
 from .codes import ITEM_NAMES, VEGETABLES, Cell, Item
 from .kitchens import load_kitchen
 from .maps import Layout
+from .presets import PRESETS, Preset
 from .processes import (
     PROCESSES,
     Process,
@@ -114,39 +115,6 @@ def recipe_name(recipe: Recipe) -> str:
     return "+".join(i.name.lower() for i in recipe)
 
 
-@dataclass(frozen=True)
-class Preset:
-    """A preset of SPEC section 7: a default map, agent count, and recipe rule."""
-
-    name: str
-    map: str
-    n_agents: int
-    recipe_sizes: tuple[int, ...]
-    steak: str  # "never" | "required" | "allowed"
-    stations: tuple[Cell, ...]
-    dirty_plates: bool
-    dynamic: bool
-    description: str
-
-
-PRESETS: dict[str, Preset] = {
-    "easy": Preset(
-        "easy", "easy_open", 1, (1,), "never", (Cell.BOARD,), False, False,
-        "one chopped vegetable; cutting boards; plates stay clean; static layout",
-    ),
-    "medium": Preset(
-        "medium", "medium_kitchen", 1, (2, 3), "required", (Cell.BOARD, Cell.PAN, Cell.TRASH),
-        False, False,
-        "one steak + 1-2 chopped vegetables; boards, pan, trash; plates stay clean; static layout",
-    ),
-    "hard": Preset(
-        "hard", "mapC", 2, (3,), "allowed",
-        (Cell.BOARD, Cell.PAN, Cell.TRASH, Cell.SINK), True, True,
-        "at least three ingredients, steak allowed; boards, pan, trash, sink; "
-        "plates dirty after delivery; dynamic layout",
-    ),
-}
-
 _RULE_FIELDS = {
     f.name for f in fields(Rules)
     if f.name not in ("preset", "layout", "recipes", "rewards", "fixed_orders", "processes")
@@ -166,7 +134,7 @@ def recipe_pool(
     ``required`` (exactly one steak) or ``allowed``.
     """
     supply = {}
-    for item, process in sorted(ingredient_process().items()):
+    for item, process in sorted(ingredient_process(layout.processes or PROCESSES).items()):
         if layout.cells_of(process.station):
             supply[item] = len(layout.cells_of(Cell(int(item))))
     kinds = sorted(k for k, n in supply.items() if n > 0)
@@ -200,6 +168,19 @@ def parse_recipe(spec: Any) -> Recipe:
     return tuple(sorted(items))
 
 
+def _needed_stations(p: Preset, layout: Layout) -> tuple[Cell, ...]:
+    """The stations preset ``p`` needs on ``layout``: a shipped process station whose item
+    kinds the kitchen's records give to another station (the pan's steak to an oven) is
+    needed as that one."""
+    own = layout.processes or PROCESSES
+    out: list[Cell] = []
+    for c in p.stations:
+        kinds = {k for q in PROCESSES if q.station == c for k in q.takes}
+        now = [q.station for q in own if kinds & set(q.takes)] if kinds else [c]
+        out += [s for s in now if s not in out]
+    return tuple(out)
+
+
 def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, **overrides: Any) -> Rules:
     """Rules for a preset, with any parameter overridden by keyword.
 
@@ -231,7 +212,7 @@ def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, 
             f"preset {preset!r} wants a dynamic layout but map {layout.name!r} {why}; "
             "use a dynamic map (e.g. mapC) or pass dynamic=False"
         )
-    missing = [c.name.lower() for c in p.stations if not layout.cells_of(c)]
+    missing = [c.name.lower() for c in _needed_stations(p, layout) if not layout.cells_of(c)]
     dirty = overrides.pop("dirty_plates", p.dirty_plates)
     if dirty and not layout.cells_of(Cell.SINK) and "sink" not in missing:
         missing.append("sink")

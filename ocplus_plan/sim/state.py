@@ -19,11 +19,10 @@ from typing import Any
 import numpy as np
 
 from .codes import ITEM_NAMES, SPAWN_TILES, WALKABLE, Cell, Item, ItemState, Where
-from .queries import grid_neighbors
-from .orders import draw_order
+from .grid import grid_neighbors
 from .records import Event, Order
 from .rules import Rules, recipe_name
-from .words import map_rows
+from .stations import KIND_OF
 
 
 @dataclass(frozen=True, eq=False)
@@ -38,6 +37,8 @@ class Geometry:
     walkables: tuple[tuple[bool, ...], ...]
     #: per cell: flat index of the neighbour in direction RIGHT, DOWN, LEFT, UP (or -1)
     neighbors: tuple[tuple[int, int, int, int], ...]
+    #: the cells of the station that heats steak (the pan; an oven where a kitchen's
+    #: records give it the steak), in cell order
     pans: tuple[int, ...]
     switch_cells: tuple[int, ...]
     item_kind: tuple[int, ...]
@@ -61,12 +62,13 @@ class Geometry:
                 k = counts.get(code, 0)
                 counts[code] = k + 1
                 names.append(f"{Item(code).name.lower()}{k}")
-        pans = tuple(i for i, v in enumerate(terrains[0]) if v == Cell.PAN)
         switch = ()
         if len(terrains) > 1:
             switch = tuple(i for i, (a, b) in enumerate(zip(*terrains)) if a != b)
         timed_codes = {p.station for p in rules.processes if p.timed}
         timed = tuple(i for i, v in enumerate(terrains[0]) if v in timed_codes)
+        heat = rules.tables.station_of(int(Item.STEAK))
+        pans = tuple(i for i, v in enumerate(terrains[0]) if v == heat)
         return cls(rows, cols, terrains, walk, grid_neighbors(rows, cols), pans, switch,
                    tuple(kinds), tuple(homes), tuple(names), timed)
 
@@ -286,6 +288,46 @@ def new_state(rules: Rules, seed: int | None = 0, *, geometry: Geometry | None =
     for _ in range(rules.n_orders):
         draw_order(s)
     return s
+
+
+def draw_order(state: State, replaces: Order | None = None) -> None:
+    """Append one order drawn uniformly from the recipe pool with the episode's RNG.
+
+    With fixed orders (``rules.fixed_orders``) nothing is drawn: the order that
+    ``replaces`` a served or expired one has its recipe, and otherwise the fixed
+    recipes come in turn."""
+    fixed = state.rules.fixed_orders
+    if fixed is not None:
+        recipe = replaces.recipe if replaces is not None else \
+            fixed[state.next_order_id % len(fixed)]
+    else:
+        recipes = state.rules.recipes
+        recipe = recipes[int(state.rng.integers(len(recipes)))]
+    limit = state.rules.order_time_limit
+    deadline = state.t + limit if limit is not None else -1
+    state.orders.append(Order(state.next_order_id, recipe, state.t, deadline))
+    state.next_order_id += 1
+
+
+def map_rows(state: State, mark_items: bool = True) -> list[str]:
+    """The current layout, one string per row, one letter per cell (its
+    :class:`~.stations.CellKind`'s);
+    a cook is drawn as its index and, with ``mark_items``, an item on a cell upper-cases the
+    cell's letter (``*`` on a plain counter; a tomato on its counter then reads like the
+    trash can, so texts that list the items leave them off)."""
+    geo, terrain = state.geo, state.geo.terrains[state.layout_index]
+    lines = []
+    for r in range(geo.rows):
+        row = []
+        for f in range(r * geo.cols, (r + 1) * geo.cols):
+            ch = KIND_OF[terrain[f]].letter
+            if f in state.agent_pos:
+                ch = str(state.agent_pos.index(f))
+            elif mark_items and state.cell_item[f] >= 0:
+                ch = ch.upper() if ch.isalpha() else "*"
+            row.append(ch)
+        lines.append("".join(row))
+    return lines
 
 
 def state_from_dict(rules: Rules, d: dict[str, Any]) -> State:

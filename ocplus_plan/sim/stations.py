@@ -41,8 +41,15 @@ class CellKind:
     sprite: str
     #: one of :data:`ROLES`
     role: str
-    #: the planning model's fluent that marks a place of this kind ("" for none)
+    #: the planning model's fluent that marks a place of this kind ("" for none); a
+    #: station may share a shipped station's flag when the model's schemas for that one
+    #: cover its record (an oven that cooks steak is a place where steak heats: ``pan``)
     pddl: str = ""
+    #: the kind whose terrain channel shows this one in the vector observation (None:
+    #: its own). The observation's terrain channels are those of the shipped kinds, so a
+    #: kind added later reads as the shipped kind it works like and no preset's
+    #: observation layout changes
+    observe_as: Cell | None = None
 
     @property
     def name(self) -> str:
@@ -66,6 +73,8 @@ CELL_KINDS: tuple[CellKind, ...] = (
     CellKind(Cell.PAN, "pan", "P", (45, 45, 50), "pan", "process", "pan"),
     CellKind(Cell.SINK, "sink", "S", (90, 150, 220), "sink", "process", "sink"),
     CellKind(Cell.TRASH, "trash can", "T", (40, 40, 40), "trash", "dispose", "trash"),
+    CellKind(Cell.OVEN, "oven", "V", (170, 70, 40), "station", "process", "pan",
+             observe_as=Cell.PAN),
 )
 #: code -> record
 KIND_OF: dict[int, CellKind] = {int(k.code): k for k in CELL_KINDS}

@@ -19,6 +19,7 @@ from .codes import Action, Item, ItemState, Where
 from .orders import matching_order, plate_recipe
 from .processes import READY_STATE
 from .queries import Bump, bump_effect
+from .state import map_rows
 from .stations import CELL_KINDS
 
 if TYPE_CHECKING:
@@ -92,26 +93,6 @@ def where_words(state: State, item: int) -> str:
     if where == Where.WAITING:
         return f"waiting to reappear on {cell_words(state, loc)} (it is occupied)"
     return f"on {cell_words(state, loc)}"
-
-
-def map_rows(state: State, mark_items: bool = True) -> list[str]:
-    """The current layout, one string per row, one :data:`CELL_GLYPHS` character per cell;
-    a cook is drawn as its index and, with ``mark_items``, an item on a cell upper-cases the
-    cell's letter (``*`` on a plain counter; a tomato on its counter then reads like the
-    trash can, so texts that list the items leave them off)."""
-    geo, terrain = state.geo, state.geo.terrains[state.layout_index]
-    lines = []
-    for r in range(geo.rows):
-        row = []
-        for f in range(r * geo.cols, (r + 1) * geo.cols):
-            ch = CELL_GLYPHS[terrain[f]]
-            if f in state.agent_pos:
-                ch = str(state.agent_pos.index(f))
-            elif mark_items and state.cell_item[f] >= 0:
-                ch = ch.upper() if ch.isalpha() else "*"
-            row.append(ch)
-        lines.append("".join(row))
-    return lines
 
 
 def _bump_words(state: State, effect: Bump, held: int, cell: int) -> str:

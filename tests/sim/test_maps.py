@@ -61,8 +61,8 @@ def test_spawn_cells_with_code_2_are_spawn_points():
     "change, words",
     [
         ({"game_map": [[1, 3, 1], [5, 0, 0, 7], [1, 1, 1]]}, ["row 1", "4 cells"]),
-        ({"game_map": [[1, 3, 1, 6, 1], [5, 0, 13, 0, 7], [1, 1, 1, 1, 1]]},
-         ["row 1, column 2", "13"]),
+        ({"game_map": [[1, 3, 1, 6, 1], [5, 0, 14, 0, 7], [1, 1, 1, 1, 1]]},
+         ["row 1, column 2", "14"]),
         ({"game_map": [[1, 3, 1, 6, 1], [5, 0, 0, 0, 1], [1, 1, 1, 1, 1]]}, ["delivery"]),
         ({"agent_spawn_points": [[0, 0]]}, ["[0, 0]", "counter", "floor"]),
         ({"agent_spawn_points": [[5, 1]]}, ["[5, 1]", "outside"]),

@@ -145,7 +145,7 @@ def test_a_kitchen_file_gives_its_pan_another_record_and_the_step_follows_it():
 
 
 @pytest.mark.parametrize("entry, message", [
-    ({"station": "oven"}, "station 'oven' is not one of board, pan, sink"),
+    ({"station": "grill"}, "station 'grill' is not one of board, pan, sink, oven"),
     ({"drive": "bump"}, "only a time-driven station overruns"),
     ({"duration": 0}, "'duration' must be an integer from 1 to 1000"),
     ({"duration": "6"}, "'duration' must be an integer"),

@@ -19,7 +19,6 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..codes import Cell
 from ..observe import (
     _CH_KIND0,
     _CH_STATE0,
@@ -29,6 +28,7 @@ from ..observe import (
     GRID_CHANNELS,
     ITEM_KINDS,
     ITEM_STATES,
+    _TERRAIN_INDEX,
     TERRAIN_CODES,
 )
 from .jax_kitchen import (
@@ -50,9 +50,8 @@ from .jax_kitchen import (
 
 #: per cell code + 1 (BLOCK is -1): its terrain channel (spawn floor reads as floor)
 _TERRAIN_CHANNEL = np.zeros(16, np.int32)
-for _i, _c in enumerate(TERRAIN_CODES):
-    _TERRAIN_CHANNEL[int(_c) + 1] = _i
-_TERRAIN_CHANNEL[int(Cell.SPAWN) + 1] = TERRAIN_CODES.index(Cell.FLOOR)
+for _c, _i in _TERRAIN_INDEX.items():  # a kind added later: its record's ``observe_as``
+    _TERRAIN_CHANNEL[_c + 1] = _i
 _N_TERRAIN, _N_KINDS, _N_STATES = len(TERRAIN_CODES), len(ITEM_KINDS), len(ITEM_STATES)
 N_CHANNELS = len(GRID_CHANNELS)
 #: features before the orders: hand kind, hand state, plate contents, row col time layout switch

@@ -13,12 +13,12 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from ocplus_plan.agents.greedy import GreedyAgent
+from ocplus_plan.eval.mirrors import check_features
 from ocplus_plan.rl.fast import features_kernels as fk
 from ocplus_plan.rl.features import FeatureEncoder
 from ocplus_plan.rl.fast.features_batch import BatchFeatures
-from ocplus_plan.rl.shaping import RewardShaper, Shaping
-from ocplus_plan.sim import make_rules, new_state, transition
+from ocplus_plan.rl.shaping import Shaping
+from ocplus_plan.sim import make_rules
 from ocplus_plan.sim.fast.batch import BatchSim, numba_available
 from tests.sim.fast.test_batch import QUICK, kitchens
 
@@ -29,46 +29,11 @@ TERMS = ("subtask_scale", "stage", "useful_plate", "carry_fresh", "carry_ready",
 
 def compare(rules, seed: int, steps: int, n_envs: int, compiled: bool, shaping: Shaping,
             team: bool = True, noise: float = 0.25) -> float:
-    """Step both ways (greedy cooks, a share of random actions), assert the same features
-    and rewards at every step; returns the summed absolute shaping of the reference."""
-    sim = BatchSim(rules, n_envs, seed=seed, compiled=compiled, observe=False)
-    sim.reset()
-    feats = BatchFeatures(sim, shaping)
-    feats.reset(np.arange(n_envs))
-    enc = FeatureEncoder(rules)
-    refs = [new_state(rules, sim.seeds[e]) for e in range(n_envs)]
-    shapers = [RewardShaper(shaping) for _ in range(n_envs)]
-    cooks = [GreedyAgent(seed + e) for e in range(n_envs)]
-    for e in range(n_envs):
-        shapers[e].reset(refs[e])
-        cooks[e].reset(refs[e])
-    rng = np.random.default_rng(seed)
-    coef = 0.75
-    shaped_total = 0.0
-    for _ in range(steps):
-        obs = feats.encode()
-        for e in range(n_envs):
-            assert obs[e].tobytes() == enc.encode_all(refs[e]).tobytes()
-        acts = np.array([cooks[e].act(refs[e]) for e in range(n_envs)])
-        random = rng.random(acts.shape) < noise
-        acts[random] = rng.integers(0, 5, size=int(random.sum()))
-        terminated, truncated = sim.step_active(acts)
-        reward = feats.rewards(coef, team)
-        for e in range(n_envs):
-            res = transition(refs[e], acts[e].tolist())
-            true, shaped = shapers[e].step(refs[e], res.events, res.rewards)
-            mixed = [(sum(true) if team else t) + coef * s for t, s in zip(true, shaped)]
-            assert reward[e].tolist() == mixed  # float64, exactly
-            shaped_total += sum(abs(s) for s in shaped)
-            if res.terminated or res.truncated:
-                assert terminated[e] or truncated[e]
-                assert feats.encode()[e].tobytes() == enc.encode_all(refs[e]).tobytes()
-                sim.reset_envs(np.array([e]))
-                feats.reset(np.array([e]))
-                refs[e] = new_state(rules, sim.seeds[e])
-                shapers[e].reset(refs[e])
-                cooks[e].reset(refs[e])
-    return shaped_total
+    """The shared mirror harness on the batched features (``eval.mirrors.check_features``):
+    the same features and rewards at every step; returns the summed absolute shaping of the
+    reference."""
+    return check_features(rules, compiled=compiled, steps=steps, seed=seed, noise=noise,
+                          n_envs=n_envs, shaping=shaping, team=team)
 
 
 @st.composite

@@ -12,6 +12,7 @@ from ocplus_plan.sim.fast import kernels
 from ocplus_plan.sim.fast.batch import numba_available
 from ocplus_plan.sim.processes import PROCESSES
 from ocplus_plan.sim.rules import with_overrides
+from tests.sim.test_oven_kitchen import OVEN_MAP
 from tests.sim.test_processes import KNEAD, ROAST
 
 GEN = ("gen:open:train:0", "gen:split:train:1", "gen:open:test:2")
@@ -36,8 +37,9 @@ def test_the_batch_engine_steps_generated_kitchens_as_the_reference(mirror):
 
 def test_the_jax_kitchen_steps_generated_kitchens_as_the_reference():
     pytest.importorskip("jax", reason="jax is not installed (the 'jax' extra)")
-    totals = check_mirror("jax", generated()[:2] + generated(records=True)[:2], steps=30,
-                          seed=5)
+    oven = kitchens([OVEN_MAP], "medium", n_agents=2, horizon=25)  # an added station
+    totals = check_mirror("jax", generated()[:2] + generated(records=True)[:2] + oven,
+                          steps=30, seed=5)
     assert totals["chops"], totals
 
 
