@@ -205,22 +205,19 @@ class _Kitchen:
 
     def _goal(self, agent: int) -> tuple[int | None, bool, bool]:
         """(the cell ``agent`` walks to or None, whether it bumps now, whether it may be
-        asked to step aside)."""
+        asked to step aside). A cook sent aside goes there first, unless it is at its spot
+        and due to bump."""
         cur = self.current(agent)
         here = self.state.agent_pos[agent]
         if cur is None or not self.startable(cur):
             return self.aside.get(agent), False, True
         act = self.acts[cur]
-        if act.kind == "walk":
+        waiting = not self._ticks_ok(act)  # a take-off waiting for the steak: free to go
+        if act.kind == "bump" and here == act.spot and not waiting:
             self.aside.pop(agent, None)
-            return act.spot, False, False
-        if not self._ticks_ok(act):  # a take-off waiting for the steak: free to make way
-            target = self.aside.get(agent, act.spot)
-            return (None if target == here else target), False, True
-        self.aside.pop(agent, None)
-        if here != act.spot:
-            return act.spot, False, False
-        return None, True, False
+            return None, True, False
+        target = self.aside.get(agent, act.spot)
+        return (None if target == here else target), False, waiting
 
     def decide(self) -> tuple[list[int], dict[int, int], str, int | None]:
         """The joint action: (actions, agent -> bumping activity, trouble, its activity)."""

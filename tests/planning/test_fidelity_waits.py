@@ -78,6 +78,19 @@ def test_a_cook_in_the_way_steps_aside_and_the_other_waits():
     assert state.agent_rc(1) == (1, 4)  # the state given is not changed
 
 
+def test_cooks_walking_head_on_in_one_lane_pass_by_the_niche():
+    # both walk at time 0, towards each other; the plan's later step (cook 1's) gives way
+    compiled, plan, state = _deliver(niche=True)
+    timed = list(plan.timed_actions)
+    walk = ActionInstance(compiled.problem.action("move"), tuple(
+        compiled.problem.object(o) for o in ("a1", "s_1_4", "s_1_1")))
+    plan = TimeTriggeredPlan([timed[0], (Fraction(0), walk, Fraction(3)), timed[1]])
+    done = realise_timed(compiled, plan, state)
+    assert done.ok and done.served == [0], done.reason
+    assert done.final is not None and done.final.agent_rc(1) == (1, 1)
+    assert done.waits > 0
+
+
 def test_a_cook_that_cannot_be_passed_refuses_the_walk():
     compiled, plan, state = _deliver(niche=False)
     verdict = judge(compiled, plan, state)
