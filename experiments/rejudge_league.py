@@ -72,7 +72,8 @@ def _plan_of(row: dict, suite: Path, plans: Path, folder: Path,
     return (instance, compiled), read_plan(path, compiled.problem), source
 
 
-def rejudge(folder: Path, plans: Path, stored_only: bool = False) -> list[dict]:
+def rejudge(folder: Path, plans: Path, stored_only: bool = False,
+            only: str = "") -> list[dict]:
     """One output row per VAL-valid row of ``folder``."""
     from ocplus_plan.planning.fidelity_judge import judge
     from ocplus_plan.planning.validate import plan_quality, validate_plan
@@ -84,7 +85,7 @@ def rejudge(folder: Path, plans: Path, stored_only: bool = False) -> list[dict]:
     out = []
     for line in (folder / "runs.jsonl").read_text(encoding="utf-8").splitlines():
         row = json.loads(line)
-        if row.get("valid") is not True:
+        if row.get("valid") is not True or only not in row["instance"]:
             continue
         got, plan, source = _plan_of(row, suite, plans, folder, stored_only)
         entry = {"folder": folder.name, "planner": row["planner"], "instance": row["instance"],
@@ -132,6 +133,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=None)
     parser.add_argument("--stored-only", action="store_true",
                         help="judge the stored plans only; solve nothing")
+    parser.add_argument("--only", default="",
+                        help="only the rows whose instance contains this, e.g. multicook")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")
     start = time.process_time()
@@ -140,7 +143,7 @@ def main(argv: list[str] | None = None) -> int:
     load = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
     every = []
     for folder in args.folders:
-        rows = rejudge(folder, args.plans, args.stored_only)
+        rows = rejudge(folder, args.plans, args.stored_only, args.only)
         if rows:
             print(f"== {folder.name}: {json.dumps(counts(rows))}")
         every.extend(rows)
