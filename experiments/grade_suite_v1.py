@@ -45,8 +45,9 @@ def fifth(instances: list[str], which: str) -> list[str]:
 
 
 def grade_one(folder: Path, encoding: str, planner: str, cpu: float) -> dict[str, object]:
-    """Solve one instance with one planner; validate and replay the plan."""
-    from ocplus_plan.eval.suite import load_instance, replay_plan
+    """Solve one instance with one planner; validate the plan and judge it in the kitchen
+    (the league's judge)."""
+    from ocplus_plan.eval.suite import judge_plan, load_instance
     from ocplus_plan.planning.engines import solve
 
     inst = load_instance(folder)
@@ -55,7 +56,7 @@ def grade_one(folder: Path, encoding: str, planner: str, cpu: float) -> dict[str
     value = result.cost if encoding == "classical" else result.makespan
     faithful = None
     if result.solved and result.validated is True:
-        faithful = bool(replay_plan(compiled, result.plan, inst.state).ok)
+        faithful = judge_plan(compiled, result.plan, inst.state)["faithful"]
     return {"status": result.status, "cpu_time": result.cpu_time,
             "wall_time": round(result.planning_time, 2), "value": value,
             "valid": result.validated, "faithful": faithful, "reason": result.reason[:160]}
