@@ -19,8 +19,10 @@ allowed). Each run is one row of ``DIR/runs.jsonl``; :func:`scores` turns the ro
   within 1 CPU s, 0 past the limit, else 1 - log(T)/log(limit)), and the counts of valid
   and faithful plans. An invalid or unfaithful plan scores 0.
 
-A row already in ``runs.jsonl`` (same planner, instance and encoding) is not run again,
-so an interrupted league resumes where it stopped.
+Every plan a run returns is kept in IPC format under ``DIR/plans/`` (the row's
+``plan_file``), so it can be validated or judged again without running the planner. A row
+already in ``runs.jsonl`` (same planner, instance and encoding) is not run again, so an
+interrupted league resumes where it stopped.
 """
 
 from __future__ import annotations
@@ -234,6 +236,7 @@ def run_cell(spec: LeagueSpec, cell: Cell) -> dict[str, Any]:
     """Run one cell: solve, validate, judge; the row of ``runs.jsonl``."""
     from ..planning.engines import solve
     from ..planning.fidelity_judge import judge
+    from ..planning.plan_io import format_plan
     from .suite import load_instance
 
     instance = load_instance(spec.suite / cell.instance)
@@ -253,6 +256,7 @@ def run_cell(spec: LeagueSpec, cell: Cell) -> dict[str, Any]:
     }
     if result.plan is not None:
         row["valid"] = bool(result.validated) if result.validated is not None else None
+        row["plan_text"] = format_plan(result.plan, f"{cell.planner} on {cell.instance}")
     if result.status == "solved" and result.plan is not None:
         verdict = judge(compiled, result.plan, instance.state)
         row["faithful"], row["judge"] = verdict.faithful, verdict.how
@@ -314,6 +318,11 @@ def run_league(spec: LeagueSpec, out: Path,
 
     def keep(cell: Cell, row: dict[str, Any]) -> None:
         nonlocal count
+        text = row.pop("plan_text", None)
+        if text is not None:
+            row["plan_file"] = _plan_file(cell)
+            (out / row["plan_file"]).parent.mkdir(parents=True, exist_ok=True)
+            (out / row["plan_file"]).write_text(text, encoding="utf-8")
         with runs.open("a", encoding="utf-8") as fh:
             fh.write(json.dumps(row, sort_keys=True) + "\n")
         done[cell.key] = row
@@ -331,6 +340,12 @@ def run_league(spec: LeagueSpec, out: Path,
             for future in as_completed(futures):
                 keep(futures[future], future.result())
     return [done[c.key] for c in cells if c.key in done], skipped
+
+
+def _plan_file(cell: Cell) -> str:
+    """Where a cell's plan is kept, relative to the league's folder."""
+    name = cell.instance.replace("/", "-")
+    return f"plans/{cell.planner.replace('/', '-')}/{name}.{cell.encoding}.plan"
 
 
 # ---------------------------------------------------------------- scores

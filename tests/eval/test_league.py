@@ -74,6 +74,11 @@ def test_every_status_of_a_planner_binary_is_kept_apart(suite, tmp_path):
                       "toy-sleep": "safety-kill", "toy-crash": "crash", "toy-memory": "memout"}
     solved = rows[("toy-copy", "p01")]
     assert solved["valid"] is True and solved["faithful"] is True and solved["value"] > 0
+    kept = (tmp_path / "out" / solved["plan_file"]).read_text(encoding="utf-8")
+    steps = [line.split(":", 1)[1] for line in kept.splitlines() if not line.startswith(";")]
+    assert steps == [line.split(":", 1)[1] for line in plan.splitlines()
+                     if line.strip() and not line.startswith(";")]
+    assert "plan_file" not in rows[("toy-spin", "p01")]
     assert rows[("toy-spin", "p01")]["cpu_time"] >= 1.0
     invalid = _run(suite, tmp_path / "out2", [_planner(tmp_path, "copy",
                    str(tmp_path / "short.plan"), "toy-short")], instances=("p01",))
