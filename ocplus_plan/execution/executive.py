@@ -174,10 +174,11 @@ class Executive:
         """Settle last step's bumps and compare the world with the plan's expectations."""
         out: list[str] = []
         # no progress toward any order (:mod:`.stall`), not counting steps the plan waits
-        # for a layout switch (a wait in the plan is no reason to change strategy)
+        # for a layout switch that is still to come (a wait in the plan is no reason to
+        # change strategy; one that is overdue, held up by a cook on a closing cell, is)
         if not self.stall.update(state):
             self.stall_steps = 0
-        elif not self._waiting_for_switch(state):
+        elif not (self._waiting_for_switch(state) and state.next_switch > state.t):
             self.stall_steps += 1
             if self.stall_steps % STALL_PATIENCE == 0:
                 self._trigger(state, "stall", out)
