@@ -15,7 +15,8 @@ their reason and time: ``layout_switch``, ``burnt``, ``burn_risk``, ``new_order`
 ``action_failed``, ``taken`` (a cook we do not drive took an item of a step, and the plan
 could not be repaired: :mod:`.partner`), ``blocked``, ``deadlock``, ``livelock`` (blocked
 again and again with no step done: one cook gives way, :mod:`.livelock`), ``stall`` (no
-progress toward any order: :mod:`.stall`), ``stalled``, ``unreachable``, ``plan_finished``,
+progress toward any order: :mod:`.stall`; the strategies in :mod:`.strategy`), ``rejoin``
+(a cook that gave way is back with nothing to do), ``stalled``, ``unreachable``, ``plan_finished``,
 ``planner_failed`` (the planner timed out or failed: the last valid plan is kept
 and agents without work step out of the way; nothing raises).
 """
@@ -55,6 +56,7 @@ from .plans import (
 from .livelock import LivelockWatch
 from .partner import PartnerModel, Prediction, check_queues, hand_off, plan_around, reserved_walks
 from .stall import STALL_PATIENCE, StallWatch
+from .strategy import give_way, rejoining, stall_strategy
 from .tasks import BumpRecord, Task, already_done, pan_eta, ready, snapshot
 
 _PAN = int(Cell.PAN)
@@ -138,6 +140,7 @@ class Executive:
         self.yielding: dict[int, int] = {}
         self.gave_way = 0
         self.stall = StallWatch(state)
+        self.stall_steps = 0  # steps of the current stall that were not a wait for a switch
         self.predicted: tuple[int, dict[int, Prediction]] = (-1, {})
         self.repairs = 0
         self.stall_strategies: Counter[str] = Counter()
@@ -170,9 +173,17 @@ class Executive:
     def _monitor(self, state: State) -> list[str]:
         """Settle last step's bumps and compare the world with the plan's expectations."""
         out: list[str] = []
-        stalled = self.stall.update(state)
-        if stalled and stalled % STALL_PATIENCE == 0:
-            self._trigger(state, "stall", out)  # no progress toward any order (:mod:`.stall`)
+        # no progress toward any order (:mod:`.stall`), not counting steps the plan waits
+        # for a layout switch that is still to come (a wait in the plan is no reason to
+        # change strategy; one that is overdue, held up by a cook on a closing cell, is)
+        if not self.stall.update(state):
+            self.stall_steps = 0
+        elif not (self._waiting_for_switch(state) and state.next_switch > state.t):
+            self.stall_steps += 1
+            if self.stall_steps % STALL_PATIENCE == 0:
+                self._trigger(state, "stall", out)
+        if rejoining(self, state):  # a cook that gave way is back, with nothing to do
+            self._trigger(state, "rejoin", out)
         for a, bump in list(self.pending.items()):
             self._settle(state, a, bump, out)
         self.pending.clear()
@@ -259,8 +270,8 @@ class Executive:
 
     def _replan(self, state: State, reason: str) -> None:
         if reason == "stall":
-            reason = self._stall_strategy(state)
-        if reason == "livelock" and not self._give_way(state):
+            reason = stall_strategy(self, state, self.stall_steps)
+        if reason == "livelock" and not give_way(self, state):
             # a lone cook blocked by cooks it does not drive: it drops its plan, puts what
             # it holds where a partner can take it on (:func:`~.partner.hand_off`), steps
             # aside and waits before it plans again (nobody of ours can give way)
@@ -321,39 +332,6 @@ class Executive:
         if self.predicted[0] != state.t:
             self.predicted = (state.t, dict(self.partner_model(state)))
         return self.predicted[1]
-
-    def _give_way(self, state: State) -> bool:
-        """After a livelock one cook gives way: it is left out of the plans for a while (it
-        steps aside with nothing to do) and the others get the work. Cooks with a free hand
-        give way first (nothing they carry is held up); a livelock that comes back makes
-        the next cook give way instead. False when fewer than two of ours have work."""
-        busy = [a for a in self.agent_ids if self.queues[a] and self.yielding.get(a, -1) <= state.t]
-        if len(busy) < 2:
-            return False
-        order = sorted(busy, key=lambda a: (state.agent_hand[a] >= 0, -a))
-        cook = order[self.gave_way % len(order)]
-        self.gave_way += 1
-        self.yielding[cook] = state.t + 4 * self.block_patience
-        return True
-
-    def _stall_strategy(self, state: State) -> str:
-        """A stall changes strategy, a new one each time it lasts on: give way, model every
-        cook with one order at a time (``stall_all``), re-allocate (docs/executive.md)."""
-        turn = self.stall.length // STALL_PATIENCE - 1
-        if turn % 3 == 0 and self._give_way(state):
-            self.stall_strategies["give_way"] += 1
-            return "stall"
-        if turn % 3 == 0 and len(self.agent_ids) == 1 < state.n_agents:
-            self.stall_strategies["hand_off"] += 1
-            return "livelock"  # one cook of ours beside partners: hand off and wait
-        if turn % 3 <= 1:
-            self.stall_strategies["every_cook"] += 1
-            return "stall_all"
-        self.stall_strategies["reallocate"] += 1
-        for a in self.agent_ids:
-            self.queues[a].clear()
-        self.yielding.clear()
-        return "stall_all"
 
     def _waits_for_switches(self) -> bool:
         """Does the current plan expect the layout to switch (anticipated switches, a plan

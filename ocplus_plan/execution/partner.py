@@ -273,15 +273,42 @@ def hand_off(state: State, cook: int, index: int) -> list[Task]:
             best = (d, c)
     if best is None:
         return []
-    return [Task(PlanStep(index, cook, "putdown", best[1], (held,)), frozenset())]
+    steps = [Task(PlanStep(index, cook, "putdown", best[1], (held,)), frozenset())]
+    away = _out_of_the_way(state, cook, best[1])
+    if away is not None:  # then off the counter's way in: a partner takes the item from there
+        steps.append(Task(PlanStep(index - 1, cook, "goto", away), frozenset()))
+    return steps
+
+
+def _out_of_the_way(state: State, cook: int, counter: int) -> int | None:
+    """The nearest floor cell, from where ``cook`` stands to put an item on ``counter``,
+    on which it leaves the other cooks a way to the counter (None: no such cell)."""
+    geo = state.geo
+    walk = geo.walkables[state.layout_index]
+    spots = [n for n in geo.neighbors[counter] if n >= 0 and walk[n]]
+    mine = distances(geo.neighbors, walk, [state.agent_pos[cook]])
+    start = min((n for n in spots if mine[n] >= 0), key=lambda n: mine[n], default=None)
+    if start is None:
+        return None
+    others = [p for b, p in enumerate(state.agent_pos) if b != cook]
+    near = distances(geo.neighbors, walk, [start])
+    for _, cell in sorted((d, c) for c, d in enumerate(near) if d > 0):
+        if cell in spots or cell in others:
+            continue
+        reach = distances(geo.neighbors, walk, others, blocked=[cell])
+        if any(reach[n] >= 0 for n in spots):
+            return cell
+    return None
 
 
 def reserved_walks(state: State, predictions: Mapping[int, Prediction],
                    driven: Mapping[int, object], steps: int = PREDICT_STEPS) -> dict[int, object]:
     """What the executive's paths hold for every cook it does not drive: its predicted walk
-    (cells per step from now, its current cell first) when it has one that our cooks do not
-    stand on, else its current cell (it stays)."""
-    ours = {state.agent_pos[a] for a in driven}
+    (cells per step from now, its current cell first) when it has one that none of our
+    cooks with work (``driven``: cook -> its queued steps) stands on, else its current cell
+    (it stays). A cook of ours with nothing to do steps off a partner's walk: one that has
+    just handed an item off and stands in front of that counter lets the partner take it."""
+    ours = {state.agent_pos[a] for a, work in driven.items() if work}
     out: dict[int, object] = {}
     for b in range(state.n_agents):
         if b in driven:

@@ -10,7 +10,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 from ..sim.codes import COUNTERS, Cell, ItemState, Where
-from ..sim.queries import interaction_spots
+from ..sim.queries import distances, interaction_spots
 from ..sim.state import State
 from .plans import PlanStep
 from .scheduler import (
@@ -139,6 +139,11 @@ def _cells_agree(steps: Sequence[tuple[PlanStep, str, int]], state: State) -> bo
 
 #: station kinds whose cells are interchangeable for the schedule
 _SWAPPABLE = (int(Cell.BOARD), int(Cell.PAN), int(Cell.SINK))
+_COUNTER = int(Cell.COUNTER)
+#: free counters an item's stay on a counter may move to (the nearest ones that the same
+#: parts of the kitchen reach): a counter is a hand-over place, and a planner that hands two
+#: items over through one counter makes the second hand-over wait for the first
+COUNTER_CHOICES = 3
 
 
 @dataclass
@@ -153,29 +158,60 @@ class Stay:
     last: int  # plan index of the take (len(plan): still there at the end)
 
 
-def station_stays(steps: Sequence[tuple[PlanStep, str, int]], state: State) -> list[Stay]:
-    """Every item's stays on boards, pans and sinks in a plan, in plan order."""
+def station_stays(steps: Sequence[tuple[PlanStep, str, int]], state: State,
+                  counters: bool = False) -> list[Stay]:
+    """Every item's stays on boards, pans and sinks in a plan, in plan order (and on
+    counters, with ``counters``: a plate lying there stays while food is put on it)."""
     terrain = state.geo.terrains[state.layout_index]
+    kinds = (*_SWAPPABLE, _COUNTER) if counters else _SWAPPABLE
+    plates = _plates(state)
     open_: dict[int, Stay] = {}
+    lying: dict[int, int] = {}  # cell -> the item its open stay is about
     out: list[Stay] = []
     for cell, item in enumerate(state.cell_item):
-        if item >= 0 and terrain[cell] in _SWAPPABLE:
+        if item >= 0 and terrain[cell] in kinds:
             open_[cell] = Stay(cell, terrain[cell], [], -1, len(steps))
+            lying[cell] = item
             out.append(open_[cell])
     for i, (step, effect, _) in enumerate(steps):
         cell = step.target
-        if terrain[cell] not in _SWAPPABLE:
+        if terrain[cell] not in kinds:
             continue
         stay = open_.get(cell)
         if stay is None:
             if effect == RELEASE:  # something is put on the empty station
                 open_[cell] = stay = Stay(cell, terrain[cell], [i], i, len(steps))
+                lying[cell] = step.items[0] if step.items else -1
                 out.append(stay)
             continue
         stay.steps.append(i)
-        if effect == TAKE or step.kind == "plate":  # taken off (in a hand, onto a plate)
-            stay.last = i
+        onto_plate = step.kind == "plate" and lying.get(cell) in plates
+        if effect == TAKE or (step.kind == "plate" and not onto_plate):
+            stay.last = i  # taken off (in a hand, onto a held plate)
             del open_[cell]
+    return out
+
+
+def counter_choices(state: State) -> dict[int, list[int]]:
+    """For every counter a cook can use now: the other counters (at most
+    :data:`COUNTER_CHOICES`, nearest first) reached from every part of the kitchen it is
+    reached from (so a hand-over counter is swapped only for another hand-over counter)."""
+    geo, walk = state.geo, state.geo.walkables[state.layout_index]
+    part = [-1] * len(walk)
+    for cell, ok in enumerate(walk):
+        if ok and part[cell] < 0:
+            for c, d in enumerate(distances(geo.neighbors, walk, [cell])):
+                if d >= 0:
+                    part[c] = cell
+    sides = {c: frozenset(part[s] for s in interaction_spots(geo.neighbors, walk, c))
+             for c, code in enumerate(geo.terrains[state.layout_index]) if code == _COUNTER}
+    sides = {c: p for c, p in sides.items() if p}
+    out: dict[int, list[int]] = {}
+    for c, p in sides.items():
+        (r, k) = geo.rc(c)
+        near = sorted((abs(r - geo.rc(o)[0]) + abs(k - geo.rc(o)[1]), o)
+                      for o, q in sides.items() if o != c and q >= p)
+        out[c] = [o for _, o in near[:COUNTER_CHOICES]]
     return out
 
 
@@ -195,17 +231,22 @@ def _free_over(stays: Sequence[Stay], cell: int, stay: Stay) -> bool:
 
 
 def _best_stations(steps: list[tuple[PlanStep, str, int]], state: State,
-                   agents: tuple[int, ...], walks: _Walks,
-                   lookahead: int = 0) -> list[tuple[PlanStep, str, int]]:
+                   agents: tuple[int, ...], walks: _Walks, lookahead: int = 0,
+                   counters: bool = False) -> list[tuple[PlanStep, str, int]]:
     """Move stays to other stations of their kind, one at a time in plan order, when the
-    plain rule's schedule ends better (coordinate descent, a few schedules per stay)."""
+    plain rule's schedule ends better (coordinate descent, a few schedules per stay).
+    ``counters``: move the stays on counters instead, each to one of its
+    :func:`counter_choices` (with two cooks or more: a counter is where they hand over)."""
     terrain = state.geo.terrains[state.layout_index]
     walk = state.geo.walkables[state.layout_index]
     by_kind: dict[int, list[int]] = {}
-    for cell, code in enumerate(terrain):
-        if code in _SWAPPABLE and interaction_spots(state.geo.neighbors, walk, cell):
-            by_kind.setdefault(code, []).append(cell)
-    if all(len(cells) < 2 for cells in by_kind.values()):
+    if counters:
+        by_kind = counter_choices(state) if len(agents) > 1 else {}
+    else:
+        for cell, code in enumerate(terrain):
+            if code in _SWAPPABLE and interaction_spots(state.geo.neighbors, walk, cell):
+                by_kind.setdefault(code, []).append(cell)
+    if all(len(cells) < 2 - counters for cells in by_kind.values()):
         return steps
 
     def cost(plan: list[tuple[PlanStep, str, int]]) -> tuple[int, int, int] | None:
@@ -215,15 +256,17 @@ def _best_stations(steps: list[tuple[PlanStep, str, int]], state: State,
     best = cost(steps)
     if best is None:
         return steps
-    stays = station_stays(steps, state)
+    stays = station_stays(steps, state, counters)
     for stay in stays:
-        if stay.first < 0 or len(by_kind.get(stay.kind, ())) < 2:
+        if stay.first < 0 or (stay.kind == _COUNTER) != counters:
             continue
         home = stay.station
-        for cell in by_kind[stay.kind]:
+        for cell in by_kind.get(home if counters else stay.kind, []):
             if cell == home or not _free_over(stays, cell, stay):
                 continue
             trial = _relabel(steps, stay, cell)
+            if counters and not _cells_agree(trial, state):
+                continue
             c = cost(trial)
             if c is not None and c < best:
                 best, steps, stay.station = c, trial, cell
@@ -459,6 +502,6 @@ def _best_plating(steps: list[tuple[PlanStep, str, int]], state: State,
 
 
 
-__all__ = ["MAX_DISHES_REORDERED", "PLATING_ROUNDS", "PLATING_SETTLED", "PlateTrip", "Stay",
+__all__ = ["COUNTER_CHOICES", "MAX_DISHES_REORDERED", "PLATING_ROUNDS", "PLATING_SETTLED", "PlateTrip", "Stay",
            "dish_orders", "plate_carries", "plate_stays_home", "plate_trips", "plating_variants",
-           "station_stays", "unparked", "without_idle_work"]
+           "counter_choices", "station_stays", "unparked", "without_idle_work"]

@@ -30,6 +30,11 @@ a planner (partial-order lifting plus list scheduling):
 * identical stations: the planner does not care which of two boards (pans, sinks) an item
   goes on, the schedule does; an item's stay on a station moves to another one of its kind
   that is free over that stretch of the plan when the schedule then ends sooner;
+* hand-over counters (two cooks or more): a planner that hands two items over through one
+  counter makes the second hand-over wait until the first item is taken off (on MapC the
+  steak waited behind an onion going the other way); an item's stay on a counter moves to
+  one of the nearest free counters reached from the same parts of the kitchen
+  (:func:`counter_choices`) when the schedule then ends sooner;
 * dish order: a plan's dishes that share no ingredient are also scheduled in their other
   orders (:func:`dish_orders`), so a dish whose ingredients are ready first need not wait
   for the plate behind one the planner happened to list first;
@@ -69,6 +74,7 @@ from .plan_variants import (
     _best_plating,
     _best_stations,
     _cells_agree,
+    counter_choices,
     dish_orders,
     plate_carries,
     plate_stays_home,
@@ -143,6 +149,8 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
             order = _best_plating(order, state, agents, walks, lookahead, swap_stations)
         elif swap_stations:
             order = _best_stations(order, state, agents, walks, lookahead)
+        if swap_stations:  # hand-overs through other counters (:func:`counter_choices`)
+            order = _best_stations(order, state, agents, walks, lookahead, counters=True)
         out = _Scheduler(order, state, agents, walks, lookahead).run()
         if out is not None and (best is None or out[1] < best[1]):
             best = out
@@ -153,6 +161,6 @@ def schedule(steps: Sequence[tuple[PlanStep, str, int]], state: State,
 
 
 __all__ = ["KEEP", "LOOKAHEAD", "MAX_DISHES_REORDERED", "RELEASE", "TAKE", "PlateTrip", "Segment",
-           "Stay", "dish_orders", "plate_carries", "plate_stays_home", "plate_trips",
+           "Stay", "counter_choices", "dish_orders", "plate_carries", "plate_stays_home", "plate_trips",
            "plating_variants", "schedule", "segments", "station_stays", "unparked",
            "without_idle_work", "_BURN_MARGIN", "_cells_agree"]

@@ -123,11 +123,13 @@ def test_a_partner_walking_down_the_corridor_has_its_walk_reserved():
     model.reset(state, [0])
     pred = model(state)[1]
     assert pred.target is not None and pred.path
-    walk = reserved_walks(state, {1: pred}, {0: None})[1]
+    walk = reserved_walks(state, {1: pred}, {0: ["a step"]})[1]
     if state.agent_pos[0] in (state.agent_pos[1], *pred.path):
-        assert walk == state.agent_pos[1]  # through our cook: it cannot pass; it stays
+        assert walk == state.agent_pos[1]  # through our busy cook: it cannot pass; it stays
     else:
         assert walk == (state.agent_pos[1], *pred.path[:8])
+    # our cook with nothing to do steps off the partner's walk: it is reserved whole
+    assert reserved_walks(state, {1: pred}, {0: None})[1] == (state.agent_pos[1], *pred.path[:8])
 
 
 def test_a_taken_item_is_replaced_by_an_equivalent_one_in_the_plan():
@@ -157,3 +159,24 @@ def test_a_lone_cook_that_gives_way_to_a_partner_hands_off_what_it_holds():
     (task,) = steps
     assert task.step.kind == "putdown" and task.step.items == (tomato,)
     assert state.geo.terrains[0][task.step.target] == 1  # a plain counter both reach
+
+
+def test_a_cook_that_hands_off_steps_off_the_counters_way_in():
+    """Our cook puts the tomato on a counter, then leaves the cell in front of it, to one
+    from which the partner still reaches the counter (else the partner, which treats our
+    cook as an obstacle, could never take the tomato on)."""
+    spec = {"name": "room", "max_n_agent": 2,
+            "game_map": [[1, 1, 1, 1, 1], [3, 0, 0, 0, 7], [1, 0, 0, 0, 1], [1, 5, 1, 6, 1]],
+            "agent_spawn_points": [[1, 1], [2, 3]]}
+    state = _state(spec)
+    transition(state, [L, S])  # our cook takes the tomato from its crate
+    tomato = state.agent_hand[0]
+    assert tomato >= 0
+    put, away = hand_off(state, 0, 7)
+    assert (put.step.kind, put.step.items) == ("putdown", (tomato,))
+    assert away.step.kind == "goto" and away.step.agent == 0
+    walk = state.geo.walkables[0]
+    spots = interaction_spots(state.geo.neighbors, walk, put.step.target)
+    assert away.step.target not in spots
+    reach = distances(state.geo.neighbors, walk, [state.agent_pos[1]], blocked=[away.step.target])
+    assert any(reach[s] >= 0 for s in spots)
