@@ -9,8 +9,9 @@ One row per planner x instance goes to ``experiments/results/suite_v1/grade_<fif
 status, CPU and wall seconds, value, whether UP's validator and VAL accepted the plan and
 whether the simulator replayed it, the CPU limit, the memory limit and the load average
 when the row started. Planner limits are CPU seconds of the planner's process group
-(``planning/engines.solve``); ``--memory-limit`` caps the address space of this process
-and so of every planner it starts (RLIMIT_AS, inherited).
+(``planning/engines.solve``); ``--memory-limit`` caps the address space of each planner's
+process and every process it starts (RLIMIT_AS); a planner that runs out is ``memout``,
+which counts as not solved (IPC practice).
 """
 
 from __future__ import annotations
@@ -19,7 +20,6 @@ import argparse
 import json
 import os
 import platform
-import resource
 import subprocess
 import sys
 from pathlib import Path
@@ -32,9 +32,10 @@ WORKING = {
                   "pyperplan"),
     "temporal": ("kairos", "kairos-anytime", "aries", "tamerlite"),
 }
-#: the strongest configurations of each encoding, named
-STRONGEST = {"classical": ("fast-downward", "fast-downward-wastar"),
-             "temporal": ("kairos", "kairos-anytime")}
+#: the strongest configurations of each encoding, named: lama-first, weighted A* and ENHSP
+#: (classical); Kairos, its anytime mode and TamerLite (temporal)
+STRONGEST = {"classical": ("fast-downward", "fast-downward-wastar", "enhsp"),
+             "temporal": ("kairos", "kairos-anytime", "tamerlite")}
 LIMITS = {"first": 30.0, "last": 300.0}
 
 
@@ -44,14 +45,16 @@ def fifth(instances: list[str], which: str) -> list[str]:
     return instances[:n] if which == "first" else instances[-n:]
 
 
-def grade_one(folder: Path, encoding: str, planner: str, cpu: float) -> dict[str, object]:
-    """Solve one instance with one planner; validate and replay the plan."""
+def grade_one(folder: Path, encoding: str, planner: str, cpu: float,
+              memory: int | None = None) -> dict[str, object]:
+    """Solve one instance with one planner (``memory``: MiB of address space, running out
+    is status ``memout``, not solved, as the IPC counts it); validate and replay the plan."""
     from ocplus_plan.eval.suite import load_instance, replay_plan
     from ocplus_plan.planning.engines import solve
 
     inst = load_instance(folder)
     compiled = inst.compiled(encoding)
-    result = solve(compiled.problem, planner, timeout=cpu)
+    result = solve(compiled.problem, planner, timeout=cpu, memory_limit=memory)
     value = result.cost if encoding == "classical" else result.makespan
     faithful = None
     if result.solved and result.validated is True:
@@ -113,9 +116,6 @@ def main(argv: list[str] | None = None) -> int:
     if args.table or not args.fifth:
         print(table(Path(args.suite), Path(args.out)))
         return 0
-    if args.memory_limit:
-        cap = args.memory_limit * 1024 * 1024
-        resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
     cpu = args.cpu_limit or LIMITS[args.fifth]
     suite = Path(args.suite)
     manifest = json.loads((suite / "manifest.json").read_text(encoding="utf-8"))
@@ -145,7 +145,8 @@ def main(argv: list[str] | None = None) -> int:
                        "cpu_limit": cpu, "memory_limit_mib": args.memory_limit,
                        "load": round(os.getloadavg()[0], 2), "commit": commit,
                        "machine": f"{platform.machine()}, {os.cpu_count()} shared cores"}
-                row.update(grade_one(suite / info["folder"] / name, enc, planner, cpu))
+                row.update(grade_one(suite / info["folder"] / name, enc, planner, cpu,
+                                     args.memory_limit))
                 with out.open("a", encoding="utf-8") as f:
                     f.write(json.dumps(row, sort_keys=True) + "\n")
                 print(f"{track} {name} {planner}: {row['status']} {row['cpu_time']} CPU s "
