@@ -7,7 +7,7 @@
 One row per planner x instance goes to ``experiments/results/suite_v1/grade_<fifth>.jsonl``
 (appended; a row already there is not run again, so an interrupted grading resumes):
 status, CPU and wall seconds, value, whether UP's validator and VAL accepted the plan and
-whether the simulator replayed it, the CPU limit, the memory limit and the load average
+whether the league's judge accepted it in the kitchen, the CPU limit, the memory limit and the load average
 when the row started. Planner limits are CPU seconds of the planner's process group
 (``planning/engines.solve``); ``--memory-limit`` caps the address space of each planner's
 process and every process it starts (RLIMIT_AS); a planner that runs out is ``memout``,
@@ -48,8 +48,9 @@ def fifth(instances: list[str], which: str) -> list[str]:
 def grade_one(folder: Path, encoding: str, planner: str, cpu: float,
               memory: int | None = None) -> dict[str, object]:
     """Solve one instance with one planner (``memory``: MiB of address space, running out
-    is status ``memout``, not solved, as the IPC counts it); validate and replay the plan."""
-    from ocplus_plan.eval.suite import load_instance, replay_plan
+    is status ``memout``, not solved, as the IPC counts it); validate the plan and judge
+    it in the kitchen (the league's judge)."""
+    from ocplus_plan.eval.suite import judge_plan, load_instance
     from ocplus_plan.planning.engines import solve
 
     inst = load_instance(folder)
@@ -58,7 +59,7 @@ def grade_one(folder: Path, encoding: str, planner: str, cpu: float,
     value = result.cost if encoding == "classical" else result.makespan
     faithful = None
     if result.solved and result.validated is True:
-        faithful = bool(replay_plan(compiled, result.plan, inst.state).ok)
+        faithful = judge_plan(compiled, result.plan, inst.state)["faithful"]
     return {"status": result.status, "cpu_time": result.cpu_time,
             "wall_time": round(result.planning_time, 2), "value": value,
             "valid": result.validated, "faithful": faithful, "reason": result.reason[:160]}

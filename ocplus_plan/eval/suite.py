@@ -34,12 +34,15 @@ The reference plan of an encoding comes from a portfolio (:data:`REFERENCE_PLANN
 (optimal) and weighted A* (cost-aware), each with ``--timeout`` CPU seconds; when none
 of them solves an instance, every other registered planner of the encoding installed
 here is tried, so an instance has no reference only when no registered engine solves
-it. Every validated plan (UP's validator and VAL) is replayed in the simulator
-(:mod:`~ocplus_plan.planning.fidelity`); the reference is the best faithful plan (the
-best unfaithful one when none is faithful). Its manifest entry names the ``planner`` and
-``engine``, says whether it is ``faithful`` (with the first ``divergence`` when not) and
-``optimal`` (an optimal planner found a plan of the same value), and lists each planner
-of the ``portfolio`` with its status, value, faithfulness and optimality.
+it. Every validated plan (UP's validator and VAL) is judged in the kitchen by the judge
+the league uses (:func:`judge_plan`, :mod:`~ocplus_plan.planning.fidelity_judge`: its
+steps realised with collision-free routing, waits allowed); the reference is the best
+faithful plan (the best unfaithful one when none is faithful). Its manifest entry names
+the ``planner`` and ``engine``, says whether it is ``faithful``, how it was ``judged``,
+how many simulator steps of ``waits`` its realisation needed, and when refused the
+``failed_step`` and the ``divergence``; ``optimal`` says whether an optimal planner found
+a plan of the same value; the ``portfolio`` lists each planner with its status, value,
+faithfulness, waits, failed step and optimality.
 
 Tracks (:mod:`.suite_witness`): an encoding of an instance is ``solved`` (a reference
 planner's plan), ``open`` (none solved it; a goal-agenda witness plan, validated, proves it
@@ -52,7 +55,6 @@ encoding's name, the others under ``<encoding>-unsolvable`` and ``<encoding>-unk
 from __future__ import annotations
 
 import json
-import re
 import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -61,6 +63,7 @@ from typing import Any
 from ..errors import ConfigError
 from ..sim.rules import make_rules
 from ..sim.state import State, state_from_dict
+from .suite_files import MAX_INSTANCE_JSON_BYTES, MAX_JSON_DEPTH, read_json
 from .suite_witness import STATUS_SCORED
 
 #: the reference portfolio per encoding, in the order run (and best first on ties): a
@@ -209,9 +212,10 @@ def reference_plan(compiled: Any, state: State, planners: tuple[str, ...], timeo
     it, one row per planner tried with its CPU and wall seconds for the command's output).
 
     Every planner of ``planners`` runs in order with ``timeout`` CPU seconds; each plan
-    that UP's validator and VAL accept is replayed in the simulator. The reference is the
+    that UP's validator and VAL accept is judged in the kitchen. The reference is the
     best faithful plan (lowest cost, classical; shortest makespan, temporal; ties to the
-    planner listed first), else the best unfaithful one, flagged ``faithful: false``.
+    planner listed first), else the best unfaithful one, flagged ``faithful: false``
+    (faithful: by the league's judge, :func:`judge_plan`).
     With ``fallback``, when none of them solves the problem, every other registered
     planner of the encoding that is installed here is tried (the default portfolio first,
     then the others in name order) until one does:
@@ -240,27 +244,26 @@ def reference_plan(compiled: Any, state: State, planners: tuple[str, ...], timeo
             continue
         if rank >= len(names) + len(extra):
             result = offline_result(compiled, *offline[rank - len(names) - len(extra)])
-            result, replay, row = _judged(compiled, state, result, result.planner)
+            result, verdict, row = _judged(compiled, state, result, result.planner)
         else:
-            result, replay, row = _try_planner(compiled, state, name, timeout, wall_limit)
+            result, verdict, row = _try_planner(compiled, state, name, timeout, wall_limit)
         rows.append(row)
-        portfolio[row["planner"]] = {k: row[k] for k in ("status", "value", "faithful",
-                                                         "optimal")}
-        if replay is None:
+        portfolio[row["planner"]] = {k: row.get(k) for k in (
+            "status", "value", "faithful", "waits", "failed_step", "optimal")}
+        if verdict is None:
             continue
         value = row["value"]
         if row["optimal"]:
             optimum = value if optimum is None else min(optimum, value)
-        found.append((not replay.ok, value, rank, result, replay))
+        found.append((not verdict["faithful"], value, rank, result, verdict))
     info: dict[str, Any] = {"tried": {n: e["status"] for n, e in portfolio.items()},
                             "portfolio": portfolio}
     if not found:
         return None, info, rows
-    _, value, _, result, replay = min(found, key=lambda f: f[:3])
+    _, value, _, result, verdict = min(found, key=lambda f: f[:3])
     info.update(planner=result.planner, engine=result.engine, cost=result.cost,
                 makespan=result.makespan, plan_length=result.plan_length,
-                validated=result.validation_detail, faithful=replay.ok,
-                divergence=replay.mismatch or None,
+                validated=result.validation_detail, **verdict,
                 optimal=optimum is not None and value <= optimum + 1e-9)
     return result.plan, info, rows
 
@@ -272,7 +275,7 @@ OPTIMAL_PLANNERS = frozenset({"fast-downward-bjolp", "fast-downward-opt", "symk"
 
 def _try_planner(compiled: Any, state: State, name: str, timeout: float,
                  wall_limit: float | None) -> tuple[Any, Any, dict[str, Any]]:
-    """Solve with one planner; replay a validated plan: (result, replay or None, row)."""
+    """Solve with one planner; judge a validated plan: (result, judgement or None, row)."""
     from ..planning.engines import solve
 
     return _judged(compiled, state, solve(compiled.problem, name, timeout=timeout,
@@ -280,7 +283,7 @@ def _try_planner(compiled: Any, state: State, name: str, timeout: float,
 
 
 def _judged(compiled: Any, state: State, result: Any, name: str) -> tuple[Any, Any, dict]:
-    """A planner's (or an offline plan's) result replayed when validated, and its row."""
+    """A planner's (or an offline plan's) result judged when validated, and its row."""
     ok = result.solved and result.validated is True
     row: dict[str, Any] = {
         "planner": result.planner, "status": result.status if ok or not result.solved
@@ -293,10 +296,25 @@ def _judged(compiled: Any, state: State, result: Any, name: str) -> tuple[Any, A
     if value is None:
         row["status"] = "no value"
         return result, None, row
-    replay = replay_plan(compiled, result.plan, state)
-    row.update(value=float(value), faithful=bool(replay.ok),
+    verdict = judge_plan(compiled, result.plan, state)
+    row.update(value=float(value), faithful=verdict["faithful"], waits=verdict["waits"],
+               failed_step=verdict["failed_step"],
                optimal=bool(result.optimal or name in OPTIMAL_PLANNERS))
-    return result, replay, row
+    return result, verdict, row
+
+
+def judge_plan(compiled: Any, plan: Any, state: State) -> dict[str, Any]:
+    """What a manifest says of a validated plan's faithfulness, by the league's judge
+    (:func:`~ocplus_plan.planning.fidelity_judge.judge`: collision-free routing, waits
+    allowed): ``faithful``, ``judged`` (how it was realised), ``waits`` (simulator steps
+    spent letting a cook step aside or walking around), ``failed_step`` (0-based, when
+    refused) and ``divergence`` (why, when refused)."""
+    from ..planning.fidelity_judge import judge
+
+    verdict = judge(compiled, plan, state)
+    return {"faithful": bool(verdict.faithful), "judged": verdict.how,
+            "waits": int(verdict.waits), "failed_step": verdict.failed_step,
+            "divergence": None if verdict.faithful else (verdict.reason or None)}
 
 
 def replay_plan(compiled: Any, plan: Any, state: State) -> Any:
@@ -494,13 +512,12 @@ def _reference_from_witness(compiled: Any, plan: Any, state: State, info: dict[s
     """Fill the reference entry from a validated goal-agenda witness plan."""
     from ..planning.validate import plan_quality
 
-    replay = replay_plan(compiled, plan, state)
+    verdict = judge_plan(compiled, plan, state)
     quality = plan_quality(compiled.problem, plan)
     info.update(planner=f"goal-agenda:{witness['planner']}", engine="goal-agenda",
                 cost=quality.cost, makespan=quality.makespan,
                 plan_length=len(getattr(plan, "actions", None) or plan.timed_actions),
-                validated=witness["validated"], faithful=replay.ok,
-                divergence=replay.mismatch or None, optimal=False)
+                validated=witness["validated"], **verdict, optimal=False)
 
 
 @dataclass
@@ -531,45 +548,6 @@ class Instance:
         return compiled
 
 
-#: an instance's manifest.json or state.json (a hard kitchen's state is about 10 kB)
-MAX_INSTANCE_JSON_BYTES = 4_000_000
-#: lists and objects inside one another (an instance's files need 5)
-MAX_JSON_DEPTH = 32
-
-
-def read_json(path: Path, limit: int = MAX_INSTANCE_JSON_BYTES,
-              depth: int = MAX_JSON_DEPTH) -> Any:
-    """A JSON file of an instance, read within a size and a nesting limit (``ValueError``
-    naming the file otherwise): nothing past ``limit`` bytes is read, and the nesting is
-    measured before the text is parsed, so a file nested 100,000 deep is refused, not a
-    ``RecursionError``."""
-    with open(path, "rb") as fh:
-        data = fh.read(limit + 1)
-    if len(data) > limit:
-        raise ValueError(f"{path.name} is over {limit} bytes")
-    text = data.decode("utf-8")
-    deepest = _nesting(text)
-    if deepest > depth:
-        raise ValueError(f"{path.name} is nested {deepest} deep; the limit is {depth}")
-    return json.loads(text)
-
-
-_BRACKETS = re.compile(r'"(?:[^"\\]|\\.)*"|[\[\]{}]')
-
-
-def _nesting(text: str) -> int:
-    """The deepest nesting of lists and objects in JSON text (strings skipped)."""
-    level = deepest = 0
-    for m in _BRACKETS.finditer(text):
-        c = m.group()
-        if c in "[{":
-            level += 1
-            deepest = max(deepest, level)
-        elif c in "]}":
-            level -= 1
-    return deepest
-
-
 def load_instance(folder: str | Path) -> Instance:
     """An instance folder written by :func:`export_suite` (bad folders raise ConfigError)."""
     path = Path(folder)
@@ -597,4 +575,5 @@ def load_instance(folder: str | Path) -> Instance:
 
 
 __all__ = ["FORMAT", "Cell", "cell_rules", "OPTIMAL_PLANNERS", "REFERENCE_PLANNERS", "Instance", "SuiteSpec", "export_suite",
-           "load_instance", "reference_plan", "replay_plan", "rules_of"]
+           "judge_plan", "load_instance", "MAX_INSTANCE_JSON_BYTES", "MAX_JSON_DEPTH",
+           "read_json", "reference_plan", "replay_plan", "rules_of"]

@@ -107,6 +107,8 @@ def test_an_unsolved_instance_is_scored_open_with_a_validated_goal_agenda_witnes
     assert entry["status"] == "open" and ref["engine"] == "goal-agenda"
     assert ref["planner"] == "goal-agenda:fast-downward" and ref["optimal"] is False
     assert "Plan valid" in ref["witness"]["validated"] and ref["faithful"] is True
+    assert ref["judged"] == "realised" and ref["failed_step"] is None  # the league's judge
+    assert ref["waits"] == 0 and ref["divergence"] is None  # one cook: nobody in the way
     assert ref["tried"] == {"fast-downward-bjolp": "timeout"}
     assert (tmp_path / "w" / "p01" / "classical.plan").is_file()
 

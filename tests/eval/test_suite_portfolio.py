@@ -65,8 +65,8 @@ def test_every_portfolio_plan_is_replayed_and_the_reference_says_if_it_is_optima
 
 
 def test_a_faithful_plan_is_preferred_to_a_cheaper_unfaithful_one():
-    """Easy with two cooks: weighted A*'s plan walks a cook through the other (unfaithful);
-    the portfolio's reference is one the simulator replays."""
+    """Easy with two cooks: the portfolio's reference is a plan the league's judge
+    realises in the kitchen."""
     _require(*REFERENCE_PLANNERS["classical"])
     compiled, state = _instance("easy", 2)
     _, info, _ = reference_plan(compiled, state, REFERENCE_PLANNERS["classical"], 20)
@@ -102,3 +102,38 @@ def test_the_manifest_names_the_engine_and_the_portfolio(tmp_path):
     assert set(ref["portfolio"]) == set(REFERENCE_PLANNERS["classical"])
     assert isinstance(ref["optimal"], bool) and ref["faithful"] is True
     assert not any("time" in k for e in ref["portfolio"].values() for k in e)  # same bytes
+
+
+def test_the_reference_is_the_best_plan_the_league_judge_accepts(monkeypatch):
+    """The cheaper plan is refused by the judge (its failing step recorded in the
+    portfolio); the reference is the dearer one the judge realises, with its waits."""
+    from ocplus_plan.eval import suite
+    from ocplus_plan.planning import engines
+
+    compiled, state = _instance("easy", 1)
+    values = {"cheap": 10.0, "dear": 12.0}
+
+    def solve(problem, name, **kw):
+        return engines.PlanResult("solved", name, name, plan=name, cost=values[name],
+                                  plan_length=3, validated=True, validation_detail="ok")
+
+    def judge_plan(compiled, plan, state):
+        if plan == "cheap":
+            return {"faithful": False, "judged": "realised", "waits": 0, "failed_step": 4,
+                    "divergence": "the kitchen reported ['wrong_delivery']"}
+        return {"faithful": True, "judged": "realised", "waits": 3, "failed_step": None,
+                "divergence": None}
+
+    monkeypatch.setattr(engines, "solve", solve)
+    monkeypatch.setattr(suite, "judge_plan", judge_plan)
+    plan, info, _ = reference_plan(compiled, state, ("cheap", "dear"), 5, fallback=False)
+    assert plan == "dear" and info["faithful"] is True and info["waits"] == 3
+    assert info["failed_step"] is None and info["cost"] == 12.0
+    assert info["portfolio"]["cheap"] == {"status": "solved", "value": 10.0,
+                                          "faithful": False, "waits": 0, "failed_step": 4,
+                                          "optimal": False}
+    # when the judge refuses every plan, the best refused one is kept, with its step
+    monkeypatch.setattr(suite, "judge_plan", lambda c, p, s: judge_plan(c, "cheap", s))
+    plan, info, _ = reference_plan(compiled, state, ("cheap", "dear"), 5, fallback=False)
+    assert plan == "cheap" and info["faithful"] is False and info["failed_step"] == 4
+    assert info["divergence"] == "the kitchen reported ['wrong_delivery']"
