@@ -5,8 +5,9 @@
     nice -n 10 .venv/bin/python experiments/grade_suite_v1.py --fifth last --memory-limit 4096
 
 One row per planner x instance goes to ``experiments/results/suite_v1/grade_<fifth>.jsonl``
-(appended; a row already there is not run again, so an interrupted grading resumes):
-status, CPU and wall seconds, value, whether UP's validator and VAL accepted the plan and
+(appended; a row already there for the same instance state, ``state_hash``, is not run
+again, so an interrupted grading resumes; rows of cells since replaced are in
+``replaced_cells.jsonl``): status, CPU and wall seconds, value, whether UP's validator and VAL accepted the plan and
 whether the league's judge accepted it in the kitchen, the CPU limit, the memory limit and the load average
 when the row started. Planner limits are CPU seconds of the planner's process group
 (``planning/engines.solve``); ``--memory-limit`` caps the address space of each planner's
@@ -60,20 +61,22 @@ def grade_one(folder: Path, encoding: str, planner: str, cpu: float,
     faithful = None
     if result.solved and result.validated is True:
         faithful = judge_plan(compiled, result.plan, inst.state)["faithful"]
-    return {"status": result.status, "cpu_time": result.cpu_time,
+    return {"state_hash": inst.manifest["state_hash"], "status": result.status,
+            "cpu_time": result.cpu_time,
             "wall_time": round(result.planning_time, 2), "value": value,
             "valid": result.validated, "faithful": faithful, "reason": result.reason[:160]}
 
 
-def _grades(results: Path) -> dict[tuple[str, str], list[str]]:
-    """(track, instance) -> "planner status@limit" of every graded row."""
-    out: dict[tuple[str, str], list[str]] = {}
+def _grades(results: Path) -> dict[tuple[str, str], list[tuple[str | None, str]]]:
+    """(track, instance) -> (state hash or None, "planner status (CPU/limit s)") of every
+    graded row."""
+    out: dict[tuple[str, str], list[tuple[str | None, str]]] = {}
     for path in sorted(results.glob("grade_*.jsonl")):
         for line in path.read_text(encoding="utf-8").splitlines():
             r = json.loads(line)
             cpu = r["cpu_time"] or 0.0
-            out.setdefault((r["track"], r["instance"]), []).append(
-                f"{r['planner']} {r['status']} ({cpu:.0f}/{r['cpu_limit']:.0f} s)")
+            out.setdefault((r["track"], r["instance"]), []).append((r.get("state_hash"), (
+                f"{r['planner']} {r['status']} ({cpu:.0f}/{r['cpu_limit']:.0f} s)")))
     return out
 
 
@@ -93,11 +96,13 @@ def table(suite: Path, results: Path) -> str:
             m = json.loads((suite / info["folder"] / name / "manifest.json").read_text())
             e = m["encodings"][enc]
             ref = e["reference"]
+            rows = [text for h, text in grades.get((track, name), [])
+                    if h in (None, m["state_hash"])]  # rows of this instance's state
             best = f"{ref.get(key)} ({ref.get('planner')})" if ref.get("planner") else "-"
             lines.append(f"| {name} | {m['preset']}, {m['layout']} | {m['n_agents']} | "
                          f"{len(m['goal_orders'])} | {e['status']} | {best} | "
                          f"{ref.get('optimal', '-')} | {ref.get('faithful', '-')} | "
-                         f"{m['bound'][key]} | {'; '.join(grades.get((track, name), []))} |")
+                         f"{m['bound'][key]} | {'; '.join(rows)} |")
     return "\n".join(lines) + "\n"
 
 
@@ -126,7 +131,8 @@ def main(argv: list[str] | None = None) -> int:
     if out.is_file():
         for line in out.read_text(encoding="utf-8").splitlines():
             r = json.loads(line)
-            done.add((r["track"], r["instance"], r["planner"], r["cpu_limit"]))
+            done.add((r["track"], r["instance"], r["planner"], r["cpu_limit"],
+                      r.get("state_hash")))
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
                             text=True, check=False).stdout.strip()
     for track, info in manifest["tracks"].items():
@@ -139,9 +145,11 @@ def main(argv: list[str] | None = None) -> int:
         pool = STRONGEST if args.fifth == "last" else WORKING
         planners = args.planners.split(",") if args.planners else list(pool[enc])
         for name in names:
+            digest = json.loads((suite / info["folder"] / name / "manifest.json").read_text(
+                encoding="utf-8"))["state_hash"]
             for planner in planners:
-                if (track, name, planner, cpu) in done:
-                    continue
+                if {(track, name, planner, cpu, h) for h in (digest, None)} & done:
+                    continue  # a row without a hash predates them: the instance is unchanged
                 row = {"track": track, "instance": name, "planner": planner,
                        "cpu_limit": cpu, "memory_limit_mib": args.memory_limit,
                        "load": round(os.getloadavg()[0], 2), "commit": commit,
