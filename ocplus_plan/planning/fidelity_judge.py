@@ -21,9 +21,12 @@ up, a step that cannot be realised, or an item in another place than the model s
 ends the judgement with that step. At the end, every goal order must have been served.
 
 Time-triggered (temporal) plans are first replayed as timed (:func:`.replay_temporal`);
-a plan that fails there is judged as the sequence of its actions ordered by start time
-(every action realised as above, without the per-step model comparison, which a
-sequential model simulator cannot make for durative actions), and must serve the goal.
+a plan that fails there is realised as timed with waits (:func:`.realise_timed`): every
+cook keeps its own actions' order and the cross-cook order the plan's timing implies, no
+action starts before its planned time, walks go around cooks (who step aside), a cook
+envelope's steak stays on the pan its planned number of ticks; a refused delivery, a burn
+the plan does not give up, a bump the kitchen ignores or stuck cooks fail the plan step
+(its index in ``plan.timed_actions``), and the goal must be served.
 """
 
 from __future__ import annotations
@@ -37,6 +40,7 @@ from ..sim.state import State
 from .compile import Compiled
 from .fidelity import _World
 from .fidelity_temporal import replay_temporal
+from .fidelity_waits import realise_timed
 from .fidelity_view import ModelView
 
 #: simulator events that end a judgement at the step that caused them
@@ -136,20 +140,17 @@ def judge(compiled: Compiled, plan: Any, state: State) -> Judgement:
         if strict.ok and set(compiled.goal_orders) <= set(strict.served):
             return Judgement(True, strict.actions, strict.steps, 0, how="timed replay",
                              served=list(strict.served))
-        ordered = sorted(plan.timed_actions, key=lambda t: (float(t[0]), str(t[1])))
-        steps = [compiled.map_back(ai, float(start), float(dur) if dur is not None else None)
-                 for start, ai, dur in ordered]
-        return _realise_all(compiled, steps, state, None, "sequenced by start time")
+        done = realise_timed(compiled, plan, state)
+        return Judgement(done.ok, len(plan.timed_actions), done.steps, done.waits,
+                         done.failed_step, done.reason, "timed with waits", list(done.served))
     return _realise_all(compiled, [compiled.map_back(ai) for ai in plan.actions], state,
                         list(plan.actions), "realised")
 
 
 def _realise_all(compiled: Compiled, steps: list[Any], state: State,
-                 actions: list[Any] | None, how: str) -> Judgement:
+                 actions: list[Any], how: str) -> Judgement:
     world = _Router(state.copy())
     out = Judgement(True, how=how)
-    if actions is None:
-        return _realise_steps(compiled, world, steps, None, out)
     from unified_planning.shortcuts import SequentialSimulator
 
     with SequentialSimulator(compiled.problem, name="sequential_simulator") as sim:
