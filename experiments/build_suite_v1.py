@@ -9,8 +9,9 @@ orders (1 to 16; above the preset's queue of 2 the queue is raised, rule ``n_ord
 ``suites/v1/manifest.json`` lists the tracks, their scored instances, and the instances
 that went to an unsolvability track or were dropped (no plan, no witness, no proof).
 Reference planners run with CPU-second limits (:data:`CLASSICAL`, :data:`TEMPORAL`), so
-the set does not depend on the machine's load; ``--track`` and ``--cells`` rebuild a
-slice (``tests/eval/test_suite_v1.py`` rebuilds one instance and compares bytes).
+the set does not depend on the machine's load; ``--track`` rebuilds a track, and
+``--track T --cells 20-24`` rebuilds those instances of T in place, the others kept
+(``tests/eval/test_suite_v1.py`` rebuilds one instance and compares bytes).
 """
 
 from __future__ import annotations
@@ -24,7 +25,11 @@ from ocplus_plan.eval.suite import Cell, SuiteSpec, export_suite
 
 #: reference portfolios and their CPU seconds per planner call
 CLASSICAL = ("fast-downward", "fast-downward-bjolp", "fast-downward-wastar")
-TEMPORAL = ("kairos", "kairos-anytime")
+#: Kairos (one thread, seed 0, its first plan) in the build; kairos-anytime, whose budget
+#: is wall time, runs offline (experiments/temporal_refs_v1.py) and its plans, frozen in
+#: TEMPORAL_REFS, are validated, replayed and judged here with Kairos' (eval/suite_offline)
+TEMPORAL = ("kairos",)
+TEMPORAL_REFS = "experiments/suite_v1_temporal_refs"
 TIMEOUT = 10.0
 WITNESS_TIMEOUT = 20.0
 HORIZON = 1000
@@ -59,11 +64,12 @@ TRACKS: dict[str, tuple[str, tuple[Cell, ...]]] = {
         _c("hard", 4, 1, 1, _k("gen:multiroom:test:1"), FLAT),
         _c("medium", 10, 1, 2), _c("hard", 8, 1, 0, _k("gen:open:test:2"), FLAT),
         _c("medium", 16, 1, 3, _k("gen:multiroom:test:2:medium")),
-        _c("hard", 16, 1, 1, _k("gen:corridor:test:3"), FLAT),
+        # the open end: 40 and 48 orders in the largest generated kitchens (12x12)
+        _c("hard", 40, 1, 0, _k("gen:multiroom:test:48"), FLAT),
         _c("hard", 1, 1, 0),  # hard's own map with one cook: unsolvable by construction
-        _c("hard", 16, 1, 2, _k("gen:corridor:test:0"), FLAT),
-        _c("hard", 20, 1, 3, _k("gen:multiroom:test:1"), FLAT),
-        _c("hard", 24, 1, 0, _k("gen:open:test:2"), FLAT),
+        _c("hard", 40, 1, 1, _k("gen:corridor:test:28"), FLAT),
+        _c("hard", 48, 1, 2, _k("gen:corridor:test:31"), FLAT),
+        _c("hard", 48, 1, 3, _k("gen:multiroom:test:48"), FLAT),
     )),
     "classical-multicook": ("classical", (
         _c("easy", 1, 2, 0), _c("easy", 1, 2, 1), _c("easy", 1, 2, 2), _c("easy", 1, 2, 3),
@@ -101,9 +107,11 @@ def spec_of(track: str, cells: tuple[Cell, ...] | None = None) -> SuiteSpec:
     """The export-suite spec of a track (``cells``: a slice of it, for a rebuild)."""
     encoding, all_cells = TRACKS[track]
     planners = {"classical": CLASSICAL, "temporal": TEMPORAL}
+    offline = (("temporal", TEMPORAL_REFS),) if encoding == "temporal" else ()
     return SuiteSpec(encodings=(encoding,), cells=cells or all_cells, timeout=TIMEOUT,
                      planners={encoding: planners[encoding]}, fallback=False,
-                     horizon=HORIZON, witness_timeout=WITNESS_TIMEOUT)
+                     horizon=HORIZON, witness_timeout=WITNESS_TIMEOUT,
+                     offline_plans=offline)
 
 
 def suite_manifest(out: Path) -> dict[str, object]:
@@ -123,17 +131,34 @@ def suite_manifest(out: Path) -> dict[str, object]:
             "tracks": tracks}
 
 
+def _numbers(text: str) -> set[int]:
+    """``20-24,3`` -> the cell indices {19, ..., 23, 2} (instance pNN is cell NN)."""
+    out: set[int] = set()
+    for part in text.split(","):
+        lo, _, hi = part.partition("-")
+        if not lo.isdigit() or not (hi or lo).isdigit():
+            raise SystemExit(f"--cells {text!r}: write instance numbers, e.g. 20-24 or 1,3")
+        out.update(range(int(lo) - 1, int(hi or lo)))
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", default="suites/v1")
     ap.add_argument("--track", action="append", choices=sorted(TRACKS),
                     help="build only these tracks (default: all)")
+    ap.add_argument("--cells", default=None,
+                    help="rebuild only these cells of each --track in a set already in OUT, "
+                         "by instance number: e.g. 20-24 or 1,3 (the others are kept)")
     ap.add_argument("--manifest-only", action="store_true",
                     help="only (re)write OUT/manifest.json from the tracks' manifests")
     args = ap.parse_args(argv)
     out = Path(args.out)
+    select = _numbers(args.cells) if args.cells else None
+    if select is not None and not args.track:
+        ap.error("--cells needs --track (the cells of which track)")
     for track in [] if args.manifest_only else args.track or list(TRACKS):
-        rows = export_suite(spec_of(track), out / track,
+        rows = export_suite(spec_of(track), out / track, select=select,
                             progress=lambda m, t=track: print(f"[{t}] {m}", flush=True))
         for r in rows:
             cpu = sum(t["cpu_time"] or 0 for t in r["tried"])

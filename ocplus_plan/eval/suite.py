@@ -55,7 +55,6 @@ encoding's name, the others under ``<encoding>-unsolvable`` and ``<encoding>-unk
 from __future__ import annotations
 
 import json
-import re
 import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -64,6 +63,7 @@ from typing import Any
 from ..errors import ConfigError
 from ..sim.rules import make_rules
 from ..sim.state import State, state_from_dict
+from .suite_files import MAX_INSTANCE_JSON_BYTES, MAX_JSON_DEPTH, read_json
 from .suite_witness import STATUS_SCORED
 
 #: the reference portfolio per encoding, in the order run (and best first on ties): a
@@ -140,6 +140,9 @@ class SuiteSpec:
     witness_timeout: float = 20.0
     #: the instances, one per cell, instead of the grid presets x maps x cooks x states
     cells: tuple[Cell, ...] | None = None
+    #: (encoding, folder) pairs: reference plans found offline (:mod:`.suite_offline`),
+    #: judged as candidates of that encoding's portfolio
+    offline_plans: tuple[tuple[str, str], ...] = ()
 
     def grid(self) -> list[Cell]:
         """The cells of the set: :attr:`cells`, else presets x maps x cooks x states."""
@@ -157,7 +160,8 @@ class SuiteSpec:
                 "planners": {k: list(v) for k, v in sorted(self.planners.items())},
                 "fallback": self.fallback, "rules": dict(self.rules),
                 "horizon": self.horizon, "witness_timeout": self.witness_timeout,
-                **({"cells": [c.to_dict() for c in self.cells]} if self.cells else {})}
+                **({"cells": [c.to_dict() for c in self.cells]} if self.cells else {}),
+                **({"offline_plans": dict(self.offline_plans)} if self.offline_plans else {})}
 
 
 README = """\
@@ -202,6 +206,7 @@ def _bound(state: State, orders: int | None) -> dict[str, float | None]:
 
 def reference_plan(compiled: Any, state: State, planners: tuple[str, ...], timeout: float,
                    wall_limit: float | None = None, fallback: bool = True,
+                   offline: list[tuple[str, str, Any]] | None = None,
                    ) -> tuple[Any, dict[str, Any], list[dict[str, Any]]]:
     """The reference plan of a portfolio: (best plan or None, what the manifest says about
     it, one row per planner tried with its CPU and wall seconds for the command's output).
@@ -214,10 +219,13 @@ def reference_plan(compiled: Any, state: State, planners: tuple[str, ...], timeo
     With ``fallback``, when none of them solves the problem, every other registered
     planner of the encoding that is installed here is tried (the default portfolio first,
     then the others in name order) until one does:
-    an instance gets no reference only when no registered engine solves it. ``optimal``
+    an instance gets no reference only when no registered engine solves it. ``offline``
+    plans ((label, engine, plan), :mod:`.suite_offline`) are judged the same way after the
+    planners, as candidates ranked after them. ``optimal``
     says whether the reference's value is proven optimal (an optimal planner found a plan
     of the same value)."""
     from ..planning.engines import available_planners
+    from .suite_offline import offline_result
 
     found: list[tuple[bool, float, int, Any, Any]] = []
     portfolio: dict[str, dict[str, Any]] = {}
@@ -230,10 +238,15 @@ def reference_plan(compiled: Any, state: State, planners: tuple[str, ...], timeo
     extra = [n for n in default + installed if n not in names and n in installed] \
         if fallback else []
     extra = list(dict.fromkeys(extra))
-    for rank, name in enumerate(names + extra):
-        if rank >= len(names) and found:
-            break
-        result, verdict, row = _try_planner(compiled, state, name, timeout, wall_limit)
+    offline = offline or []
+    for rank, name in enumerate(names + extra + [o[0] for o in offline]):
+        if len(names) <= rank < len(names) + len(extra) and found:
+            continue
+        if rank >= len(names) + len(extra):
+            result = offline_result(compiled, *offline[rank - len(names) - len(extra)])
+            result, verdict, row = _judged(compiled, state, result, result.planner)
+        else:
+            result, verdict, row = _try_planner(compiled, state, name, timeout, wall_limit)
         rows.append(row)
         portfolio[row["planner"]] = {k: row.get(k) for k in (
             "status", "value", "faithful", "waits", "failed_step", "optimal")}
@@ -265,7 +278,12 @@ def _try_planner(compiled: Any, state: State, name: str, timeout: float,
     """Solve with one planner; judge a validated plan: (result, judgement or None, row)."""
     from ..planning.engines import solve
 
-    result = solve(compiled.problem, name, timeout=timeout, wall_limit=wall_limit)
+    return _judged(compiled, state, solve(compiled.problem, name, timeout=timeout,
+                                          wall_limit=wall_limit), name)
+
+
+def _judged(compiled: Any, state: State, result: Any, name: str) -> tuple[Any, Any, dict]:
+    """A planner's (or an offline plan's) result judged when validated, and its row."""
     ok = result.solved and result.validated is True
     row: dict[str, Any] = {
         "planner": result.planner, "status": result.status if ok or not result.solved
@@ -331,12 +349,15 @@ def rules_of(instance: dict[str, Any], root: Path) -> Any:
                       horizon=instance["horizon"], **instance.get("rules", {}))
 
 
-def export_suite(spec: SuiteSpec, out: str | Path,
-                 progress: Any = None) -> list[dict[str, Any]]:
+def export_suite(spec: SuiteSpec, out: str | Path, progress: Any = None,
+                 select: Any = None) -> list[dict[str, Any]]:
     """Write the instance set of ``spec`` into ``out`` (see the module docstring).
 
     Returns one row per instance and encoding (planning times included) for the caller
-    to print; ``progress(message)`` is called as instances are done."""
+    to print; ``progress(message)`` is called as instances are done. ``select`` (cell
+    indices from 0) rebuilds those instances of a set in ``out``, named as in the whole
+    set; the manifest and ``maps/`` are rewritten from every instance's manifest: the
+    bytes a whole build writes, without solving the others again."""
     from ..planning.language import describe_domain
     from ..planning.model import ENCODINGS
     from ..planning.pddl import domain_text
@@ -350,37 +371,65 @@ def export_suite(spec: SuiteSpec, out: str | Path,
     cells = spec.grid()
     rules = [cell_rules(c, spec.horizon) for c in cells]  # bad arguments fail before work
     root = Path(out)
-    if root.exists() and any(root.iterdir()):
-        raise ConfigError(f"--out {root} exists and is not empty; give a new folder (an "
-                          "instance set is written whole, never merged)")
+    width = max(2, len(str(len(cells))))
+    names = [f"p{i + 1:0{width}d}" for i in range(len(cells))]
+    chosen = _check_out(root, names, select)
     root.mkdir(parents=True, exist_ok=True)
     for enc in spec.encodings:
         _write(root / enc / "domain.pddl", domain_text(enc, spec.granularity))
         _write(root / enc / "domain.txt", describe_domain(enc, spec.granularity))
-    names: list[str] = []
     rows: list[dict[str, Any]] = []
-    tracks: dict[str, list[str]] = {}
-    width = max(2, len(str(len(cells))))
-    for cell, (cell_rule, overrides) in zip(cells, rules):
-        name = f"p{len(names) + 1:0{width}d}"
-        names.append(name)
+    for index, (cell, (cell_rule, overrides)) in enumerate(zip(cells, rules)):
+        if index not in chosen:
+            continue
+        name = names[index]
+        if (root / name).exists():
+            shutil.rmtree(root / name)
         instance, cell_rows = _export_instance(spec, root, name, cell, cell_rule, overrides)
         rows.extend(cell_rows)
-        for enc, entry in instance["encodings"].items():
-            label = enc if STATUS_SCORED[entry["status"]] else f"{enc}-{entry['status']}"
-            tracks.setdefault(label, []).append(name)
         if progress is not None:
             progress(f"{name}: {cell.preset}, map {cell_rule.layout.name}, "
                      f"{cell_rule.n_agents} cook(s), {len(instance['goal_orders'])} "
                      f"order(s), step {instance['step']}: " + ", ".join(
                          f"{e} {v['status']}" for e, v in instance["encodings"].items()))
     _write(root / "README.txt", README)
+    tracks: dict[str, list[str]] = {}
+    maps: set[str] = set()
+    for name in names:
+        instance = read_json(root / name / "manifest.json")
+        if (instance.get("map") or "").startswith("maps/"):
+            maps.add(instance["map"][len("maps/"):])
+        for enc, entry in instance["encodings"].items():
+            label = enc if STATUS_SCORED[entry["status"]] else f"{enc}-{entry['status']}"
+            tracks.setdefault(label, []).append(name)
+    for path in sorted((root / "maps").glob("*")):
+        if path.name not in maps:  # a kitchen of a cell the set no longer has
+            path.unlink()
     _write(root / "manifest.json", _dump({
         "format": FORMAT, "generated_by": "ocplus export-suite", "arguments": spec.arguments(),
         "encodings": {e: {"domain": f"{e}/domain.pddl", "text": f"{e}/domain.txt"}
                       for e in spec.encodings},
         "instances": names, "tracks": dict(sorted(tracks.items()))}))
     return rows
+
+
+def _check_out(root: Path, names: list[str], select: Any) -> set[int]:
+    """The cell indices to build into ``root``: all into a new or empty folder; ``select``
+    into a set there, whose other instances must be present (stale folders go)."""
+    if select is None and root.exists() and any(root.iterdir()):
+        raise ConfigError(f"--out {root} exists and is not empty; give a new folder (a set "
+                          "is written whole; --cells rebuilds chosen instances of one)")
+    chosen = set(range(len(names)) if select is None else select)
+    if bad := sorted(i + 1 for i in chosen if i not in range(len(names))):
+        raise ConfigError(f"--cells {bad}: the set has cells 1 to {len(names)}")
+    if missing := [n for i, n in enumerate(names)
+                   if i not in chosen and not (root / n / "manifest.json").is_file()]:
+        raise ConfigError(f"{root} lacks {', '.join(missing)}: rebuild the whole set into a "
+                          "new folder, or choose those cells too")
+    for path in sorted(root.glob("p[0-9]*")):
+        if path.is_dir() and path.name not in names:
+            shutil.rmtree(path)
+    return chosen
 
 
 def _export_instance(spec: SuiteSpec, root: Path, name: str, cell: Cell, rules: Any,
@@ -422,6 +471,7 @@ def _export_encoding(spec: SuiteSpec, root: Path, folder: Path, enc: str, state:
     from ..planning.language import describe_problem
     from ..planning.pddl import pddl_texts
     from ..planning.plan_io import format_plan
+    from .suite_offline import offline_plans
     from .suite_witness import agenda_witness, track_status
 
     compiled = compile(state, encoding=enc, granularity=spec.granularity, max_orders=max_orders)
@@ -434,8 +484,10 @@ def _export_encoding(spec: SuiteSpec, root: Path, folder: Path, enc: str, state:
         entry["domain"] = f"{enc}-domain.pddl"
     _write(folder / f"{enc}.pddl", problem)
     _write(folder / f"{enc}.txt", describe_problem(compiled))
+    refs = dict(spec.offline_plans).get(enc)
+    offline = offline_plans(refs, instance["name"], compiled) if refs else None
     plan, info, tried = reference_plan(compiled, state, spec.planners.get(enc, ()),
-                                       spec.timeout, spec.wall_limit, spec.fallback)
+                                       spec.timeout, spec.wall_limit, spec.fallback, offline)
     status = track_status(info, None)
     if status == "unknown" and spec.witness_timeout > 0:
         plan, witness = agenda_witness(state, enc, spec.granularity, spec.witness_timeout,
@@ -496,45 +548,6 @@ class Instance:
         return compiled
 
 
-#: an instance's manifest.json or state.json (a hard kitchen's state is about 10 kB)
-MAX_INSTANCE_JSON_BYTES = 4_000_000
-#: lists and objects inside one another (an instance's files need 5)
-MAX_JSON_DEPTH = 32
-
-
-def read_json(path: Path, limit: int = MAX_INSTANCE_JSON_BYTES,
-              depth: int = MAX_JSON_DEPTH) -> Any:
-    """A JSON file of an instance, read within a size and a nesting limit (``ValueError``
-    naming the file otherwise): nothing past ``limit`` bytes is read, and the nesting is
-    measured before the text is parsed, so a file nested 100,000 deep is refused, not a
-    ``RecursionError``."""
-    with open(path, "rb") as fh:
-        data = fh.read(limit + 1)
-    if len(data) > limit:
-        raise ValueError(f"{path.name} is over {limit} bytes")
-    text = data.decode("utf-8")
-    deepest = _nesting(text)
-    if deepest > depth:
-        raise ValueError(f"{path.name} is nested {deepest} deep; the limit is {depth}")
-    return json.loads(text)
-
-
-_BRACKETS = re.compile(r'"(?:[^"\\]|\\.)*"|[\[\]{}]')
-
-
-def _nesting(text: str) -> int:
-    """The deepest nesting of lists and objects in JSON text (strings skipped)."""
-    level = deepest = 0
-    for m in _BRACKETS.finditer(text):
-        c = m.group()
-        if c in "[{":
-            level += 1
-            deepest = max(deepest, level)
-        elif c in "]}":
-            level -= 1
-    return deepest
-
-
 def load_instance(folder: str | Path) -> Instance:
     """An instance folder written by :func:`export_suite` (bad folders raise ConfigError)."""
     path = Path(folder)
@@ -562,4 +575,5 @@ def load_instance(folder: str | Path) -> Instance:
 
 
 __all__ = ["FORMAT", "Cell", "cell_rules", "OPTIMAL_PLANNERS", "REFERENCE_PLANNERS", "Instance", "SuiteSpec", "export_suite",
-           "judge_plan", "load_instance", "reference_plan", "replay_plan", "rules_of"]
+           "judge_plan", "load_instance", "MAX_INSTANCE_JSON_BYTES", "MAX_JSON_DEPTH",
+           "read_json", "reference_plan", "replay_plan", "rules_of"]

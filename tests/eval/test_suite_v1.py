@@ -80,3 +80,24 @@ def test_the_release_command_rebuilds_an_instance_byte_for_byte(tmp_path):
             path.name
     assert (tmp_path / "again" / "classical" / "domain.pddl").read_bytes() == \
         (SUITE / track / "classical" / "domain.pddl").read_bytes()
+
+
+def test_the_temporal_route_rebuilds_an_instance_byte_for_byte(tmp_path):
+    """Kairos' first plan and the frozen offline kairos-anytime plan (judged, not trusted)
+    give the checked-in reference whatever the load: nothing in the build stops on wall time."""
+    pytest.importorskip("unified_planning")
+    from ocplus_plan.eval.suite import export_suite
+    from ocplus_plan.planning.engines import availability
+
+    build = _build()
+    for name in build.TEMPORAL:
+        if not availability(name).ok:
+            pytest.skip(f"{name} unavailable")
+    first = build.TRACKS["temporal"][1][:1]
+    export_suite(build.spec_of("temporal", first), tmp_path / "again")
+    here = SUITE / "temporal" / "p01"
+    for path in sorted(here.iterdir()):
+        assert (tmp_path / "again" / "p01" / path.name).read_bytes() == path.read_bytes(), \
+            path.name
+    ref = json.loads((here / "manifest.json").read_text())["encodings"]["temporal"]["reference"]
+    assert ref["planner"] == "offline:kairos-anytime" and "kairos-anytime" not in ref["tried"]
