@@ -96,18 +96,20 @@ def run(args: argparse.Namespace) -> int:
 
 
 def markdown(score: dict) -> str:
-    """The league table as the README shows it: one line per planner and track."""
-    lines = ["| planner | track | cells | solved | quality | agile | valid / faithful | "
-             "other statuses |", "|---|---|---|---|---|---|---|---|"]
+    """The league table as the README shows it: one line per planner, solved of run per
+    track, quality and agile over all tracks, and the other statuses."""
+    tracks = sorted({t for p in score["planners"].values() for t in p if t != "all"})
+    lines = ["| planner | " + " | ".join(tracks) + " | quality | agile | not solved |",
+             "|---|" + "---|" * (len(tracks) + 3)]
     for planner in sorted(score["planners"]):
-        for track, s in sorted(score["planners"][planner].items()):
-            if track == "all":
-                continue
-            other = ", ".join(f"{v} {k}" for k, v in sorted(s["statuses"].items())
-                              if k != "solved") or "-"
-            lines.append(f"| {planner} | {track} | {s['instances']} | {s['coverage']} | "
-                         f"{s['quality']:.2f} | {s['agile']:.2f} | {s['valid']} / "
-                         f"{s['faithful']} | {other} |")
+        per = score["planners"][planner]
+        cells = [f"{per[t]['coverage']} / {per[t]['instances']}" if t in per else "-"
+                 for t in tracks]
+        s = per["all"]
+        other = ", ".join(f"{v} {k}" for k, v in sorted(s["statuses"].items())
+                          if k != "solved") or "-"
+        lines.append(f"| {planner} | " + " | ".join(cells) +
+                     f" | {s['quality']:.2f} | {s['agile']:.2f} | {other} |")
     return "\n".join(lines)
 
 
