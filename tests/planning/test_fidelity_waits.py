@@ -21,6 +21,8 @@ from ocplus_plan.planning.fidelity_waits import realise_timed
 from ocplus_plan.sim import make_rules, new_state, transition
 from ocplus_plan.sim.codes import Action, ItemState, Where
 
+from .test_fidelity_temporal import _plan
+
 R, D, L, U, S = (int(a) for a in Action)
 EPS = Fraction(1, 1000)
 P11 = Path(__file__).resolve().parents[2] / "suites/v1/temporal/p11"
@@ -45,16 +47,6 @@ def _dish_in_hand(niche: bool):
         transition(state, [a, S])
     assert [state.geo.rc(p) for p in state.agent_pos] == [(1, 2), (1, 4)]
     return state
-
-
-def _plan(compiled, *timed):
-    """A TimeTriggeredPlan from (start, action name, object names, duration) tuples."""
-    problem = compiled.problem
-    return TimeTriggeredPlan([
-        (Fraction(start), ActionInstance(problem.action(name),
-                                         tuple(problem.object(o) for o in objs)),
-         Fraction(duration))
-        for start, name, objs, duration in timed])
 
 
 def _deliver(niche: bool):
