@@ -47,7 +47,8 @@ faithfulness, waits, failed step and optimality.
 Tracks (:mod:`.suite_witness`): an encoding of an instance is ``solved`` (a reference
 planner's plan), ``open`` (none solved it; a goal-agenda witness plan, validated, proves it
 solvable and is its reference), ``unsolvable`` (a complete search proved it) or
-``unknown`` (none of these). The set's manifest lists the scored instances under the
+``unknown`` (none of these, or no plan that the kitchen realises: a scored instance's
+reference is always faithful). The set's manifest lists the scored instances under the
 encoding's name, the others under ``<encoding>-unsolvable`` and ``<encoding>-unknown``
 (dropped: in no scored track).
 """
@@ -489,13 +490,18 @@ def _export_encoding(spec: SuiteSpec, root: Path, folder: Path, enc: str, state:
     plan, info, tried = reference_plan(compiled, state, spec.planners.get(enc, ()),
                                        spec.timeout, spec.wall_limit, spec.fallback, offline)
     status = track_status(info, None)
+    if status == "solved" and info.get("faithful") is False:
+        status = "unknown"  # no plan the kitchen accepts yet; a witness may still give one
     if status == "unknown" and spec.witness_timeout > 0:
-        plan, witness = agenda_witness(state, enc, spec.granularity, spec.witness_timeout,
-                                       spec.wall_limit, max_orders)
+        found, witness = agenda_witness(state, enc, spec.granularity, spec.witness_timeout,
+                                        spec.wall_limit, max_orders)
         info["witness"] = witness
-        if plan is not None:
-            status = "open"
+        if found is not None:
+            plan = found
             _reference_from_witness(compiled, plan, state, info, witness)
+            # scored only with a plan the kitchen realises: a witness planned in the model
+            # alone may walk one cook through another, which proves nothing of the kitchen
+            status = "open" if info["faithful"] else "unknown"
     entry["status"] = status
     entry["reference"] = info
     if plan is not None:

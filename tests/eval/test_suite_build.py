@@ -124,3 +124,48 @@ def test_the_model_agenda_proves_a_multi_cook_instance_solvable():
     whole = compile(sample_state(rules, 0, 1), encoding="classical")
     plan, info = pddl_agenda(whole, "fast-downward", 20, None, {})
     assert "Plan valid" in info["validated"] and len(plan.actions) > 0
+
+
+def test_an_instance_whose_only_plan_the_kitchen_refuses_is_dropped(tmp_path, monkeypatch):
+    """A scored instance's reference is faithful: when the judge refuses the witness (a
+    cook walked through another in the model), the instance is unknown, not open."""
+    _need("fast-downward", "fast-downward-bjolp")
+    from ocplus_plan.eval import suite
+
+    def refuse(compiled, plan, state):
+        return {"faithful": False, "judged": "refused", "waits": 0, "failed_step": 3,
+                "divergence": "a cook walks into another"}
+
+    monkeypatch.setattr(suite, "judge_plan", refuse)
+    spec = SuiteSpec(encodings=("classical",), timeout=0.05, fallback=False,
+                     witness_timeout=20, planners={"classical": ("fast-downward-bjolp",)},
+                     cells=(Cell("easy", None, 1, 3, 1),))
+    export_suite(spec, tmp_path / "r")
+    top, inst = _manifests(tmp_path / "r")
+    assert top["tracks"] == {"classical-unknown": ["p01"]}
+    entry = inst["encodings"]["classical"]
+    assert entry["status"] == "unknown" and entry["reference"]["faithful"] is False
+    assert entry["reference"]["failed_step"] == 3
+    assert "Plan valid" in entry["reference"]["witness"]["validated"]  # a plan of the model
+
+
+def test_a_solved_instance_whose_plans_the_kitchen_refuses_falls_to_the_witness(
+        tmp_path, monkeypatch):
+    _need("fast-downward")
+    from ocplus_plan.eval import suite
+
+    verdicts = iter([False, True])  # the portfolio's plan refused, the witness realised
+
+    def judge(compiled, plan, state):
+        ok = next(verdicts)
+        return {"faithful": ok, "judged": "realised" if ok else "refused", "waits": 0,
+                "failed_step": None if ok else 5, "divergence": None if ok else "blocked"}
+
+    monkeypatch.setattr(suite, "judge_plan", judge)
+    spec = SuiteSpec(encodings=("classical",), planners=LAMA, timeout=20, fallback=False,
+                     witness_timeout=20, cells=(Cell("easy", None, 1, 1, 0),))
+    export_suite(spec, tmp_path / "s")
+    _, inst = _manifests(tmp_path / "s")
+    entry = inst["encodings"]["classical"]
+    assert entry["status"] == "open" and entry["reference"]["engine"] == "goal-agenda"
+    assert entry["reference"]["faithful"] is True
