@@ -57,7 +57,8 @@ def test_every_listed_instance_exists_and_only_solvable_ones_are_scored():
                 assert (folder / name / entry["plan"]).is_file()
                 ref = entry["reference"]
                 assert ref["validated"].startswith("up: VALID"), (track, name)
-                assert isinstance(ref["faithful"], bool) and isinstance(ref["optimal"], bool)
+                assert ref["faithful"] is True, (track, name)  # the kitchen realises it
+                assert isinstance(ref["optimal"], bool)
             if name in info["unsolvable"]:
                 assert status == "unsolvable"
 
