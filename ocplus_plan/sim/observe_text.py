@@ -164,7 +164,7 @@ def kitchen_text(state: State) -> str:
     for o in state.orders:
         left = (f"{max(0, o.deadline - state.t)} steps left" if o.deadline >= 0
                 else "no time limit")
-        lines.append(f"- order {o.order_id}: {recipe_words(o.recipe)} ({left})")
+        lines.append(f"- order {o.order_id}: {recipe_words(o.recipe, rules.tables)} ({left})")
     timers = _timers(state)
     if timers:
         lines.append("Timers:")
