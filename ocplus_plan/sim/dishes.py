@@ -115,7 +115,7 @@ def _dish(entry: Any, where: str, ready: dict[Item, ItemState]) -> Dish:
                              f"{', '.join(PLATES)}")
     reward = entry.get("reward")
     if reward is not None and (isinstance(reward, bool) or not isinstance(reward, (int, float))
-                               or not math.isfinite(reward) or abs(reward) > MAX_REWARD):
+                               or abs(reward) > MAX_REWARD or not math.isfinite(reward)):
         raise MapFormatError(f"{where}: 'reward' must be a number from {-MAX_REWARD:g} to "
                              f"{MAX_REWARD:g}, got {str(reward)[:40]!r}")
     return Dish(tuple(pairs), PLATES[plate.strip().lower()],

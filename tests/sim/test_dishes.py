@@ -106,6 +106,10 @@ def test_a_recording_keeps_the_kitchens_dishes():
      r"'reward' must be a number from -1e\+06 to 1e\+06, got 'lots'"),
     ([{"ingredients": [{"tomato": "chopped"}], "reward": float("nan")}], r"'reward' must be"),
     ([{"ingredients": [{"tomato": "chopped"}], "reward": True}], r"'reward' must be"),
+    ([{"ingredients": [{"tomato": "chopped"}], "reward": 10**400}], r"'reward' must be"),
+    ([{"ingredients": [{"tomato": "chopped"}], "reward": float("inf")}], r"'reward' must be"),
+    ([{"ingredients": [{3: "chopped"}]}], r"ingredient '3' is not one of"),
+    ([{"ingredients": [{"tomato": ["chopped"]}]}], r"tomato's state \"\['chopped'\]\" is not"),
     ([{"ingredients": [{"tomato": "chopped"}]}, {"ingredients": [{"tomato": "chopped"}]}],
      r"recipes\[1\] has the same ingredients as an earlier dish"),
 ])
