@@ -141,3 +141,10 @@ def test_check_map_lists_the_dishes_and_refuses_a_bad_one_in_one_line(tmp_path, 
     assert main(["check-map", str(bad)]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "tomato must be chopped here" in err
+
+
+def test_a_recipes_parameter_replaces_the_menu_and_a_declared_dish_keeps_its_reward():
+    rules = make_rules("medium", map=g_map([{"ingredients": STEAK_TOMATO, "reward": 260}]),
+                       recipes=["steak+tomato", "tomato"])
+    assert rules.recipes == ((Item.TOMATO, Item.STEAK), (Item.TOMATO,))
+    assert rules.recipe_rewards == (260.0, rules.rewards.correct_delivery)
