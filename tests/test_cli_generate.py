@@ -160,3 +160,45 @@ def test_a_split_kitchen_replaced_after_its_proof_is_the_one_its_name_loads(tmp_
     assert written == map_to_yaml(map_from_name("gen:multiroom:test:5"))
     kitchen = json.loads((out / "manifest.json").read_text())["kitchens"][0]
     assert kitchen["candidate"] == 1 and kitchen["replaced"][0]["candidate"] == 0
+
+
+def test_generate_draws_each_kitchen_a_menu_into_its_file(tmp_path):
+    from ocplus_plan.sim import make_rules
+    from ocplus_plan.sim.generate_recipes import draw_recipes
+    from ocplus_plan.sim.maps import load_map
+
+    code, out = _generate(tmp_path, "m", "--stations", "medium", "--recipes", "2,3",
+                          "--menu", "2")
+    assert code == 0
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["generator"]["recipes"] == "2,3" and manifest["generator"]["menu"] == 2
+    for entry in manifest["kitchens"]:
+        layout = load_map(str(out / entry["file"]))
+        bare = load_map(_spec_without_recipes(out / entry["file"]))
+        assert bare.recipes is None
+        assert entry["recipes"] == draw_recipes(bare, entry["seed"], (2, 3), 2, "required")
+        rules = make_rules("medium", map=layout)
+        assert ["+".join(k.name.lower() for k in r) for r in rules.recipes] == entry["recipes"]
+    _, again = _generate(tmp_path, "m2", "--stations", "medium", "--recipes", "2,3",
+                         "--menu", "2")
+    assert (out / "split-seed000003.yaml").read_bytes() == \
+        (again / "split-seed000003.yaml").read_bytes()
+
+
+def _spec_without_recipes(path):
+    import yaml
+
+    spec = yaml.safe_load(path.read_text())
+    spec.pop("recipes")
+    return spec
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--recipes", "0"], "--recipes: 0 is out of range; a recipe length is a whole number "
+                         "from 1 to 6"),
+    (["--recipes", "2", "--menu", "33"], "--menu"),
+])
+def test_generate_refuses_bad_menu_options_in_one_line(tmp_path, capsys, extra, message):
+    code, out = _generate(tmp_path, "bad", *extra)
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and err.count("\n") == 1 and not out.exists()

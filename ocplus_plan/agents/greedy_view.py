@@ -11,7 +11,6 @@ from __future__ import annotations
 from collections import Counter
 
 from ..sim.codes import COUNTERS, Cell, Item, ItemState, Where
-from ..sim.processes import READY_STATE
 from ..sim.queries import distances, interaction_spots, plate_fits, walkable_in_any_layout
 from ..sim.state import State
 
@@ -156,7 +155,7 @@ class KitchenView:
             k, st, w = self.kind[i], s.item_state[i], s.item_where[i]
             if k == _PLATE or w in (Where.PLATE, Where.WAITING):
                 continue
-            if st == READY_STATE[Item(k)] or (st == _FRESH and (
+            if st == s.rules.tables.ready_of(k) or (st == _FRESH and (
                     w == Where.HAND or self.terrain[s.item_loc[i]] in (Cell.BOARD, self.heat))):
                 supply[k] += 1
         self.supply = supply

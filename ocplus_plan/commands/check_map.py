@@ -6,6 +6,7 @@ import argparse
 from typing import Any
 
 from ..sim.codes import SPAWN_TILES, Cell
+from ..sim.dishes import dish_to_dict
 from ..sim.kitchens import load_kitchen
 from ..sim.maps import Layout, station_reachability
 from ..sim.process_yaml import process_to_dict
@@ -37,6 +38,8 @@ def summary(layout: Layout) -> dict[str, Any]:
            "unreachable": unreachable}
     if layout.processes is not None:  # the kitchen file's own process records
         out["processes"] = [process_to_dict(p) for p in layout.processes]
+    if layout.recipes is not None:  # the kitchen file's own dishes
+        out["recipes"] = [dish_to_dict(d) for d in layout.recipes]
     return out
 
 
@@ -71,6 +74,10 @@ def run(args: argparse.Namespace) -> int:
         over = f", {p['overrun']['state']} after {p['overrun']['after']}" if "overrun" in p else ""
         print(f"  process   {p['station']}: {p['verb']} {'+'.join(p['takes'])} "
               f"{p['from']} -> {p['to']} by {p['drive']}, {p['duration']}{over}")
+    for d in info.get("recipes", ()):
+        parts = " + ".join(f"{s} {k}" for x in d["ingredients"] for k, s in x.items())
+        worth = f", reward {d['reward']:g}" if "reward" in d else ""
+        print(f"  recipe    {parts} on a {d['plate']}{worth}")
     if layout.is_dynamic:
         print(f"dynamic: switches every {info['switch_every']} steps; cells that switch: "
               f"{_cells(info['switching_cells'])}")

@@ -7,7 +7,10 @@ seed unless ``--rows``, ``--cols`` or ``--cooks`` fix them. With ``--prove`` (op
 it runs Fast Downward per kitchen, seconds to minutes each) every kitchen must get a validated plan for one
 order with all its cooks, which the simulator follows (``ocplus_plan.planning.prove``);
 a kitchen that fails is replaced by the next candidate of its seed, and ``manifest.json``
-lists what was replaced and why. The YAML files are the same bytes for the same arguments.
+lists what was replaced and why. With ``--recipes LENGTHS`` each kitchen also gets a menu
+drawn from its seed (``--menu`` dishes of those lengths that it can make,
+``sim.generate_recipes.draw_dishes``), written into its file under ``recipes:``. The YAML
+files are the same bytes for the same arguments.
 """
 
 from __future__ import annotations
@@ -27,7 +30,10 @@ from ..sim.generate import (
     map_to_yaml,
     split_seed,
 )
+from ..sim.dishes import MAX_RECIPES, dish_to_dict
+from ..sim.generate_recipes import MAX_LENGTH, draw_dishes
 from ..sim.maps import load_map
+from ..sim.presets import PRESETS
 from . import _types
 from ._common import HelpFormatter, add_output_args, emit, say
 
@@ -49,6 +55,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--cols", type=_types.whole("--cols", 5, 12), default=None, help="columns (None: drawn per seed)")
     p.add_argument("--cooks", type=_types.whole("--cooks", 1, 4), default=None,
                    help="cooks = spawn points (None: 3 or 4, drawn per seed)")
+    p.add_argument("--recipes", type=_types.whole_list("a recipe length", 1, MAX_LENGTH),
+                   default=None, metavar="LENGTHS",
+                   help="draw each kitchen a menu of dishes of these lengths (e.g. 2,3), "
+                        "seeded by its seed, and write it into its file (default: none; the "
+                        "preset draws its pool)")
+    p.add_argument("--menu", type=_types.whole("--menu", 1, MAX_RECIPES), default=3,
+                   help="dishes per drawn menu (with --recipes)")
     proof = p.add_mutually_exclusive_group()
     proof.add_argument("--prove", dest="prove", action="store_true", default=None,
                        help="prove each kitchen solvable with Fast Downward (slow; default: off)")
@@ -112,6 +125,12 @@ def _one_kitchen(args: argparse.Namespace, seed: int, stem: str, name: str, prov
                             cooks=args.cooks, preset=args.stations, candidate=candidate,
                             name=name if candidate == first else f"{name} (candidate {candidate})")
         layout = load_map(spec, source=stem)
+        if args.recipes:  # the kitchen's own menu, drawn from its seed
+            lengths = tuple(sorted({int(n) for n in args.recipes.split(",") if n.strip()}))
+            menu = draw_dishes(layout, seed, lengths, args.menu, PRESETS[args.stations].steak)
+            spec = dict(spec, recipes=[dish_to_dict(d) for d in menu])
+            layout = load_map(spec, source=stem)
+            entry["recipes"] = ["+".join(k.name.lower() for k in d.recipe) for d in menu]
         entry.update(candidate=candidate, rows=layout.rows, cols=layout.cols,
                      cooks=layout.max_agents, dynamic=layout.is_dynamic)
         if not prove:
@@ -164,7 +183,8 @@ def _generate(args: argparse.Namespace) -> int:
     manifest = {
         "generator": {"family": args.family, "split": args.split, "first": args.seed,
                       "n": args.n, "stations": args.stations, "rows": args.rows,
-                      "cols": args.cols, "cooks": args.cooks},
+                      "cols": args.cols, "cooks": args.cooks, "recipes": args.recipes,
+                      "menu": args.menu if args.recipes else None},
         "proved": prove, "not_proved_because": why_not if not prove else "",
         "kitchens": kitchens,
     }

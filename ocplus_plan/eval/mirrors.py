@@ -11,10 +11,12 @@ caller can check the run reached the rules it meant to test. Mirrors:
 * ``kernels``: the same engine's kernels as plain Python;
 * ``jax``: the JAX kitchen (:mod:`ocplus_plan.sim.fast.jax_kitchen`, the ``jax`` extra), all
   kitchens in one vmapped batch (padded to one shape), orders drawn from its keys;
-* the batched RL features and shaping (``rl/fast``): :func:`check_features`.
+* ``features`` / ``features-kernels``: the batched RL features and shaped rewards
+  (``rl/fast``) on the compiled or the plain kernels (:func:`check_features`).
 
 Kitchens are rule sets (:func:`kitchens` makes them from map names: registered maps, paths,
-``gen:`` names), with any process records (``Rules.processes``).
+``gen:`` names), with any process records (``Rules.processes``) and dishes;
+:func:`random_kitchens` draws generated kitchens with drawn process records and menus.
 """
 
 from __future__ import annotations
@@ -24,15 +26,24 @@ from typing import Any
 
 import numpy as np
 
+from dataclasses import replace
+
 from ..agents.greedy import GreedyAgent
 from ..errors import ConfigError
 from ..sim import Rules, make_rules, new_state, transition
-from ..sim.codes import Where
+from ..sim.codes import ItemState, Where
+from ..sim.dishes import dish_to_dict
+from ..sim.generate import FAMILIES, map_from_name
+from ..sim.generate_recipes import draw_dishes
+from ..sim.maps import load_map
 from ..sim.observe import VectorEncoder
 from ..sim.orders import draw_order
+from ..sim.presets import PRESETS
+from ..sim.processes import PROCESSES
+from ..sim.rules import with_overrides
 from ..sim.state import State, geometry_for
 
-MIRRORS = ("numba", "kernels", "jax")
+MIRRORS = ("numba", "kernels", "jax", "features", "features-kernels")
 
 
 class MirrorMismatch(AssertionError):
@@ -44,22 +55,66 @@ def kitchens(names: Sequence[str], preset: str = "medium", **overrides: Any) -> 
     return [make_rules(preset, map=name, **overrides) for name in names]
 
 
+def random_kitchens(seed: int, count: int = 4, *, presets: Sequence[str] = tuple(PRESETS),
+                    n_agents: int = 2, records: bool = True, **overrides: Any) -> list[Rules]:
+    """``count`` generated kitchens drawn with ``seed``: a family, a train index and a preset
+    (its stations) each, a menu of 1 to 3 dishes of drawn rewards written into the kitchen
+    file, and (``records``) process records with drawn drives and durations; ``overrides``
+    are rule parameters of every kitchen."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(count):
+        preset = presets[int(rng.integers(len(presets)))]
+        name = f"gen:{FAMILIES[int(rng.integers(len(FAMILIES)))]}:train:" \
+               f"{int(rng.integers(50))}:{preset}"
+        spec = map_from_name(name)
+        lengths = (1,) if preset == "easy" else (2, 3)
+        menu = draw_dishes(load_map(spec), int(rng.integers(1 << 20)), lengths,
+                           int(rng.integers(1, 4)), PRESETS[preset].steak)
+        spec["recipes"] = [dict(dish_to_dict(d), reward=float(rng.integers(20, 400)))
+                           for d in menu]
+        rules = make_rules(preset, map=load_map(spec, source=name), n_agents=n_agents,
+                           dynamic=spec.get("is_dynamic_map", False), **overrides)
+        out.append(with_overrides(rules, processes=_drawn_records(rng)) if records else rules)
+    return out
+
+
+def _drawn_records(rng: np.random.Generator) -> tuple:
+    """The shipped records with drawn durations, and the board and pan each driven by bumps
+    or by time (a time-driven one overruns to burnt)."""
+    drawn = []
+    for p in PROCESSES:
+        timed = p.timed if p.verb == "wash" else bool(rng.integers(2))
+        n = int(rng.integers(1, 5))
+        drawn.append(replace(
+            p, drive="time" if timed else "bump", duration=n, duration_param="",
+            overrun_state=ItemState.BURNT if timed else None,
+            overrun=n + int(rng.integers(0, 4)) if timed else 0, overrun_param=""))
+    return tuple(drawn)
+
+
 def check_mirror(mirror: str, rules_list: Sequence[Rules], *, steps: int = 30, seed: int = 0,
                  noise: float = 0.25, radius: int = 0, n_envs: int = 2,
-                 **jax_options: Any) -> dict[str, int]:
+                 **options: Any) -> dict[str, float]:
     """Step every kitchen in ``mirror`` and in the reference for ``steps`` steps; raise
-    :class:`MirrorMismatch` at the first difference; return the finished episodes' stats.
-    ``n_envs``: kitchens per rule set (numba, kernels); ``jax_options``: see
-    :func:`check_jax`."""
+    :class:`MirrorMismatch` at the first difference; return the finished episodes' stats
+    (the features mirrors: ``{"shaped": the reference's summed absolute shaping}``).
+    ``n_envs``: kitchens per rule set (numba, kernels, features); ``options``: those of
+    :func:`check_jax` or :func:`check_features`."""
     if mirror not in MIRRORS:
         raise ConfigError(f"unknown mirror {mirror!r}; choose one of {', '.join(MIRRORS)}")
     if mirror == "jax":
         return check_jax(rules_list, steps=steps, seed=seed, noise=noise, radius=radius,
-                         **jax_options)
-    totals: dict[str, int] = {}
+                         **options)
+    totals: dict[str, float] = {}
     for k, rules in enumerate(rules_list):
-        got = check_batch(rules, compiled=mirror == "numba", steps=steps, seed=seed + k,
-                          noise=noise, radius=radius, n_envs=n_envs)
+        if mirror.startswith("features"):
+            got = {"shaped": check_features(rules, compiled=mirror == "features", steps=steps,
+                                            seed=seed + k, noise=noise, n_envs=n_envs,
+                                            **options)}
+        else:
+            got = check_batch(rules, compiled=mirror == "numba", steps=steps, seed=seed + k,
+                              noise=noise, radius=radius, n_envs=n_envs)
         for name, v in got.items():
             totals[name] = totals.get(name, 0) + v
     return totals
@@ -324,5 +379,6 @@ def check_jax(rules_list: Sequence[Rules], *, steps: int, seed: int = 0, noise: 
     return totals
 
 
-__all__ = ["MIRRORS", "MirrorMismatch", "as_reference", "check_batch", "check_jax",
-           "check_mirror", "crop", "kitchens", "of_reference", "reference_state"]
+__all__ = ["MIRRORS", "MirrorMismatch", "as_reference", "check_batch", "check_features",
+           "check_jax", "check_mirror", "crop", "kitchens", "of_reference", "random_kitchens",
+           "reference_state"]

@@ -24,7 +24,6 @@ and no progress are a stall (recorded as ``(first, last)`` step).
 from __future__ import annotations
 
 from ..sim.codes import Cell, Item, ItemState, Where
-from ..sim.processes import READY_STATE
 from ..sim.queries import distances, interaction_spots, walkable_in_any_layout
 from ..sim.state import State
 
@@ -33,10 +32,9 @@ STALL_STRETCH = 30
 #: steps with no progress after which the executive changes strategy (again every as many)
 STALL_PATIENCE = 18
 
-_PLATE, _STEAK = int(Item.PLATE), int(Item.STEAK)
+_PLATE = int(Item.PLATE)
 _FRESH, _CLEAN, _DIRTY = int(ItemState.FRESH), int(ItemState.CLEAN), int(ItemState.DIRTY)
 _COOKED, _BURNT = int(ItemState.COOKED), int(ItemState.BURNT)
-_READY = {int(k): int(v) for k, v in READY_STATE.items()}
 
 
 class ProgressMeter:
@@ -48,7 +46,9 @@ class ProgressMeter:
         self.walk = walkable_in_any_layout(geo)
         terrain = geo.terrains[0]
         self._to: dict[int, list[int]] = {}
-        for code in (Cell.BOARD, Cell.PAN, Cell.DELIVERY, Cell.SINK):
+        self.tables = state.rules.tables
+        # the delivery, the sink and every process station (the oven too, where it runs)
+        for code in sorted({int(Cell.DELIVERY), int(Cell.SINK), *self.tables.by_code}):
             cells = [c for c, v in enumerate(terrain) if v == int(code)]
             self._to[int(code)] = self._walk_to(cells)
         self.lows: dict[int, int] = {}
@@ -93,9 +93,9 @@ class ProgressMeter:
             return None
         if kind not in needed:
             return None
-        if st == _FRESH:
-            return self._to[int(Cell.PAN) if kind == _STEAK else int(Cell.BOARD)]
-        if st == _READY.get(kind) and plates:
+        if st == _FRESH:  # to the station whose process takes it
+            return self._to.get(self.tables.station_of(kind))
+        if st == self.tables.ready_of(kind) and plates:
             return plates
         return None
 

@@ -31,6 +31,7 @@ import numpy as np
 
 from ..errors import ConfigError, DependencyNotInstalled, OcplusError
 from ..sim import Action, Event, Rules, State, make_rules, new_state, recipe_name, transition
+from ..sim.dishes import dish_to_dict
 from ..sim.process_yaml import own_processes
 from ..sim.processes import PROCESSES
 from ..sim.rules import OPTIONAL_RULE_LIMITS, RULE_LIMITS, Rewards
@@ -59,6 +60,8 @@ def layout_to_dict(rules: Rules) -> dict[str, Any]:
         d["switch_map"] = lay.switch_grid.astype(int).tolist()
     if own_processes(lay.processes):  # the kitchen file's own process records
         d["processes"] = own_processes(lay.processes)
+    if lay.recipes:  # the kitchen file's own dishes
+        d["recipes"] = [dish_to_dict(x) for x in lay.recipes]
     return d
 
 

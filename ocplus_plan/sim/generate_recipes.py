@@ -9,6 +9,10 @@ seed and lengths give the same menu. Pass the menu to :func:`.rules.make_rules` 
 
     layout = load_kitchen("gen:open:train:0:medium")
     rules = make_rules("medium", map=layout, recipes=draw_recipes(layout, 7, (3,), 2))
+
+:func:`draw_dishes` draws the same menu as dish records (:mod:`.dishes`), which a kitchen
+file declares under ``recipes:`` (``ocplus generate --recipes LENGTHS --menu N`` writes them
+into each generated kitchen, so the file carries its menu).
 """
 
 from __future__ import annotations
@@ -16,8 +20,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ConfigError
+from .dishes import Dish, dish_of
 from .maps import Layout
-from .rules import recipe_name, recipe_pool
+from .processes import PROCESSES
+from .rules import parse_recipe, recipe_name, recipe_pool
 
 #: the longest recipe a menu may ask for (a plate holds at most this many ingredients in
 #: the planning model's contents)
@@ -48,4 +54,14 @@ def draw_recipes(layout: Layout, seed: int, lengths: tuple[int, ...] = (1, 2, 3)
     return [recipe_name(pool[int(i)]) for i in sorted(picks)]
 
 
-__all__ = ["MAX_LENGTH", "draw_recipes"]
+def draw_dishes(layout: Layout, seed: int, lengths: tuple[int, ...] = (1, 2, 3),
+                count: int = 3, steak: str = "allowed",
+                reward: float | None = None) -> tuple[Dish, ...]:
+    """The menu of :func:`draw_recipes` as dish records, each ingredient in the state the
+    kitchen's process records make, each earning ``reward`` (None: ``correct_delivery``)."""
+    procs = layout.processes or PROCESSES
+    return tuple(dish_of(parse_recipe(name), procs, reward)
+                 for name in draw_recipes(layout, seed, lengths, count, steak))
+
+
+__all__ = ["MAX_LENGTH", "draw_dishes", "draw_recipes"]

@@ -26,6 +26,7 @@ from .codes import (
     WALKABLE,
     Cell,
 )
+from .dishes import Dish, parse_recipes
 from .process_yaml import parse_processes
 from .processes import ADDED, PROCESSES, Process
 from .grid import distances, grid_neighbors
@@ -45,6 +46,7 @@ KEY_ALIASES: dict[str, tuple[str, ...]] = {
     "map_switch_step": ("map_switch_step",),
     "agent_spawn_points": ("agent_spawn_points", "agent_initial_coordinates"),
     "processes": ("processes",),
+    "recipes": ("recipes",),
 }
 _SPELLING_TO_KEY = {s: k for k, spellings in KEY_ALIASES.items() for s in spellings}
 
@@ -73,6 +75,8 @@ class Layout:
     declared_max_agents: int = 0
     #: the kitchen's process-station records (``processes``); None: the shipped ones
     processes: tuple[Process, ...] | None = None
+    #: the kitchen's dishes (``recipes``): its menu; None: the preset draws its pool
+    recipes: tuple[Dish, ...] | None = None
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -325,6 +329,8 @@ def _parse(raw: dict[str, Any], src: str) -> Layout:
 
     processes = None if d.get("processes") is None else parse_processes(d["processes"], src)
     _check_added_stations(stations, processes, src)
+    recipes = None if d.get("recipes") is None else parse_recipes(
+        d["recipes"], src, processes or PROCESSES, stations)
     default_name = Path(src).stem if src != "<dict>" else "unnamed"
     return Layout(
         name=_text(d, "name", "", src) or default_name,
@@ -340,6 +346,7 @@ def _parse(raw: dict[str, Any], src: str) -> Layout:
         stations=stations,
         declared_max_agents=declared,
         processes=processes,
+        recipes=recipes,
     )
 
 

@@ -20,7 +20,7 @@ from ..errors import ConfigError
 from .codes import Action, Cell, Item, ItemState, Where
 from .processes import process_tables
 from .queries import ticks_until_burnt, ticks_until_cooked
-from .rules import Rules
+from .rules import Rules, recipe_name
 from .stations import KIND_OF, WORK_PLACES
 from .state import State
 from .words import (
@@ -133,7 +133,11 @@ def rules_text(rules: Rules) -> str:
                      f"use the sink {work(Cell.SINK)} times with empty hands to clean it.")
     if rules.dynamic:
         lines.append(f"Some walls move every {rules.map_switch_step} steps.")
-    lines.append(f"A served order earns {rules.rewards.correct_delivery:g}; a plate that "
+    earns = f"{rules.rewards.correct_delivery:g}"
+    if any(v != rules.rewards.correct_delivery for v in rules.recipe_rewards):  # the dishes'
+        earns = "its dish's reward (" + ", ".join(
+            f"{recipe_name(r)} {v:g}" for r, v in zip(rules.recipes, rules.recipe_rewards)) + ")"
+    lines.append(f"A served order earns {earns}; a plate that "
                  f"matches no order is refused ({rules.rewards.wrong_delivery:g}).")
     return "\n".join(lines)
 
@@ -160,7 +164,7 @@ def kitchen_text(state: State) -> str:
     for o in state.orders:
         left = (f"{max(0, o.deadline - state.t)} steps left" if o.deadline >= 0
                 else "no time limit")
-        lines.append(f"- order {o.order_id}: {recipe_words(o.recipe)} ({left})")
+        lines.append(f"- order {o.order_id}: {recipe_words(o.recipe, rules.tables)} ({left})")
     timers = _timers(state)
     if timers:
         lines.append("Timers:")

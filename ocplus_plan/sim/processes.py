@@ -199,6 +199,12 @@ class ProcessTables:
             return 1
         return self.overrun[j] + 1 if self.overrun_state[j] >= 0 else self.duration[j]
 
+    def ready_of(self, kind: int) -> int:
+        """The state item kind ``kind`` must reach before it goes on a plate: the state its
+        process makes (-1: no process takes it)."""
+        j = self.index_of(kind)
+        return self.done_state[j] if j >= 0 and kind != Item.PLATE else -1
+
     def station_of(self, kind: int) -> int:
         """The station code of the process that takes item kind ``kind`` (steak: the pan,
         or an oven where a kitchen's records give it the steak; -1: none)."""

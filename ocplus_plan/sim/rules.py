@@ -16,6 +16,7 @@ import numpy as np
 
 from ..errors import ConfigError, MapFormatError
 from .codes import ITEM_NAMES, VEGETABLES, Cell, Item
+from .dishes import Dish, Recipe, dish_of
 from .kitchens import load_kitchen
 from .maps import Layout
 from .presets import PRESETS, Preset
@@ -27,8 +28,6 @@ from .processes import (
     ingredient_process,
     process_tables,
 )
-
-Recipe = tuple[Item, ...]  # sorted multiset of ingredient kinds, each to be processed
 
 
 @dataclass(frozen=True)
@@ -106,6 +105,15 @@ class Rules:
         except (TypeError, ValueError):
             tables = None
         object.__setattr__(self, "tables", tables)
+        # the dish record of each recipe (the kitchen file's, else one of the default
+        # reward) and what serving it earns, by recipe index: the engines' reward table
+        declared = {d.recipe: d for d in self.layout.recipes or ()}
+        dishes = tuple(declared.get(r) or dish_of(r, self.processes) for r in self.recipes)
+        default = self.rewards.correct_delivery
+        object.__setattr__(self, "dishes", dishes)
+        object.__setattr__(self, "recipe_rewards", tuple(
+            default if d.reward is None else d.reward for d in dishes))
+        object.__setattr__(self, "reward_of", dict(zip(self.recipes, self.recipe_rewards)))
 
     def recipe_name(self, recipe: Recipe) -> str:
         return recipe_name(recipe)
@@ -224,7 +232,9 @@ def make_rules(preset: str = "easy", *, map: str | dict | Layout | None = None, 
 
     overrides_given = set(overrides)
     recipe_sizes = tuple(overrides.pop("recipe_sizes", p.recipe_sizes))
-    if "recipes" in overrides:
+    if "recipes" not in overrides and layout.recipes:  # the kitchen file's own menu
+        recipes = tuple(d.recipe for d in layout.recipes)
+    elif "recipes" in overrides:
         recipes = tuple(parse_recipe(r) for r in overrides.pop("recipes"))
         can = set(recipe_pool(layout, tuple(sorted({len(r) for r in recipes})), "allowed"))
         for r in recipes:
@@ -371,6 +381,7 @@ __all__ = [
     "MAX_RULE_INT",
     "OPTIONAL_RULE_LIMITS",
     "PRESETS",
+    "Dish",
     "Preset",
     "Recipe",
     "Rewards",

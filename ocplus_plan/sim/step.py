@@ -274,7 +274,7 @@ def _deliver(
     order = state.orders.pop(idx)
     state.stats["dishes_served"] += 1
     state.stats["orders_completed"] += 1
-    rewards[a] += r.correct_delivery
+    rewards[a] += state.rules.reward_of.get(order.recipe, r.correct_delivery)  # the dish's
     events.append(Event("delivery", a, state.geo.rc(cell), held, order.order_id))
     for i in state.plate_contents(held):
         _send_home(state, i, _FRESH, events)

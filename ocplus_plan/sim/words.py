@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 from .codes import Action, Item, ItemState, Where
 from .orders import matching_order, plate_recipe
-from .processes import READY_STATE
+from .processes import ProcessTables, process_tables
 from .queries import Bump, bump_effect
 from .state import map_rows
 from .stations import CELL_KINDS
@@ -65,9 +65,11 @@ def item_words(state: State, item: int) -> str:
     return f"clean plate with {_and(inside)}" if inside else "empty clean plate"
 
 
-def recipe_words(recipe: Sequence[int]) -> str:
-    """``"chopped tomato + cooked steak"``: the ingredients a dish needs, ready to serve."""
-    return " + ".join(f"{state_word(k, READY_STATE[Item(k)])} {_kind_word(k)}" for k in recipe)
+def recipe_words(recipe: Sequence[int], tables: ProcessTables | None = None) -> str:
+    """``"chopped tomato + cooked steak"``: the ingredients a dish needs, ready to serve, in
+    the states the rule set's process records make (``tables``; None: the shipped ones)."""
+    tables = process_tables() if tables is None else tables
+    return " + ".join(f"{state_word(k, tables.ready_of(k))} {_kind_word(k)}" for k in recipe)
 
 
 def at(state: State, cell: int) -> str:

@@ -86,3 +86,16 @@ def test_result_rows_record_stalls_for_any_agent(tmp_path):
     rows = {r["agent"]: r for r in read_results(tmp_path)}
     assert rows["stay"]["stall_stretches"] == [[0, 40]]
     assert rows["greedy"]["stall_stretches"] == []
+
+
+def test_carrying_a_raw_steak_toward_the_oven_is_progress_where_the_oven_heats_it():
+    from tests.sim.test_oven_kitchen import OVEN_MAP, TO_OVEN
+
+    state = new_state(make_rules("medium", map=OVEN_MAP), 0)
+    meter = ProgressMeter(state)
+    for a in TO_OVEN[:2]:  # step left, then take the steak from its counter
+        transition(state, [a])
+    assert state.agent_hand[0] >= 0
+    meter.update(state)
+    transition(state, [TO_OVEN[2]])  # down: next to the oven
+    assert meter.update(state)

@@ -64,3 +64,19 @@ def test_generated_documents_with_a_cut_or_a_splice(doc, data):
     cut = data.draw(st.integers(0, 20))
     splice = data.draw(st.text(alphabet=YAML_CHARS, max_size=12))
     check((text[:at] + splice + text[at + cut:]).encode("utf-8", "surrogatepass"))
+
+
+# a valid kitchen (tomato, steak, pan, board) whose ``recipes`` entry is drawn
+KITCHEN = {"game_map": [[1, 10, 1, 9, 1, 3, 1], [5, 0, 0, 0, 0, 0, 7],
+                        [1, 12, 6, 11, 1, 1, 1]], "agent_spawn_points": [[1, 1]]}
+words = st.sampled_from(["tomato", "steak", "onion", "plate", "chopped", "cooked", "raw",
+                         "burnt", "ingredients", "reward", "plate", "bowl", ""])
+ingredient = st.dictionaries(words | st.integers(-2, 12), words | values, max_size=2)
+dish = st.dictionaries(words, st.lists(ingredient | values, max_size=7) | values
+                       | st.floats(allow_nan=True) | st.integers(-10**30, 10**30), max_size=4)
+
+
+@FUZZ
+@given(st.lists(dish, max_size=4) | values)
+def test_generated_recipes(recipes):
+    check(yaml.safe_dump(dict(KITCHEN, recipes=recipes)).encode())

@@ -36,3 +36,18 @@ def test_the_rules_take_a_drawn_menu_and_orders_come_from_it():
 def test_bad_menu_arguments_are_refused_naming_the_fix(kwargs, message):
     with pytest.raises(ConfigError, match=message):
         draw_recipes(load_kitchen(KITCHEN), 0, **kwargs)
+
+
+def test_a_drawn_menu_as_dishes_is_the_same_menu_in_records_a_kitchen_file_reads():
+    from ocplus_plan.sim.dishes import dish_to_dict
+    from ocplus_plan.sim.generate import map_from_name
+    from ocplus_plan.sim.generate_recipes import draw_dishes
+    from ocplus_plan.sim.maps import load_map
+
+    layout = load_kitchen(KITCHEN)
+    dishes = draw_dishes(layout, 7, (2, 3), 3, reward=120)
+    assert ["+".join(k.name.lower() for k in d.recipe) for d in dishes] == \
+        draw_recipes(layout, 7, (2, 3), 3)
+    spec = dict(map_from_name(KITCHEN), recipes=[dish_to_dict(d) for d in dishes])
+    rules = make_rules("medium", map=load_map(spec))
+    assert rules.dishes == dishes and set(rules.recipe_rewards) == {120.0}

@@ -65,13 +65,29 @@ def test_the_oven_bakes_the_steak_and_burns_it_when_left():
     assert state.item_state[steak] == ItemState.BURNT and state.stats["burns"] == 1
 
 
-def test_greedy_serves_dishes_in_the_oven_kitchen():
-    state = new_state(oven_rules(n_agents=2), 0)
+def test_the_kitchen_files_menu_is_two_dishes_that_need_the_oven():
+    rules = oven_rules()
+    assert rules.recipes == ((Item.TOMATO, Item.STEAK),
+                             (Item.LETTUCE, Item.ONION, Item.STEAK))
+    assert rules.recipe_rewards == (250.0, 400.0)
+    assert all((Item.STEAK, ItemState.COOKED) in d.ingredients for d in rules.dishes)
+
+
+def test_greedy_serves_dishes_in_the_oven_kitchen_and_earns_their_rewards():
+    rules = oven_rules(n_agents=2)
+    state = new_state(rules, 0)
     agent = GreedyAgent()
     agent.reset(state)
+    paid = []
     for _ in range(120):
-        transition(state, agent.act(state))
+        served = {o.order_id: o.recipe for o in state.orders}
+        res = transition(state, agent.act(state))
+        for e in res.events:
+            if e.kind == "delivery":
+                paid.append((res.rewards[e.agent], rules.reward_of[served[e.value]]))
     assert state.stats["dishes_served"] >= 1 and state.stats["cooks"] >= 1, state.stats
+    assert paid and all(got == pytest.approx(dish + rules.rewards.step_penalty)
+                        for got, dish in paid), paid
 
 
 def test_the_observations_show_the_oven():

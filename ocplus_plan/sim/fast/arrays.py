@@ -44,7 +44,8 @@ STAT_NAMES = ("dishes_served", "orders_completed", "orders_expired", "burns",
 # params (ints) and reward values (floats)
 (P_CHOP, P_COOK, P_BURN, P_WASH, P_HORIZON, P_LIMIT, P_STOP, P_DIRTY, P_DYNAMIC,
  P_SWITCH_STEP, P_SHARED, P_FIXED, P_RADIUS, P_ROWS, P_COLS, P_HAS_SWITCH, P_OBSERVE) = range(17)
-R_SUBTASK, R_CORRECT, R_WRONG, R_STEP, R_BURNED, R_EXPIRED = range(6)
+# (R_DISH + r: what serving recipe r earns, the dish's reward)
+R_SUBTASK, R_CORRECT, R_WRONG, R_STEP, R_BURNED, R_EXPIRED, R_DISH = range(7)
 # what each agent's bump did in the last step (bumps (E, 3, agents): kind, item, plate)
 B_NONE, B_PUTDOWN, B_PLATE_ADD = range(3)
 # observation layout: window cells and width, channel starts, feature offsets, static size
@@ -56,7 +57,7 @@ class StaticArrays(NamedTuple):
     """What one rule set fixes (built by :func:`ocplus_plan.sim.fast.batch.static_arrays`)."""
 
     params: np.ndarray  # int64 (17,)
-    rewards: np.ndarray  # float64 (6,)
+    rewards: np.ndarray  # float64 (6 + recipes,): the values, then each recipe's dish
     terrain: np.ndarray  # int64 (layouts, cells)
     walk: np.ndarray  # bool (layouts, cells)
     nbrs: np.ndarray  # int64 (cells, 4)

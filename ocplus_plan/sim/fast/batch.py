@@ -134,7 +134,8 @@ def static_arrays(rules: Rules, encoder: VectorEncoder, observe: bool = True,
     params[ba.P_OBSERVE] = observe
     rw = rules.rewards
     rewards = np.array([rw.subtask_finished, rw.correct_delivery, rw.wrong_delivery,
-                        rw.step_penalty, rw.burned_penalty, rw.order_expired], np.float64)
+                        rw.step_penalty, rw.burned_penalty, rw.order_expired,
+                        *rules.recipe_rewards], np.float64)
     kind_index = np.zeros(16, i64)
     for j, kind in enumerate((*_INGREDIENTS, Item.PLATE)):
         kind_index[int(kind)] = j

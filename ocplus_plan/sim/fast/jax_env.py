@@ -192,7 +192,8 @@ class JaxKitchenEnv:
             done = (out.state.stats - before.stats)[jnp.array([jk.S_CHOPS, jk.S_COOKS,
                                                                jk.S_WASHES])].sum()
             return jnp.full(n, value * done, jnp.float32)
-        unit = jnp.zeros(6, jnp.float32).at[jk.R_SUBTASK].set(value)
+        size = len(self.params.rewards)  # the values, then the dishes
+        unit = jnp.zeros(size, jnp.float32).at[jk.R_SUBTASK].set(value)
         return self._advance(before, actions, unit).rewards
 
     def _report(self, out: jk.StepOut, before: jk.KitchenState, actions: dict[str, Any],

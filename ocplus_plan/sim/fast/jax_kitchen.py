@@ -71,7 +71,7 @@ _IS_COUNTER = np.array([c - 1 in {int(x) for x in COUNTERS} for c in range(16)])
 #: the rows of the code-indexed process tables (cell codes -1 .. 15)
 _CODES = 17
 # Params.rewards columns
-R_SUBTASK, R_CORRECT, R_WRONG, R_STEP, R_BURNED, R_EXPIRED = range(6)
+R_SUBTASK, R_CORRECT, R_WRONG, R_STEP, R_BURNED, R_EXPIRED, R_DISH = range(7)  # + recipe
 # KitchenState.stats columns (the reference's State.stats keys, in this order)
 STAT_NAMES = ("dishes_served", "orders_completed", "orders_expired", "burns",
               "wrong_deliveries", "chops", "cooks", "washes", "layout_switches")
@@ -83,7 +83,7 @@ class Params(NamedTuple):
     """One kitchen's rules and layout as arrays (numpy when built, jax once traced)."""
 
     ints: Any  # int32 (17,) P_*
-    rewards: Any  # float32 (6,) R_*
+    rewards: Any  # float32 (6 + recipes,) R_*, then each recipe's dish (R_DISH + r)
     terrain: Any  # int32 (2, CELLS) cell codes of the main and the switch layout
     walk: Any  # bool (2, CELLS)
     inside: Any  # bool (CELLS,) the map's own cells (not padding)
@@ -209,7 +209,9 @@ def kitchen_params(rules: Rules, obs_radius: int = 0, *, max_items: int | None =
         r > 0], np.int32)
     rw = rules.rewards
     rewards = np.array([rw.subtask_finished, rw.correct_delivery, rw.wrong_delivery,
-                        rw.step_penalty, rw.burned_penalty, rw.order_expired], np.float32)
+                        rw.step_penalty, rw.burned_penalty, rw.order_expired,
+                        *rules.recipe_rewards, *[0.0] * (max_recipes - len(rules.recipes))],
+                       np.float32)
     return Params(ints, rewards, terrain, walk, inside, timed, *_process_params(rules.tables),
                   kind, kidx, home, np.arange(max_items) < n_items, den, recipes, fixed,
                   np.array(spawn, np.int32), np.array(view, np.int32))
@@ -421,7 +423,8 @@ def _interact(s: KitchenState, a: int, cell: Any, active: Any, rewards: Any,
     served = e["deliver"] & match.any()
     wrong = e["deliver"] & ~served
     slot = jnp.argmax(match)
-    reward = reward + jnp.where(served, rw[R_CORRECT], 0.0) + jnp.where(wrong, rw[R_WRONG], 0.0)
+    dish = rw[R_DISH + s.order_recipe[slot]]  # the served dish's reward
+    reward = reward + jnp.where(served, dish, 0.0) + jnp.where(wrong, rw[R_WRONG], 0.0)
     s = s._replace(stats=s.stats.at[S_DISHES].add(served).at[S_COMPLETED].add(served)
                    .at[S_WRONG].add(wrong))
     # what goes home: a served plate and its contents, trashed things

@@ -30,7 +30,7 @@ from .arrays import (
     ITEM_LETTUCE, ITEM_ONION, ITEM_PLATE, ITEM_STEAK, ITEM_TOMATO, I_LIFE, I_LOC, I_OWNER,
     I_PROG, I_STATE, I_WHERE, O_CREATED, O_DEADLINE, O_ID, O_RECIPE, PN_DONE, PN_DURATION,
     PN_OVER_STAT, PN_OVER_STATE, PN_OVERRUN, PN_PLATES, PN_STAT, PN_TAKES, P_DIRTY, P_DYNAMIC,
-    P_FIXED, P_LIMIT, P_OBSERVE, P_SHARED, P_SWITCH_STEP, R_BURNED, R_CORRECT, R_EXPIRED,
+    P_FIXED, P_LIMIT, P_OBSERVE, P_SHARED, P_SWITCH_STEP, R_BURNED, R_DISH, R_EXPIRED,
     R_STEP, R_SUBTASK, R_WRONG, STATE_CLEAN, STATE_DIRTY, STATE_FRESH, SWITCHES, WHERE_CELL,
     WHERE_HAND, WHERE_PLATE, WHERE_WAITING, WRONG,
 )
@@ -426,7 +426,7 @@ def deliver(e, a, held, clock, agents, cells, items, orders, stats, queue, rewar
         return
     stats[e, DISHES] += 1
     stats[e, COMPLETED] += 1
-    rewards[e, a] += rw[R_CORRECT]
+    rewards[e, a] += rw[R_DISH + orders[e, O_RECIPE, slot]]  # the served dish's reward
     for i in range(items.shape[2]):
         if on_plate(e, i, held, items):
             send_home(e, i, STATE_FRESH, cells, items, home)

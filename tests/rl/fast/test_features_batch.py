@@ -2,9 +2,10 @@
 differential property test steps a :class:`BatchSim` with :class:`BatchFeatures` beside one
 reference state per kitchen (``transition``, :class:`FeatureEncoder`, :class:`RewardShaper`)
 with the same seeds and actions and compares every agent's features and training reward at
-every step (every preset, resets, layout switches, one to three cooks), compiled and in
-plain Python; and the trainer's vec env gives the same observations, rewards and episode
-ends on both engines."""
+every step (every preset, generated kitchens with drawn process records and menus, resets,
+layout switches, one to three cooks), compiled and in plain Python, through the shared
+harness ``eval.mirrors.check_mirror``; and the trainer's vec env gives the same observations,
+rewards and episode ends on both engines."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from ocplus_plan.eval.mirrors import check_features
+from ocplus_plan.eval.mirrors import check_mirror
 from ocplus_plan.rl.fast import features_kernels as fk
 from ocplus_plan.rl.features import FeatureEncoder
 from ocplus_plan.rl.fast.features_batch import BatchFeatures
@@ -25,15 +26,6 @@ from tests.sim.fast.test_batch import QUICK, kitchens
 needs_numba = pytest.mark.skipif(not numba_available(),
                                  reason="numba is not installed (the 'fast' extra)")
 TERMS = ("subtask_scale", "stage", "useful_plate", "carry_fresh", "carry_ready", "carry_dish")
-
-
-def compare(rules, seed: int, steps: int, n_envs: int, compiled: bool, shaping: Shaping,
-            team: bool = True, noise: float = 0.25) -> float:
-    """The shared mirror harness on the batched features (``eval.mirrors.check_features``):
-    the same features and rewards at every step; returns the summed absolute shaping of the
-    reference."""
-    return check_features(rules, compiled=compiled, steps=steps, seed=seed, noise=noise,
-                          n_envs=n_envs, shaping=shaping, team=team)
 
 
 @st.composite
@@ -51,14 +43,15 @@ def shaped_kitchens(draw):
 @given(shaped_kitchens())
 def test_compiled_features_and_shaping_are_the_loop_engines(kitchen):
     rules, seed, shaping, team = kitchen
-    compare(rules, seed, steps=45, n_envs=3, compiled=True, shaping=shaping, team=team)
+    check_mirror("features", [rules], steps=45, seed=seed, n_envs=3, shaping=shaping, team=team)
 
 
 @settings(max_examples=5, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(shaped_kitchens())
 def test_plain_python_features_and_shaping_are_the_loop_engines(kitchen):
     rules, seed, shaping, team = kitchen
-    compare(rules, seed, steps=30, n_envs=2, compiled=False, shaping=shaping, team=team)
+    check_mirror("features-kernels", [rules], steps=30, seed=seed, n_envs=2, shaping=shaping,
+                 team=team)
 
 
 @pytest.mark.parametrize("term", TERMS)
@@ -66,8 +59,9 @@ def test_the_differential_run_pays_every_shaping_term(term: str):
     """Not vacuous: with only ``term`` weighted, the cooks earn some of it."""
     rules = make_rules("hard", **dict(QUICK, horizon=100))
     only = Shaping(**{t: (1.0 if t == term else 0.0) for t in TERMS})
-    assert compare(rules, 1, steps=100, n_envs=3, compiled=numba_available(), shaping=only,
-                   noise=0.1) > 0
+    mirror = "features" if numba_available() else "features-kernels"
+    assert check_mirror(mirror, [rules], steps=100, seed=1, n_envs=3, shaping=only,
+                        noise=0.1)["shaped"] > 0
 
 
 def test_kernel_feature_offsets_follow_the_feature_names():

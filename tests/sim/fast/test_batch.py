@@ -2,7 +2,9 @@
 steps a batch and one reference state per kitchen with the same seeds and actions and
 compares state hashes, observations, rewards and episode ends at every step (every
 preset, radius 0 and a window, resets, layout switches, expiries, fixed orders, shared
-rewards), on the compiled kernels (``fast`` extra) and on the plain-Python ones."""
+rewards; the presets' kitchens and generated ones with drawn process records and menus),
+on the compiled kernels (``fast`` extra) and on the plain-Python ones, through the shared
+harness ``eval.mirrors.check_mirror``."""
 
 from __future__ import annotations
 
@@ -12,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from ocplus_plan.errors import ConfigError, DependencyNotInstalled, InvalidActionError
-from ocplus_plan.eval.mirrors import check_batch
+from ocplus_plan.eval.mirrors import check_mirror, random_kitchens
 from ocplus_plan.sim import make_rules, new_state, transition
 from ocplus_plan.sim.fast.batch import BatchSim, compile_kernels, kernels, numba_available
 from ocplus_plan.sim.observe import VectorEncoder
@@ -48,15 +50,15 @@ def kitchens(draw, presets=("easy", "medium", "hard")):
     overrides = draw_overrides(draw, preset)
     n_agents = draw(st.integers(1, 2)) if preset != "hard" else 2
     radius = draw(st.sampled_from([0, 2]))
-    return make_rules(preset, n_agents=n_agents, **overrides), radius, draw(st.integers(0, 99))
+    if draw(st.booleans()):  # a generated kitchen with drawn process records and menu
+        rules = random_kitchens(draw(st.integers(0, 2**20)), 1, presets=(preset,),
+                                n_agents=n_agents, **overrides)[0]
+    else:
+        rules = make_rules(preset, n_agents=n_agents, **overrides)
+    return rules, radius, draw(st.integers(0, 99))
 
-
-def compare(rules, radius: int, seed: int, steps: int, n_envs: int, compiled: bool,
-            noise: float = 0.25) -> dict[str, int]:
-    """The shared mirror harness on the batch engine (``eval.mirrors.check_batch``):
-    ``n_envs`` kitchens; returns the summed stats of the finished episodes."""
-    return check_batch(rules, compiled=compiled, steps=steps, seed=seed, noise=noise,
-                       radius=radius, n_envs=n_envs)
+#: the batch engine's mirror: compiled when numba is installed, else its plain kernels
+ENGINE = "numba" if numba_available() else "kernels"
 
 
 @needs_numba
@@ -64,37 +66,37 @@ def compare(rules, radius: int, seed: int, steps: int, n_envs: int, compiled: bo
 @given(kitchens())
 def test_compiled_batch_is_the_same_kitchen_as_transition(kitchen):
     rules, radius, seed = kitchen
-    compare(rules, radius, seed, steps=45, n_envs=3, compiled=True)
+    check_mirror("numba", [rules], steps=45, seed=seed, radius=radius, n_envs=3)
 
 
 @settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(kitchens())
 def test_plain_python_batch_is_the_same_kitchen_as_transition(kitchen):
     rules, radius, seed = kitchen
-    compare(rules, radius, seed, steps=30, n_envs=2, compiled=False)
+    check_mirror("kernels", [rules], steps=30, seed=seed, radius=radius, n_envs=2)
 
 
 def test_the_differential_run_reaches_every_rule():
     """The property tests are not vacuous: these cooks deliver, chop, cook, burn, wash,
     switch layouts and let orders expire (compiled when available)."""
     rules = make_rules("hard", **dict(QUICK, horizon=100, order_time_limit=45, burn_time=4))
-    totals = compare(rules, 0, 1, steps=200, n_envs=4, compiled=numba_available(), noise=0.1)
+    totals = check_mirror(ENGINE, [rules], steps=200, seed=1, n_envs=4, noise=0.1)
     seen = {k for k, v in totals.items() if v}
     assert {"dishes_served", "washes", "chops", "cooks", "burns", "layout_switches",
             "orders_expired"} <= seen, totals
 
 
-@pytest.mark.parametrize("compiled", [pytest.param(True, marks=needs_numba), False])
-def test_other_process_records_step_the_same_as_transition(compiled):
+@pytest.mark.parametrize("mirror", [pytest.param("numba", marks=needs_numba), "kernels"])
+def test_other_process_records_step_the_same_as_transition(mirror):
     """The kernels index the records' tables: a board kneaded by bumps of another verb and
     a pan with other times, then a time-driven board that spoils (marinate) and a
     bump-driven pan (sear), run as in the reference step."""
     hard = make_rules("hard", **dict(QUICK, horizon=40))
-    totals = compare(with_overrides(hard, processes=(KNEAD, ROAST, PROCESSES[2])), 0, 3,
-                     steps=80, n_envs=3, compiled=compiled, noise=0.2)
+    totals = check_mirror(mirror, [with_overrides(hard, processes=(KNEAD, ROAST, PROCESSES[2]))],
+                          steps=80, seed=3, n_envs=3, noise=0.2)
     assert totals["chops"] and totals["cooks"] and totals["burns"], totals
-    totals = compare(with_overrides(hard, processes=(MARINATE, SEAR, PROCESSES[2])), 0, 4,
-                     steps=80, n_envs=3, compiled=compiled, noise=0.3)
+    totals = check_mirror(mirror, [with_overrides(hard, processes=(MARINATE, SEAR, PROCESSES[2]))],
+                          steps=80, seed=4, n_envs=3, noise=0.3)
     assert totals["chops"] and totals["burns"], totals
 
 

@@ -1,13 +1,14 @@
 """The shared mirror harness (``eval.mirrors``) on generated kitchens: every mirror steps
-``gen:`` kitchens, with the shipped and with other process records, as the reference does;
-a mirror that disagrees is caught and named."""
+``gen:`` kitchens, with the shipped and with other process records, and drawn kitchens with
+drawn records and menus of their own rewards, as the reference does; a mirror that
+disagrees is caught and named."""
 
 from __future__ import annotations
 
 import pytest
 
 from ocplus_plan.errors import ConfigError
-from ocplus_plan.eval.mirrors import MirrorMismatch, check_mirror, kitchens
+from ocplus_plan.eval.mirrors import MirrorMismatch, check_mirror, kitchens, random_kitchens
 from ocplus_plan.sim.fast import kernels
 from ocplus_plan.sim.fast.batch import numba_available
 from ocplus_plan.sim.processes import PROCESSES
@@ -56,3 +57,27 @@ def test_a_mirror_that_disagrees_is_caught_at_its_first_step(monkeypatch):
 def test_an_unknown_mirror_is_refused_naming_the_mirrors():
     with pytest.raises(ConfigError, match="numba, kernels, jax"):
         check_mirror("cuda", generated()[:1])
+
+
+def test_drawn_kitchens_carry_drawn_records_and_menus_and_are_seeded():
+    a, b = random_kitchens(0, 4), random_kitchens(0, 4)
+    assert [r.layout.name for r in a] == [r.layout.name for r in b]
+    assert all(r.layout.name.startswith("gen:") and r.layout.recipes for r in a)
+    assert {r.recipes for r in a} == {r.recipes for r in b}
+    assert any(p.drive == "time" and p.verb == "chop" for r in a for p in r.processes)
+    assert len({v for r in a for v in r.recipe_rewards}) > 2  # the dishes' own rewards
+
+
+@pytest.mark.parametrize("mirror", [
+    pytest.param("numba", marks=pytest.mark.skipif(not numba_available(),
+                                                   reason="numba is not installed")),
+    "features-kernels"])
+def test_the_mirrors_serve_drawn_dishes_as_the_reference(mirror):
+    """Not vacuous: the cooks serve dishes of drawn menus, paid their own rewards (the
+    harness compares every reward)."""
+    rules = random_kitchens(1, 4, horizon=60)
+    totals = check_mirror(mirror, rules, steps=61, seed=1, noise=0.1)
+    if mirror == "numba":
+        assert totals["dishes_served"] and totals["chops"], totals
+    else:
+        assert totals["shaped"] > 0, totals
