@@ -82,9 +82,9 @@ RUNS: dict[str, list[str]] = {
     "clone_3agent_s0": _run(3, 0, True),
 }
 #: run -> (the shipped generalist it becomes, the policy of the run exported). For 2 cooks
-#: the features clone served most on the test split (README): its clone ships.
+#: the larger features clone's first seed ships (its clone: PPO after it served less).
 SHIPPED = {"clone_1agent_s0": ("generalist_1agent", "policy.zip"),
-           "clonefeat_2agent_s0": ("generalist_2agent", "bc_policy.zip"),
+           "clonefeatbig_2agent_s0": ("generalist_2agent", "bc_policy.zip"),
            "clone_3agent_s0": ("generalist_3agent", "policy.zip")}
 
 
