@@ -103,6 +103,7 @@ TRACKS: dict[str, tuple[str, tuple[Cell, ...]]] = {
         _c("medium", 8, 1, 1), _c("hard", 8, 1, 2, _k("gen:open:test:5"), FLAT),
         _c("medium", 12, 1, 3, _k("gen:multiroom:test:2:medium")),
         _c("hard", 16, 1, 0, _k("gen:open:test:8"), FLAT),
+        _c("hard", 24, 1, 1, _k("gen:open:test:8"), FLAT),
     )),
 }
 
