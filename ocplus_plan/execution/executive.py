@@ -109,6 +109,7 @@ class Executive:
         self.pending: dict[int, BumpRecord] = {}
         self.last_pos: dict[int, int] = {a: state.agent_pos[a] for a in self.agent_ids}
         self.stuck: Counter[int] = Counter()
+        self.closest: dict[int, tuple[int, int]] = {}  # cook -> (its step, nearest it got)
         self.boosted: dict[int, int] = {}
         self.prev_layout = state.layout_index
         #: switch times the current plan was made for (anticipate_switches)
@@ -218,13 +219,22 @@ class Executive:
         for a in self.agent_ids:
             pos = state.agent_pos[a]
             task = self._current(a)
-            reachable = task is not None and \
-                self.oracle.to_station(state.layout_index, task.step.target)[pos] >= 0
-            moving = reachable and pos not in self._spots(state, task.step.target)
-            self.stuck[a] = self.stuck[a] + 1 if moving and pos == self.last_pos[a] else 0
+            dist = -1 if task is None else \
+                self.oracle.to_station(state.layout_index, task.step.target)[pos]
+            moving = dist >= 0 and pos not in self._spots(state, task.step.target)
+            # no way made: not closer to its target than it has been (stepping to and fro
+            # in a one-lane way makes none, as standing still makes none)
+            key = -1 if task is None else task.step.index
+            closer = self.closest.get(a, (key, dist + 1))
+            if closer[0] != key or dist < closer[1]:
+                self.closest[a] = (key, dist)
+            self.stuck[a] = self.stuck[a] + 1 if moving and pos == self.last_pos[a] or (
+                moving and closer[0] == key and dist >= closer[1]) else 0
             self.last_pos[a] = pos
-            if self.stuck[a] >= 3 and a not in self.boosted:
-                self.boosted[a] = state.t  # right of way until it gets there
+            # right of way until it gets there; not for a cook waiting for another cook's
+            # step: it would take the spot the other cook needs first
+            if self.stuck[a] >= 3 and a not in self.boosted and task.deps <= self.done_steps:
+                self.boosted[a] = state.t
             if self.stuck[a] and self.stuck[a] % self.block_patience == 0:
                 self._trigger(state, "blocked", out)
                 self.livelock.on_blocked()
@@ -311,7 +321,7 @@ class Executive:
         self.planned_orders = {o.order_id for o in state.orders} if outcome.orders is None \
             else set(outcome.orders)
         self.seen_orders = {o.order_id for o in state.orders}
-        self.install(outcome.steps)
+        self.install(outcome.steps, state)
         self.idle_in_plan = {a for a, q in self.queues.items() if not q}
         # a target out of reach already when the plan was made (planned on a relaxed kitchen,
         # waiting for a switch) is not a surprise: only one that becomes unreachable is
@@ -361,12 +371,15 @@ class Executive:
         reach = distances(geo.neighbors, self.any_layout, [pos])
         return not any(nb >= 0 and reach[nb] >= 0 for nb in geo.neighbors[target])
 
-    def install(self, steps: Sequence[PlanStep]) -> None:
-        """Replace the task queues with a new plan (agents the plan does not reach keep theirs)."""
+    def install(self, steps: Sequence[PlanStep], state: State | None = None) -> None:
+        """Replace the task queues with a new plan (agents the plan does not reach keep theirs).
+        With ``state``, steps at stations worked from one same single cell wait for each
+        other in the plan's order (:func:`causal_dependencies`)."""
         base = self.plan_id * 100_000
         steps = [PlanStep(base + i, s.agent, s.kind, s.target, s.items, s.start, s.duration, s.via)
                  for i, s in enumerate(sorted(steps, key=lambda s: (s.start or 0.0, s.index)))]
-        deps = causal_dependencies(steps)
+        spots = {} if state is None else {t: self._spots(state, t) for t in {s.target for s in steps}}
+        deps = causal_dependencies(steps, {t: c[0] for t, c in spots.items() if len(c) == 1})
         queues: dict[int, deque[Task]] = {a: deque() for a in self.agent_ids}
         for s in steps:
             if s.agent in queues:

@@ -281,6 +281,11 @@ def evasion_path(
     safe = bool(candidates) and t_end == horizon
     candidates = candidates or list(parents[t_end])
     best = min(candidates, key=lambda c: (h[c], c != start))
+    # get there as early as it is safe to stay there (each layer keeps the first parent
+    # found, a wait: unwound from the window's end the walk would start at the last moment,
+    # and a cook replanned every step would never leave)
+    if res.free_from(best, t_end):
+        t_end = next(t for t in range(t_end + 1) if best in parents[t] and res.free_from(best, t))
     path = [best]
     for t in range(t_end, 0, -1):
         path.append(parents[t][path[-1]])  # type: ignore[arg-type]

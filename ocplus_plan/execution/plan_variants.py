@@ -253,9 +253,9 @@ def _best_stations(steps: list[tuple[PlanStep, str, int]], state: State,
         out = _Scheduler(plan, state, agents, walks, lookahead).run()
         return None if out is None else out[1]
 
+    # a plan the list scheduler cannot schedule as it is (two cooks' segments interleave on
+    # one board) may schedule once a stay moves to another station: any schedule beats none
     best = cost(steps)
-    if best is None:
-        return steps
     stays = station_stays(steps, state, counters)
     for stay in stays:
         if stay.first < 0 or (stay.kind == _COUNTER) != counters:
@@ -268,7 +268,7 @@ def _best_stations(steps: list[tuple[PlanStep, str, int]], state: State,
             if counters and not _cells_agree(trial, state):
                 continue
             c = cost(trial)
-            if c is not None and c < best:
+            if c is not None and (best is None or c < best):
                 best, steps, stay.station = c, trial, cell
     return steps
 
@@ -483,9 +483,7 @@ def _best_plating(steps: list[tuple[PlanStep, str, int]], state: State,
         return None if out is None else out[1]
 
     steps = settle(steps)
-    best = cost(steps)
-    if best is None:
-        return steps
+    best = cost(steps)  # None: not schedulable as it is; any variant that is wins
     for _ in range(PLATING_ROUNDS):
         improved = False
         raw = [(c, i, v) for i, v in enumerate(plating_variants(steps, state))
@@ -493,7 +491,7 @@ def _best_plating(steps: list[tuple[PlanStep, str, int]], state: State,
         for _, _, variant in sorted(raw, key=lambda x: x[:2])[:PLATING_SETTLED]:
             variant = settle(variant)
             c = cost(variant)
-            if c is not None and c < best:
+            if c is not None and (best is None or c < best):
                 best, found, improved = c, variant, True
         if not improved:
             break

@@ -6,7 +6,7 @@ tests can build plans without the execution machinery.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 from ..errors import ConfigError
@@ -87,14 +87,21 @@ class Policy:
         return f"periodic({self.period})" if self.kind == "periodic" else self.kind
 
 
-def causal_dependencies(steps: Sequence[PlanStep]) -> dict[int, frozenset[int]]:
+def causal_dependencies(steps: Sequence[PlanStep],
+                        only_spot: Mapping[int, int] | None = None) -> dict[int, frozenset[int]]:
     """For each step, the latest earlier step of every *other* agent that touches the same
-    cell or item: the order a sequential plan relies on between agents."""
+    cell or item: the order a sequential plan relies on between agents. ``only_spot``
+    (station cell -> the one floor cell it is worked from): two steps at stations worked
+    from the same single cell touch that cell too (one cook stands there at a time: a cook
+    chopping at a board holds the only way to the counter beside it)."""
     deps: dict[int, frozenset[int]] = {}
+    spot = only_spot or {}
     def touched(s: PlanStep) -> set[tuple[str, int]]:
         out = {("c", s.target), *(("i", i) for i in s.items)}
         if s.via is not None:
             out.add(("c", s.via))
+        elif s.target in spot:
+            out.add(("s", spot[s.target]))
         return out
 
     for k, s in enumerate(steps):

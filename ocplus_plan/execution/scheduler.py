@@ -174,8 +174,14 @@ class _Scheduler:
         self.state, self.agents, self.lookahead = state, agents, lookahead
         self.walks = walks
         self.segs = segments(steps, state)
-        #: each step's resources (cells and items), asked for at every simulated step
-        self.resources = {id(step): _resources(step) for step, _, _ in steps}
+        #: each step's resources (cells and items, and the floor cell it is worked from
+        #: when that is the station's only one: one cook stands there at a time), asked for
+        #: at every simulated step
+        only = {t: c[0] for t in {step.target for step, _, _ in steps}
+                if len(c := interaction_spots(state.geo.neighbors, walks.walk, t)) == 1}
+        self.resources = {id(step): _resources(step) + ([("s", only[step.target])]
+                                                       if step.target in only else [])
+                          for step, _, _ in steps}
 
     def simulate(self, p: _Partial, k: int, a: int, t: int | None = None,
                  here: int | None = None) -> tuple[int, list[int], int]:

@@ -56,6 +56,16 @@ def test_causal_dependencies_link_agents_through_shared_cells_and_items():
     assert deps[0] == frozenset()
 
 
+def test_steps_at_stations_worked_from_one_cell_wait_for_each_other():
+    """A board and the counter beside it worked from the same single floor cell: the
+    counter step of one cook waits for the other cook's chop, which stands on that cell."""
+    steps = [PlanStep(0, 0, "chop", 20, (1,)), PlanStep(1, 1, "pickup", 21, (2,)),
+             PlanStep(2, 1, "putdown", 30, (2,))]
+    assert causal_dependencies(steps)[1] == frozenset()
+    deps = causal_dependencies(steps, {20: 13, 21: 13, 30: 14})
+    assert deps[1] == {0} and deps[2] == frozenset()
+
+
 def test_easy_single_agent_serves_many_dishes():
     stats, info, _state = play(make_rules("easy", n_agents=1))
     assert stats["dishes_served"] >= 5

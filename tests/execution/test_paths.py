@@ -261,3 +261,17 @@ def test_switching_walks_wait_for_the_switch_that_opens_the_way():
     # the phase some steps later: (layout, steps to its next switch)
     assert [walks.phase(0, 3, at) for at in (0, 2, 3, 12, 13)] == [(0, 3), (0, 1), (1, 10),
                                                                     (1, 1), (0, 10)]
+
+
+def test_a_cook_that_cannot_reach_its_goal_yet_walks_towards_it_at_once():
+    """Agent 1 parks on (1,4); agent 0 wants that cell too: it cannot get there inside the
+    window, so it comes as close as it can, and starts now (a path that waits first and
+    walks at the window's end is replanned every step and never leaves)."""
+    s = kitchen(CORRIDOR, [[1, 1], [1, 5]])
+    geo = s.geo
+    a = PathRequest(1, geo.flat(1, 5), frozenset({geo.flat(1, 4)}))
+    b = PathRequest(0, geo.flat(1, 1), frozenset({geo.flat(1, 4)}))
+    out = plan_paths(geo, [a, b], horizon=20)
+    assert out[1].reached and not out[0].reached
+    assert out[0].path == [geo.flat(1, 1), geo.flat(1, 2), geo.flat(1, 3)]
+    assert check_paths({k: v.path for k, v in out.items()}) == []

@@ -247,8 +247,8 @@ def test_scheduled_fast_downward_plans_keep_every_step_and_every_resource_order(
             record = compiled.map_back(ai)
             steps = steps_from_record(record, state, len(entries))
             entries += [(s, e, b) for s, (e, b) in zip(steps, hand_effects(record))]
-        # the planner's own steps (plating variants change steps: checked below)
-        out = schedule(entries, state, (0, 1), carry_to_plates=False)
+        # the planner's own steps (plating variants and other stations change steps)
+        out = schedule(entries, state, (0, 1), carry_to_plates=False, swap_stations=False)
         def key(s):
             return (s.kind, s.target, s.items)
 
@@ -603,3 +603,54 @@ def test_switch_aware_schedule_times_walks_over_the_coming_switches():
     state.layout_index, state.next_switch = 1, 1  # open, closing after this step
     assert put_at() == 1 + 4
     assert put_at(switches=True) == 1 + 10 + 3  # it reopens at step 11
+
+
+def test_a_plan_that_cannot_be_scheduled_on_one_board_may_be_on_two():
+    """Cook 1 plates the tomato off board (1,6) between cook 0's tomato and its lettuce on
+    that board, and the lettuce after it: the plate's trip and the lettuce's segments
+    interleave, so the plan cannot be scheduled as it is; with one of the two stays moved
+    to the other board (3,6) it can (medium, seed 0: cook 0 stood 13 steps holding the lettuce
+    in front of the busy board while the other one stayed free)."""
+    state = _state(2)
+    plate, lettuce = _item_at(state, 2, 0), _item_at(state, 0, 4)
+    board = _cell(state, 1, 6)
+    plan = _chop_job(state, 0, (0, 2), (1, 6), 0)
+    tomato = plan[0][0].items[0]
+    plan += [
+        (PlanStep(3, 1, "pickup", _cell(state, 2, 0), (plate,)), TAKE, 1),
+        (PlanStep(4, 1, "plate", board, (tomato, plate)), KEEP, 1),
+        (PlanStep(5, 0, "pickup", _cell(state, 0, 4), (lettuce,)), TAKE, 1),
+        (PlanStep(6, 0, "putdown", board, (lettuce,)), RELEASE, 1),
+        (PlanStep(7, 0, "chop", board, (lettuce,)), KEEP, state.rules.chop_steps),
+        (PlanStep(8, 1, "plate", board, (lettuce, plate, tomato)), KEEP, 1),
+        (PlanStep(9, 1, "deliver", _cell(state, 4, 2), (plate, tomato, lettuce)), RELEASE, 1),
+    ]
+    kw = {"carry_to_plates": False, "reorder_dishes": False, "fallback": False}
+    assert schedule(plan, state, (0, 1), swap_stations=False, **kw) is None
+    out = schedule(plan, state, (0, 1), **kw)
+    assert out is not None
+    put = {s.items[0]: s.target for s in out if s.kind == "putdown"}
+    assert {put[tomato], put[lettuce]} == {board, _cell(state, 3, 6)}  # one on each
+
+
+def test_two_stations_worked_from_one_cell_are_not_worked_at_once():
+    """Board (1,6) and counter (0,5) of easy_open are both worked from (1,5) only: the
+    schedule does not give one cook a step at the counter while the other chops there."""
+    from ocplus_plan.sim.queries import interaction_spots
+
+    state = _state(2)
+    walk = state.geo.walkables[0]
+    for r, c in ((1, 6), (0, 5)):
+        assert interaction_spots(state.geo.neighbors, walk, _cell(state, r, c)) == [_cell(state, 1, 5)]
+    plan = _chop_job(state, 0, (0, 4), (1, 6), 0)
+    tomato = _item_at(state, 0, 2)
+    plan += [
+        (PlanStep(3, 1, "pickup", _cell(state, 0, 2), (tomato,)), TAKE, 1),
+        (PlanStep(4, 1, "putdown", _cell(state, 0, 5), (tomato,)), RELEASE, 1),
+    ]
+    out = schedule(plan, state, (0, 1), swap_stations=False, carry_to_plates=False,
+                   reorder_dishes=False)
+    chop = next(s for s in out if s.kind == "chop")
+    counter = next(s for s in out if s.target == _cell(state, 0, 5))
+    chopping = range(int(chop.start), int(chop.start) + state.rules.chop_steps)
+    assert int(counter.start) not in chopping, (chop, counter)
