@@ -21,6 +21,7 @@ from typing import Any
 
 from ..errors import MapFormatError
 from .codes import ITEM_NAMES, Cell, Item, ItemState
+from .process_yaml import check_entry
 from .processes import Process, ready_state
 
 Recipe = tuple[Item, ...]  # sorted multiset of ingredient kinds, each to be processed
@@ -97,13 +98,8 @@ def parse_recipes(value: Any, src: str, processes: tuple[Process, ...],
 
 
 def _dish(entry: Any, where: str, ready: dict[Item, ItemState]) -> Dish:
-    if not isinstance(entry, dict):
-        raise MapFormatError(f"{where} must be a mapping such as {{ingredients: "
-                             "[{steak: cooked}, {tomato: chopped}], plate: plate, reward: 250}")
-    unknown = [k for k in entry if k not in KEYS]
-    if unknown:
-        raise MapFormatError(f"{where}: unknown key {str(unknown[0])[:40]!r}; allowed keys: "
-                             f"{', '.join(KEYS)}")
+    check_entry(entry, where, "{ingredients: [{steak: cooked}, {tomato: chopped}], plate: "
+                "plate, reward: 250}", KEYS)
     parts = entry.get("ingredients")
     if not isinstance(parts, list) or not 1 <= len(parts) <= MAX_INGREDIENTS:
         raise MapFormatError(f"{where}: 'ingredients' must be a list of 1 to {MAX_INGREDIENTS} "

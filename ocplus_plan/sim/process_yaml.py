@@ -71,14 +71,19 @@ def own_processes(processes: tuple[Process, ...] | None) -> list[dict[str, Any]]
     return [process_to_dict(p) for p in processes or () if p not in PROCESSES]
 
 
-def _record(entry: Any, where: str) -> Process:
+def check_entry(entry: Any, where: str, example: str, keys: tuple[str, ...]) -> None:
+    """Refuse a kitchen-file record that is not a mapping of ``keys`` (``example``: one)."""
     if not isinstance(entry, dict):
-        raise MapFormatError(f"{where} must be a mapping such as {{station: pan, verb: roast, "
-                             "takes: [steak], from: raw, to: cooked, drive: time, duration: 8}")
-    unknown = [k for k in entry if k not in KEYS]
+        raise MapFormatError(f"{where} must be a mapping such as {example}")
+    unknown = [k for k in entry if k not in keys]
     if unknown:
         raise MapFormatError(f"{where}: unknown key {str(unknown[0])[:40]!r}; allowed keys: "
-                             f"{', '.join(KEYS)}")
+                             f"{', '.join(keys)}")
+
+
+def _record(entry: Any, where: str) -> Process:
+    check_entry(entry, where, "{station: pan, verb: roast, takes: [steak], from: raw, "
+                "to: cooked, drive: time, duration: 8}", KEYS)
     missing = [k for k in ("station", "verb", "takes", "from", "to", "drive", "duration")
                if k not in entry]
     if missing:
@@ -133,5 +138,5 @@ def _count(value: Any, where: str, key: str) -> int:
     return value
 
 
-__all__ = ["KEYS", "MAX_DURATION", "MAX_PROCESSES", "own_processes", "parse_processes",
+__all__ = ["KEYS", "MAX_DURATION", "MAX_PROCESSES", "check_entry", "own_processes", "parse_processes",
            "process_to_dict"]
