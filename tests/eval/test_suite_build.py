@@ -19,6 +19,10 @@ from ocplus_plan.planning.fidelity import sample_state
 
 warnings.simplefilter("ignore", UserWarning)
 LAMA = {"classical": ("fast-downward",)}
+#: a set whose portfolio (BJOLP at 0.05 CPU s) solves nothing: its instance needs the witness
+UNSOLVED = SuiteSpec(encodings=("classical",), timeout=0.05, fallback=False, witness_timeout=20,
+                     planners={"classical": ("fast-downward-bjolp",)},
+                     cells=(Cell("easy", None, 1, 3, 1),))
 
 
 def _need(*names: str) -> None:
@@ -96,10 +100,7 @@ def test_proven_unsolvable_goes_to_its_track_and_unknown_is_dropped(tmp_path):
 
 def test_an_unsolved_instance_is_scored_open_with_a_validated_goal_agenda_witness(tmp_path):
     _need("fast-downward", "fast-downward-bjolp")
-    spec = SuiteSpec(encodings=("classical",), timeout=0.05, fallback=False,
-                     witness_timeout=20, planners={"classical": ("fast-downward-bjolp",)},
-                     cells=(Cell("easy", None, 1, 3, 1),))
-    export_suite(spec, tmp_path / "w")
+    export_suite(UNSOLVED, tmp_path / "w")
     top, inst = _manifests(tmp_path / "w")
     assert top["tracks"] == {"classical": ["p01"]}
     entry = inst["encodings"]["classical"]
@@ -126,21 +127,21 @@ def test_the_model_agenda_proves_a_multi_cook_instance_solvable():
     assert "Plan valid" in info["validated"] and len(plan.actions) > 0
 
 
+def _verdict(faithful: bool, step: int) -> dict:
+    """What the league's judge says of a plan (a stand-in: accepted, or refused at ``step``)."""
+    return {"faithful": faithful, "judged": "realised" if faithful else "refused", "waits": 0,
+            "failed_step": None if faithful else step,
+            "divergence": None if faithful else "a cook walks into another"}
+
+
 def test_an_instance_whose_only_plan_the_kitchen_refuses_is_dropped(tmp_path, monkeypatch):
     """A scored instance's reference is faithful: when the judge refuses the witness (a
     cook walked through another in the model), the instance is unknown, not open."""
     _need("fast-downward", "fast-downward-bjolp")
     from ocplus_plan.eval import suite
 
-    def refuse(compiled, plan, state):
-        return {"faithful": False, "judged": "refused", "waits": 0, "failed_step": 3,
-                "divergence": "a cook walks into another"}
-
-    monkeypatch.setattr(suite, "judge_plan", refuse)
-    spec = SuiteSpec(encodings=("classical",), timeout=0.05, fallback=False,
-                     witness_timeout=20, planners={"classical": ("fast-downward-bjolp",)},
-                     cells=(Cell("easy", None, 1, 3, 1),))
-    export_suite(spec, tmp_path / "r")
+    monkeypatch.setattr(suite, "judge_plan", lambda compiled, plan, state: _verdict(False, 3))
+    export_suite(UNSOLVED, tmp_path / "r")
     top, inst = _manifests(tmp_path / "r")
     assert top["tracks"] == {"classical-unknown": ["p01"]}
     entry = inst["encodings"]["classical"]
@@ -156,12 +157,8 @@ def test_a_solved_instance_whose_plans_the_kitchen_refuses_falls_to_the_witness(
 
     verdicts = iter([False, True])  # the portfolio's plan refused, the witness realised
 
-    def judge(compiled, plan, state):
-        ok = next(verdicts)
-        return {"faithful": ok, "judged": "realised" if ok else "refused", "waits": 0,
-                "failed_step": None if ok else 5, "divergence": None if ok else "blocked"}
-
-    monkeypatch.setattr(suite, "judge_plan", judge)
+    monkeypatch.setattr(suite, "judge_plan",
+                        lambda compiled, plan, state: _verdict(next(verdicts), 5))
     spec = SuiteSpec(encodings=("classical",), planners=LAMA, timeout=20, fallback=False,
                      witness_timeout=20, cells=(Cell("easy", None, 1, 1, 0),))
     export_suite(spec, tmp_path / "s")
