@@ -91,7 +91,10 @@ TRACKS: dict[str, tuple[str, tuple[Cell, ...]]] = {
         _c("hard", 20, 4, 1, _k("gen:open:test:8"), FLAT),
     )),
     "temporal": ("temporal", (
-        _c("easy", 1, 1, 0), _c("easy", 1, 1, 1), _c("easy", 1, 1, 2), _c("easy", 1, 1, 3),
+        # sample 0 stood first: Aries ran out of its 30 CPU s on it (it solves the same
+        # kitchen from other start cells in 8-15 s: experiments/aries_start_cells.py), so
+        # it could not open a first fifth that every working planner solves; sample 4 does
+        _c("easy", 1, 1, 4), _c("easy", 1, 1, 1), _c("easy", 1, 1, 2), _c("easy", 1, 1, 3),
         _c("easy", 2, 1, 0), _c("easy", 1, 2, 1), _c("easy", 3, 1, 2), _c("easy", 2, 2, 3),
         _c("medium", 1, 1, 0), _c("medium", 2, 1, 1), _c("medium", 1, 2, 2),
         _c("hard", 1, 2, 0, None, FLAT),

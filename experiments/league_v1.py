@@ -10,7 +10,9 @@ cells once alone and once with ``--busy 2``, then ``--compare`` the two folders)
 ``--report DIR [--markdown]`` prints the league's numbers: the table, the count of plans that VAL and
 unified-planning accept and the kitchen refuses (``valid`` and not ``faithful``), the plans
 realised only with waits (the strict replay diverged, the judge realised them), and per
-temporal engine its solved share of the temporal track's first three fifths.
+temporal engine its solved share of the temporal track's first three fifths. Quality is scored
+against the best known values of ``--suite`` as it is now (a row keeps the best known of when
+it ran; the set's references may have improved since).
 
     nice -n 10 .venv/bin/python experiments/league_v1.py --suite suites/v1 --cpu-limit 30 \\
         --instances p01,p02 --out experiments/results/league/v1-p01-p02_all-planners_cpu30
@@ -73,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
         for proc in spinners:
             proc.kill()
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
-    score = league.write_scores(rows, out)
+    score = league.write_scores(rows, out, Path(args.suite))
     conditions = {
         "command": " ".join([Path(sys.executable).name, *sys.argv]), "commit": commit,
         "machine": f"{platform.machine()}, {os.cpu_count()} shared cores",
@@ -113,7 +115,7 @@ def markdown(score: dict) -> str:
     return "\n".join(lines)
 
 
-def report(folder: Path, as_markdown: bool = False) -> dict:
+def report(folder: Path, as_markdown: bool = False, suite: Path | None = None) -> dict:
     rows = league.read_rows(folder / league.RUNS_FILE)
     refused = [r for r in rows if r.get("valid") is True and r.get("faithful") is False]
     waited = [r for r in rows if r.get("faithful") is True and (r.get("waits") or 0) > 0]
@@ -129,7 +131,7 @@ def report(folder: Path, as_markdown: bool = False) -> dict:
            "refused": [[r["planner"], r["instance"], r["reason"]] for r in refused],
            "realised_with_waits": len(waited),
            "temporal_first_three_fifths": first, "temporal_solved_share": share}
-    score = league.scores(rows)
+    score = league.scores(rows, league.suite_best(suite, rows) if suite else None)
     print(markdown(score) if as_markdown else league.table_text(score))
     print(json.dumps(out, indent=1))
     return out
@@ -174,7 +176,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--compare", type=Path, nargs=2, default=None)
     args = p.parse_args(argv)
     if args.report:
-        report(args.report, args.markdown)
+        report(args.report, args.markdown, Path(args.suite))
         return 0
     if args.compare:
         compare(*args.compare)

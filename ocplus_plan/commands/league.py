@@ -83,7 +83,7 @@ def run(args: argparse.Namespace) -> int:
     rows, skipped = league.run_league(spec, out, progress)
     for line in skipped:
         note(args, f"skipped {line}")
-    score = league.write_scores(rows, out)
+    score = league.write_scores(rows, out, suite)
     if args.plots and rows:
         league.plot_coverage(rows, out)
     if args.json:

@@ -359,9 +359,25 @@ def agile(cpu: float | None, limit: float) -> float:
     return 1.0 - math.log(cpu) / math.log(limit)
 
 
-def best_values(rows: Iterable[dict[str, Any]]) -> dict[tuple[str, str], float]:
-    """Per (instance, encoding): the best known value, improved by the league's solved rows."""
-    best: dict[tuple[str, str], float] = {}
+def suite_best(suite: Path, rows: Iterable[dict[str, Any]]) -> dict[tuple[str, str], float]:
+    """Per (instance, encoding) of ``rows``: the set's best-known value now (its manifests).
+    A row keeps the best known of when it ran; a set whose references improved since (a
+    longer offline search) scores the same rows against the better values."""
+    known: dict[tuple[str, str], float] = {}
+    for key in sorted({(r["instance"], r["encoding"]) for r in rows}):
+        if (suite / key[0] / "manifest.json").is_file():
+            found = best_known(_manifest(suite, key[0]), key[1])
+            if found is not None:
+                known[key] = found
+    return known
+
+
+def best_values(rows: Iterable[dict[str, Any]],
+                known: dict[tuple[str, str], float] | None = None,
+                ) -> dict[tuple[str, str], float]:
+    """Per (instance, encoding): the best known value (the rows' own, and ``known``'s: the
+    set's now), improved by the league's solved rows."""
+    best: dict[tuple[str, str], float] = {k: v for k, v in (known or {}).items() if v > 0}
     for row in rows:
         key = (row["instance"], row["encoding"])
         for value in (row.get("best_known"),
@@ -372,9 +388,11 @@ def best_values(rows: Iterable[dict[str, Any]]) -> dict[tuple[str, str], float]:
     return best
 
 
-def scores(rows: list[dict[str, Any]]) -> dict[str, Any]:
-    """The league's scores: per planner and track, and per planner over all tracks."""
-    best = best_values(rows)
+def scores(rows: list[dict[str, Any]],
+           known: dict[tuple[str, str], float] | None = None) -> dict[str, Any]:
+    """The league's scores: per planner and track, and per planner over all tracks
+    (``known``: best-known values beyond the rows', e.g. :func:`suite_best`)."""
+    best = best_values(rows, known)
     table: dict[str, dict[str, dict[str, Any]]] = {}
     for row in rows:
         for track in (row["track"], "all"):
@@ -426,9 +444,11 @@ def table_text(score: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def write_scores(rows: list[dict[str, Any]], out: Path) -> dict[str, Any]:
-    """Write ``out/scores.json`` and return it."""
-    score = scores(rows)
+def write_scores(rows: list[dict[str, Any]], out: Path,
+                 suite: Path | None = None) -> dict[str, Any]:
+    """Write ``out/scores.json`` and return it (``suite``: score against its best known
+    values now as well)."""
+    score = scores(rows, suite_best(suite, rows) if suite is not None else None)
     (out / SCORES_FILE).write_text(json.dumps(score, indent=1, sort_keys=True) + "\n",
                                    encoding="utf-8")
     return score

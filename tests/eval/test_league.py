@@ -124,6 +124,25 @@ def test_fast_downward_in_the_league_and_resume(suite, tmp_path, capsys):
     assert len(league.read_rows(out / league.RUNS_FILE)) == 2  # nothing ran twice
 
 
+def test_scores_use_the_sets_best_known_now(tmp_path):
+    """A row keeps the best known of when it ran; scored beside the set, a better value
+    the set found since (a longer offline search) is the C* of the quality score."""
+    folder = tmp_path / "temporal" / "p01"
+    folder.mkdir(parents=True)
+    (folder / "manifest.json").write_text(json.dumps({"encodings": {"temporal": {
+        "reference": {"makespan": 16.0, "faithful": True}}}}), encoding="utf-8")
+    row = {"planner": "a", "instance": "temporal/p01", "encoding": "temporal",
+           "track": "temporal", "status": "solved", "value": 20.0, "cpu_time": 1.0,
+           "cpu_limit": 30.0, "best_known": 20.0, "valid": True, "faithful": True}
+    assert league.scores([row])["planners"]["a"]["all"]["quality"] == 1.0
+    known = league.suite_best(tmp_path, [row])
+    assert known == {("temporal/p01", "temporal"): 16.0}
+    assert league.scores([row], known)["planners"]["a"]["all"]["quality"] == 0.8
+    league.write_scores([row], tmp_path, tmp_path)
+    score = json.loads((tmp_path / league.SCORES_FILE).read_text(encoding="utf-8"))
+    assert score["best"] == {"temporal/p01/temporal": 16.0}
+
+
 def test_scores_by_hand():
     def row(planner, instance, status, value=None, cpu=None, best=None, track="t"):
         return {"planner": planner, "instance": instance, "encoding": "classical",
