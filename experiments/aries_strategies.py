@@ -3,11 +3,13 @@
 Aries runs several strategies at once (one thread each); ``ARIES_STRATEGIES`` picks one.
 This runs ``aries`` from the planner registry with that variable added to its ``env``, at
 a CPU-second limit of the planner's process group (``planning/engines.solve``), and prints
-the status, CPU and wall seconds and the makespan::
+the status, CPU and wall seconds and the makespan of the instance's state in the temporal
+encoding (any encoding's instance folder: classical-1cook p01 holds easy's sample 0, the
+state Aries timed out on)::
 
-    .venv/bin/python experiments/aries_strategies.py suites/v1/temporal/p01 causal 30
-    .venv/bin/python experiments/aries_strategies.py suites/v1/temporal/p01 act-bool 30
-    .venv/bin/python experiments/aries_strategies.py suites/v1/temporal/p01 default 30
+    .venv/bin/python experiments/aries_strategies.py suites/v1/classical-1cook/p01 causal 30
+    .venv/bin/python experiments/aries_strategies.py suites/v1/classical-1cook/p01 act-bool 30
+    .venv/bin/python experiments/aries_strategies.py suites/v1/classical-1cook/p01 default 30
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import dataclasses
 import sys
 
 from ocplus_plan.eval.suite import load_instance
+from ocplus_plan.planning import compile
 from ocplus_plan.planning.engines import get_planner, solve
 
 
@@ -31,7 +34,10 @@ def main(argv: list[str] | None = None) -> int:
         config = dataclasses.replace(config, env={**config.env,
                                                   "ARIES_STRATEGIES": args.strategy})
     instance = load_instance(args.instance)
-    result = solve(instance.compiled("temporal").problem, config, timeout=args.cpu)
+    problem = compile(instance.state, encoding="temporal",
+                      granularity=instance.manifest["granularity"],
+                      max_orders=instance.manifest["max_orders"]).problem
+    result = solve(problem, config, timeout=args.cpu)
     print(args.instance, args.strategy, result.status, result.cpu_time,
           round(result.planning_time, 1), result.makespan, result.reason[:100], flush=True)
     return 0
