@@ -23,7 +23,7 @@ from collections import deque
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 
-from ..sim.codes import Cell, Where
+from ..sim.codes import Cell, ItemState, Where
 from ..sim.queries import Bump, bump_effect, distances
 from ..sim.state import Geometry, State
 from .plans import PlanFunction, PlanOutcome, PlanStep
@@ -31,6 +31,7 @@ from .tasks import Task
 
 _HAND, _CELL, _PLATE = int(Where.HAND), int(Where.CELL), int(Where.PLATE)
 _WAITING = int(Where.WAITING)
+_FRESH, _CHOPPED = int(ItemState.FRESH), int(ItemState.CHOPPED)
 #: steps of a predicted walk reserved in the executive's paths
 PREDICT_STEPS = 8
 
@@ -242,6 +243,67 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
     return False, repairs
 
 
+def vacate(state: State, queues: Mapping[int, deque[Task]], predictions: Mapping[int, Prediction],
+           index: int, warned: set) -> int:
+    """A board that holds our chopped item, waiting there for a later step of the plan, while
+    a partner carries a raw vegetable to it (or waits there for it): a greedy partner would
+    stand in front of the board until it is free, and where the board is worked from one
+    cell, nobody else can reach the item again. A free cook of ours moves the item to the
+    nearest free counter first (the later steps take it there). The steps added (0 or 2)."""
+    geo = state.geo
+    walk, board = geo.walkables[state.layout_index], int(Cell.BOARD)
+    terrain = geo.terrains[state.layout_index]
+    wanted = {p.target for c, p in predictions.items() if p.target is not None
+              and state.agent_hand[c] >= 0 and terrain[p.target] == board
+              and state.item_state[state.agent_hand[c]] == _FRESH}
+    for cell in wanted:
+        item = state.cell_item[cell]
+        if item < 0 or state.item_state[item] != _CHOPPED or ("vacate", item) in warned:
+            continue
+        users = [t for q in queues.values() for t in q if item in t.step.items]
+        if not users or any(t.step.kind == "chop" for t in users):
+            continue
+        spots = [n for n in geo.neighbors[cell] if n >= 0 and walk[n]]
+        free = [a for a, q in queues.items() if state.agent_hand[a] < 0
+                and not (q and q[0].step.kind != "goto" and q[0].bumps)]
+        reach = {a: distances(geo.neighbors, walk, [state.agent_pos[a]]) for a in free}
+        cook = min((a for a in free if any(reach[a][n] >= 0 for n in spots)),
+                   key=lambda a: min(reach[a][n] for n in spots if reach[a][n] >= 0), default=None)
+        if cook is None:
+            continue
+        counter = _free_counter(state, reach[cook], cell)
+        if counter is None:
+            continue
+        warned.add(("vacate", item))
+        for t in users:
+            if t.step.target == cell:
+                t.step = replace(t.step, target=counter)
+            if t not in queues[cook]:
+                t.deps = t.deps | {index}
+        queues[cook].extendleft([Task(PlanStep(index, cook, "putdown", counter, (item,)), frozenset()),
+                                 Task(PlanStep(index - 1, cook, "pickup", cell, (item,)), frozenset())])
+        return 2
+    return 0
+
+
+def _free_counter(state: State, reach: list[int], near: int) -> int | None:
+    """The free plain counter nearest ``near`` that a cook with distances ``reach`` works."""
+    geo = state.geo
+    walk, counter = geo.walkables[state.layout_index], int(Cell.COUNTER)
+    rn, cn = geo.rc(near)
+    best = None
+    for c, code in enumerate(geo.terrains[state.layout_index]):
+        if code != counter or state.cell_item[c] >= 0:
+            continue
+        d = min((reach[n] for n in geo.neighbors[c] if n >= 0 and walk[n] and reach[n] >= 0),
+                default=-1)
+        if d >= 0:
+            r, k = geo.rc(c)
+            key = (abs(r - rn) + abs(k - cn), d, c)
+            best = key if best is None or key < best else best
+    return None if best is None else best[2]
+
+
 def _lies_at(state: State, item: int, cell: int) -> bool:
     """Is ``item`` on ``cell`` (or coming back there, or on a plate that is)?"""
     where, loc = state.item_where[item], state.item_loc[item]
@@ -321,4 +383,4 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
 
 __all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "blocked_geometry",
            "check_queues", "expected_by_plan", "hand_off", "partner_holding", "plan_around",
-           "predicted_state", "repair_taken", "reserved_walks", "substitute"]
+           "predicted_state", "repair_taken", "reserved_walks", "substitute", "vacate"]

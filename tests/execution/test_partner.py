@@ -15,11 +15,12 @@ from ocplus_plan.execution.partner import (
     predicted_state,
     repair_taken,
     reserved_walks,
+    vacate,
 )
 from ocplus_plan.execution.plans import PlanStep
 from ocplus_plan.execution.tasks import Task, ready
 from ocplus_plan.sim import make_rules, new_state, transition
-from ocplus_plan.sim.codes import Action, Where
+from ocplus_plan.sim.codes import Action, Cell, ItemState, Where
 from ocplus_plan.sim.queries import distances, interaction_spots
 
 # board on top, tomato crate left, window right, plate below; our cook 0 right, partner 1 left
@@ -180,3 +181,48 @@ def test_a_cook_that_hands_off_steps_off_the_counters_way_in():
     assert away.step.target not in spots
     reach = distances(state.geo.neighbors, walk, [state.agent_pos[1]], blocked=[away.step.target])
     assert any(reach[s] >= 0 for s in spots)
+
+
+# one board, worked from (1,2) only; tomato crate left, lettuce crate below right
+ONE_BOARD = {"name": "one-board", "max_n_agent": 2,
+             "game_map": [[1, 1, 6, 1, 1],
+                          [3, 0, 0, 0, 7],
+                          [1, 5, 1, 4, 1]],
+             "agent_spawn_points": [[1, 3], [1, 1]]}
+
+
+def test_a_board_a_partner_waits_for_is_freed_before_it_blocks_the_only_way_in():
+    # our chopped lettuce waits on the only board for a plate; the partner carries a raw
+    # tomato to that board: a greedy partner would stand in the board's only cell until the
+    # board is free, and nobody could reach the lettuce again. Our free cook first moves
+    # the lettuce to the nearest free counter, and the plate step takes it there.
+    state = _state(ONE_BOARD)
+    transition(state, [S, L])  # the partner takes the tomato
+    tomato, board = state.agent_hand[1], state.geo.flat(0, 2)
+    lettuce = next(i for i, k in enumerate(state.geo.item_kind) if k == 4)
+    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
+    state.cell_item[state.item_loc[lettuce]] = -1
+    state.cell_item[board] = lettuce
+    state.item_where[lettuce], state.item_loc[lettuce] = int(Where.CELL), board
+    state.item_state[lettuce] = int(ItemState.CHOPPED)
+    assert tomato >= 0 and state.item_state[tomato] == int(ItemState.FRESH)
+    steps = [PlanStep(0, 0, "pickup", state.geo.flat(2, 1), (plate,)),
+             PlanStep(1, 0, "plate", board, (plate, lettuce))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    warned: set = set()
+    model = PartnerModel(GreedyAgent(0))
+    model.reset(state, [0])
+    preds = model(state)
+    assert preds[1].target == board  # greedy heads for the busy board and would wait there
+    assert vacate(state, queues, preds, 99, warned) == 2
+    kinds = [(t.step.kind, t.step.items) for t in queues[0]]
+    assert kinds == [("pickup", (lettuce,)), ("putdown", (lettuce,)), ("pickup", (plate,)),
+                     ("plate", (plate, lettuce))]
+    counter = queues[0][1].step.target
+    assert state.geo.terrains[0][counter] == int(Cell.COUNTER) and state.cell_item[counter] < 0
+    assert queues[0][0].step.target == board and queues[0][3].step.target == counter
+    assert queues[0][0].step.index < queues[0][1].step.index
+    # once per item; and nothing to do when no partner wants the board
+    assert vacate(state, queues, preds, 97, warned) == 0
+    assert vacate(state, {0: deque(Task(s, frozenset()) for s in steps)},
+                  {1: Prediction(1, None)}, 99, set()) == 0
