@@ -55,7 +55,7 @@ from .plans import (
 )
 from .livelock import LivelockWatch
 from .partner import (PartnerModel, Prediction, check_queues, hand_off, plan_around,
-                      reserved_walks, vacate)
+                      reserved_walks, shut_out, vacate)
 from .stall import STALL_PATIENCE, StallWatch
 from .strategy import give_way, rejoining, stall_strategy
 from .tasks import BumpRecord, Task, already_done, pan_eta, ready, snapshot
@@ -240,6 +240,9 @@ class Executive:
             if self.stuck[a] and self.stuck[a] % self.block_patience == 0:
                 self._trigger(state, "blocked", out)
                 self.livelock.on_blocked()
+            if self.stuck[a] == 2 and getattr(self.partner_model, "by_policy", False) and \
+                    shut_out(state, self._spots(state, task.step.target), self._predict(state)):
+                self._trigger(state, "livelock", out)  # a partner that stays holds the way in
             if task is not None and task.waited == self.patience:
                 self._trigger(state, "stalled", out)
             if task is not None and not task.unreachable and \

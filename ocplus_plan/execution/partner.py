@@ -114,7 +114,9 @@ def blocked_geometry(geo: Geometry, cells: frozenset[int]) -> Geometry:
 
 def expected_by_plan(queues: Mapping[int, deque[Task]], item: int, target: int | None) -> bool:
     """Does the first queued step that uses ``item`` at the partner's predicted ``target``
-    come before any step that would carry the item (so the plan already counts on it)?"""
+    come before any step that would carry the item (so the plan already counts on it)? Not
+    when that step is a delivery: the partner's bump serves the dish, and a cook of ours
+    waiting to do it would stand in front of the window in the partner's way."""
     if target is None:
         return False
     for q in queues.values():
@@ -122,7 +124,8 @@ def expected_by_plan(queues: Mapping[int, deque[Task]], item: int, target: int |
             if item not in task.step.items:
                 continue
             if task.step.target == target:
-                return True
+                # a delivery the partner's bump makes itself is not ours to wait for
+                return task.step.kind != "deliver"
             if task.step.kind == "pickup":
                 return False
     return False
@@ -144,7 +147,7 @@ def repair_taken(queues: Mapping[int, deque[Task]], done_steps: set[int], item: 
     drop = [t for _a, t in plan[:at_target]]
     a, last = plan[at_target]
     carriers = {x for x, t in plan[:at_target] if t.step.kind == "pickup"}
-    if last.step.kind == "putdown" or (last.step.kind == "plate" and a in carriers):
+    if last.step.kind in ("putdown", "deliver") or (last.step.kind == "plate" and a in carriers):
         drop.append(last)  # the partner's bump does this very step
     gone = {id(t) for t in drop}
     for cook, q in queues.items():
@@ -286,6 +289,13 @@ def vacate(state: State, queues: Mapping[int, deque[Task]], predictions: Mapping
     return 0
 
 
+def shut_out(state: State, spots: list[int], predictions: Mapping[int, Prediction]) -> bool:
+    """Is every floor cell a station is worked from (``spots``) held by a partner predicted
+    to stay there (its own policy gives it nothing to do)? Then it will not make way."""
+    still = {state.agent_pos[c] for c, p in predictions.items() if p.target is None}
+    return bool(spots) and all(n in still for n in spots)
+
+
 def _free_counter(state: State, reach: list[int], near: int) -> int | None:
     """The free plain counter nearest ``near`` that a cook with distances ``reach`` works."""
     geo = state.geo
@@ -383,4 +393,5 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
 
 __all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "blocked_geometry",
            "check_queues", "expected_by_plan", "hand_off", "partner_holding", "plan_around",
-           "predicted_state", "repair_taken", "reserved_walks", "substitute", "vacate"]
+           "predicted_state", "repair_taken", "reserved_walks", "shut_out", "substitute",
+           "vacate"]

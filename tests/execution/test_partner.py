@@ -15,6 +15,7 @@ from ocplus_plan.execution.partner import (
     predicted_state,
     repair_taken,
     reserved_walks,
+    shut_out,
     vacate,
 )
 from ocplus_plan.execution.plans import PlanStep
@@ -226,3 +227,37 @@ def test_a_board_a_partner_waits_for_is_freed_before_it_blocks_the_only_way_in()
     assert vacate(state, queues, preds, 97, warned) == 0
     assert vacate(state, {0: deque(Task(s, frozenset()) for s in steps)},
                   {1: Prediction(1, None)}, 99, set()) == 0
+
+
+def test_a_dish_the_partner_carries_to_the_window_is_left_to_it():
+    # the partner has taken the plate our cook was to serve and its next bump is the
+    # window: the delivery is dropped from our plan (counted done), so our cook does not
+    # wait in front of the window, in the partner's way
+    state = _state(KITCHEN)
+    transition(state, [S, int(Action.DOWN)])  # the partner takes the plate
+    plate, window = state.agent_hand[1], state.geo.flat(1, 4)
+    assert plate >= 0 and state.geo.item_kind[plate] == 5
+    for steps in ([PlanStep(0, 0, "pickup", state.geo.flat(2, 1), (plate,)),
+                   PlanStep(1, 0, "deliver", window, (plate,))],
+                  [PlanStep(1, 0, "deliver", window, (plate,))]):
+        queues = {0: deque(Task(s, frozenset()) for s in steps)}
+        done: set[int] = set()
+        assert answer_taken(state, queues[0][0], queues, done, {1: Prediction(1, window)}) \
+            == "repaired"
+        assert not queues[0] and 1 in done
+
+
+def test_a_partner_with_nothing_to_do_in_the_only_way_in_shuts_the_station_off():
+    # the board is worked from (1,2) only; a partner standing there that its own policy
+    # keeps there will not make way (the executive hands off at once, not after a livelock)
+    state = _state(KITCHEN)
+    transition(state, [S, int(Action.RIGHT)])
+    board, spot = state.geo.flat(0, 2), state.geo.flat(1, 2)
+    assert state.agent_pos[1] == spot
+    spots = interaction_spots(state.geo.neighbors, state.geo.walkables[0], board)
+    assert spots == [spot]
+    assert shut_out(state, spots, {1: Prediction(1, None)})
+    assert not shut_out(state, spots, {1: Prediction(1, board)})  # it is about to work there
+    window = state.geo.flat(1, 4)
+    assert not shut_out(state, interaction_spots(state.geo.neighbors, state.geo.walkables[0],
+                                                 window), {1: Prediction(1, None)})
