@@ -54,7 +54,7 @@ from .plans import (
     causal_dependencies,
 )
 from .livelock import LivelockWatch
-from .partner import (PartnerModel, Prediction, check_queues, hand_off, plan_around,
+from .partner import (PartnerModel, Prediction, brings, check_queues, hand_off, plan_around,
                       reserved_walks, shut_out, vacate)
 from .stall import STALL_PATIENCE, StallWatch
 from .strategy import give_way, rejoining, stall_strategy
@@ -509,7 +509,9 @@ class Executive:
                 park = self.hubs if pos not in self.hubs else frozenset()
                 requests.append(((3, 0, a), PathRequest(a, pos, park)))
                 continue
-            if pos in spots and not task.deps <= self.done_steps and self._needed_by_other(state, a, pos):
+            if pos in spots and (not task.deps <= self.done_steps and self._needed_by_other(
+                    state, a, pos) or brings(state, task, self._predict(state), self.queues)):
+                # (or a partner carries the step's item to this station: it needs the spot)
                 # waiting on its own spot for someone who needs that very spot: step aside
                 requests.append(((3, 0, a), PathRequest(a, pos, frozenset())))
                 continue

@@ -289,6 +289,15 @@ def vacate(state: State, queues: Mapping[int, deque[Task]], predictions: Mapping
     return 0
 
 
+def brings(state: State, task: Task, predictions: Mapping[int, Prediction],
+           driven: Mapping[int, object]) -> bool:
+    """Does a partner carry an item of ``task`` to the task's own station (its predicted
+    bump is there)? A cook of ours waiting for it there stands in the partner's way."""
+    found = partner_holding(state, task, driven)
+    pred = None if found is None else predictions.get(found[0])
+    return pred is not None and pred.target == task.step.target
+
+
 def shut_out(state: State, spots: list[int], predictions: Mapping[int, Prediction]) -> bool:
     """Is every floor cell a station is worked from (``spots``) held by a partner predicted
     to stay there (its own policy gives it nothing to do)? Then it will not make way."""
@@ -379,8 +388,10 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
     (cells per step from now, its current cell first) when it has one that none of our
     cooks with work (``driven``: cook -> its queued steps) stands on, else its current cell
     (it stays). A cook of ours with nothing to do steps off a partner's walk: one that has
-    just handed an item off and stands in front of that counter lets the partner take it."""
-    ours = {state.agent_pos[a] for a, work in driven.items() if work}
+    just handed an item off and stands in front of that counter lets the partner take it;
+    one whose next step waits for the item a partner brings (:func:`brings`) lets it by."""
+    ours = {state.agent_pos[a] for a, work in driven.items() if work and not (
+        isinstance(work, deque) and brings(state, work[0], predictions, driven))}
     out: dict[int, object] = {}
     for b in range(state.n_agents):
         if b in driven:
@@ -391,7 +402,7 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
     return out
 
 
-__all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "blocked_geometry",
+__all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "brings", "blocked_geometry",
            "check_queues", "expected_by_plan", "hand_off", "partner_holding", "plan_around",
            "predicted_state", "repair_taken", "reserved_walks", "shut_out", "substitute",
            "vacate"]

@@ -11,6 +11,7 @@ from ocplus_plan.agents.partner_model import PartnerModel
 from ocplus_plan.execution.partner import (
     Prediction,
     answer_taken,
+    brings,
     hand_off,
     predicted_state,
     repair_taken,
@@ -261,3 +262,21 @@ def test_a_partner_with_nothing_to_do_in_the_only_way_in_shuts_the_station_off()
     window = state.geo.flat(1, 4)
     assert not shut_out(state, interaction_spots(state.geo.neighbors, state.geo.walkables[0],
                                                  window), {1: Prediction(1, None)})
+
+
+def test_a_cook_waiting_in_the_only_way_in_for_what_the_partner_brings_lets_it_by():
+    # our cook waits in the board's only cell to chop the tomato the partner carries there:
+    # the partner's walk is reserved (our cook steps off it) instead of our cook holding
+    # the cell and the partner, which treats it as a wall, never arriving
+    state, tomato = _carrying_partner()
+    transition(state, [L, S])
+    board, spot = state.geo.flat(0, 2), state.geo.flat(1, 2)
+    assert state.agent_pos[0] == spot
+    preds = {1: Prediction(1, board, (spot,))}
+    chop = Task(PlanStep(0, 0, "chop", board, (tomato,)), frozenset())
+    assert brings(state, chop, preds, {0: deque([chop])})
+    assert reserved_walks(state, preds, {0: deque([chop])})[1] == (state.agent_pos[1], spot)
+    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
+    other = Task(PlanStep(0, 0, "pickup", board, (plate,)), frozenset())
+    assert not brings(state, other, preds, {0: deque([other])})
+    assert reserved_walks(state, preds, {0: deque([other])})[1] == state.agent_pos[1]
