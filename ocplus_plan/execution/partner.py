@@ -226,11 +226,13 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
     repairs, seen = 0, set()
     for task in sorted((t for q in queues.values() for t in q), key=lambda t: t.step.index):
         for i in task.step.items:
-            key = ("taken", task.step.index, i)
+            # once per step, item and place: an item the partner put down and takes up
+            # again later (it chopped it, then carries it on) is checked again
+            where, loc = state.item_where[i], state.item_loc[i]
+            key = ("taken", task.step.index, i, where, loc)
             if i in seen or key in warned:
                 continue
             seen.add(i)
-            where, loc = state.item_where[i], state.item_loc[i]
             if where == _HAND and loc not in queues:
                 warned.add(key)
                 answer = answer_taken(state, task, queues, done_steps, predictions)
