@@ -230,9 +230,11 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
             # again later (it chopped it, then carries it on) is checked again
             where, loc = state.item_where[i], state.item_loc[i]
             key = ("taken", task.step.index, i, where, loc)
-            if i in seen or key in warned:
+            if i in seen:
                 continue
-            seen.add(i)
+            seen.add(i)  # only the first queued step that uses it (checked or not)
+            if key in warned:
+                continue
             if where == _HAND and loc not in queues:
                 warned.add(key)
                 answer = answer_taken(state, task, queues, done_steps, predictions)

@@ -12,6 +12,7 @@ from ocplus_plan.execution.partner import (
     Prediction,
     answer_taken,
     brings,
+    check_queues,
     hand_off,
     predicted_state,
     repair_taken,
@@ -280,3 +281,31 @@ def test_a_cook_waiting_in_the_only_way_in_for_what_the_partner_brings_lets_it_b
     other = Task(PlanStep(0, 0, "pickup", board, (plate,)), frozenset())
     assert not brings(state, other, preds, {0: deque([other])})
     assert reserved_walks(state, preds, {0: deque([other])})[1] == state.agent_pos[1]
+
+
+def test_an_item_the_partner_takes_again_after_putting_it_down_is_checked_again():
+    # the partner carries our tomato to the board (the plan counts on it: checked, no
+    # repair), chops it there, then takes it on to the plate: our pickup and plating are
+    # dropped, not left waiting for an item that has gone
+    state, tomato = _carrying_partner()
+    board, plate_cell = state.geo.flat(0, 2), state.geo.flat(2, 1)
+    plate = state.cell_item[plate_cell]
+    steps = [PlanStep(0, 0, "chop", board, (tomato,)), PlanStep(1, 0, "pickup", board, (tomato,)),
+             PlanStep(2, 0, "plate", plate_cell, (plate, tomato))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    done: set[int] = set()
+    warned: set = set()
+    for _ in range(3):  # one step after another while the partner walks to the board
+        assert check_queues(state, queues, done, {1: Prediction(1, board)}, warned) == (False, 0)
+    state.agent_hand[1] = -1  # put down on the board and chopped there
+    state.cell_item[board] = tomato
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.CELL), board
+    state.item_state[tomato] = int(ItemState.CHOPPED)
+    queues[0].popleft()
+    done.add(0)
+    assert check_queues(state, queues, done, {1: Prediction(1, board)}, warned) == (False, 0)
+    state.cell_item[board] = -1  # taken again, on its way to the plate
+    state.agent_hand[1] = tomato
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.HAND), 1
+    assert check_queues(state, queues, done, {1: Prediction(1, plate_cell)}, warned) == (False, 1)
+    assert not queues[0] and {1, 2} <= done
