@@ -389,11 +389,9 @@ def _out_of_the_way(state: State, cook: int, counter: int) -> int | None:
 def reserved_walks(state: State, predictions: Mapping[int, Prediction],
                    driven: Mapping[int, object], steps: int = PREDICT_STEPS) -> dict[int, object]:
     """What the executive's paths hold for every cook it does not drive: its predicted walk
-    (cells per step from now, its current cell first) up to the first cell a cook of ours
-    with work (``driven``: cook -> its queued steps) stands on, or its current cell (it
-    stays): a partner about to step where our cook wants to go would otherwise contest that
-    cell with it step after step (a greedy partner treats our cook as a wall, not as a cook
-    that gives way). A cook of ours with nothing to do steps off a partner's walk: one that has
+    (cells per step from now, its current cell first) when it has one that none of our
+    cooks with work (``driven``: cook -> its queued steps) stands on, else its current cell
+    (it stays). A cook of ours with nothing to do steps off a partner's walk: one that has
     just handed an item off and stands in front of that counter lets the partner take it;
     one whose next step waits for the item a partner brings (:func:`brings`) lets it by."""
     ours = {state.agent_pos[a] for a, work in driven.items() if work and not (
@@ -404,9 +402,7 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
             continue
         pred = predictions.get(b)
         walk = (state.agent_pos[b], *pred.path[:steps]) if pred is not None else ()
-        cut = next((i for i, c in enumerate(walk) if c in ours), len(walk))
-        walk = walk[:cut]  # up to our busy cook: the partner still takes those steps
-        out[b] = walk if len(walk) > 1 else state.agent_pos[b]
+        out[b] = walk if len(walk) > 1 and not ours & set(walk) else state.agent_pos[b]
     return out
 
 

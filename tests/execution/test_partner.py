@@ -309,15 +309,3 @@ def test_an_item_the_partner_takes_again_after_putting_it_down_is_checked_again(
     state.item_where[tomato], state.item_loc[tomato] = int(Where.HAND), 1
     assert check_queues(state, queues, done, {1: Prediction(1, plate_cell)}, warned) == (False, 1)
     assert not queues[0] and {1, 2} <= done
-
-
-def test_a_partner_walk_through_our_busy_cook_is_reserved_up_to_it():
-    # the partner walks right down the lane toward our busy cook: the cells before our cook
-    # are reserved (it steps there next; our cook contesting that cell would block both)
-    state = _state(LANE)
-    lane = [state.geo.flat(1, c) for c in range(1, 6)]
-    ours, theirs = state.agent_pos[0], state.agent_pos[1]
-    assert ours == lane[0] and theirs == lane[2]
-    pred = Prediction(1, state.geo.flat(1, 0), (lane[1], lane[0]))
-    assert reserved_walks(state, {1: pred}, {0: ["a step"]})[1] == (theirs, lane[1])
-    assert reserved_walks(state, {1: pred}, {0: None})[1] == (theirs, lane[1], lane[0])
