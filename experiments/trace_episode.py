@@ -5,6 +5,8 @@ where the plan loses time on hard with two cooks).
     nice -n 10 .venv/bin/python experiments/trace_episode.py hard 2 0 planner:
     .venv/bin/python experiments/trace_episode.py hard 2 0 greedy
     .venv/bin/python experiments/trace_episode.py medium 2 0 planner: --partner greedy
+    .venv/bin/python experiments/trace_episode.py medium 2 0 planner: --partner greedy \\
+        --map gen:corridor:test:0:medium
 
 One line per step (``t``, layout, dishes, each cook's cell and held item id, each driven
 cook's next three steps ``kind@(row, col)``, a replan as ``REPLAN [(step, reason)]``), then
@@ -20,6 +22,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
+from experiments.bench_unseen import DYNAMIC  # noqa: E402
 from ocplus_plan.agents import Episode, make_controller, with_partner  # noqa: E402
 from ocplus_plan.agents.planner import make_planner_agent  # noqa: E402
 from ocplus_plan.sim import make_rules, new_state  # noqa: E402
@@ -37,9 +40,14 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--partner", default=None, help="plays the last cook")
     p.add_argument("--steps", type=int, default=200)
     p.add_argument("--timeout", type=float, default=10.0, help="CPU seconds per planner call")
+    p.add_argument("--map", default=None,
+                   help="a generated kitchen (gen:FAMILY:SPLIT:INDEX:STATIONS) on PRESET's recipes")
     args = p.parse_args(argv)
     warnings.simplefilter("ignore")
-    state = new_state(make_rules(args.preset, n_agents=args.cooks, horizon=args.steps), args.seed)
+    extra = {} if args.map is None else {"map": args.map,
+                                         "dynamic": args.map.split(":")[1] in DYNAMIC}
+    state = new_state(make_rules(args.preset, n_agents=args.cooks, horizon=args.steps, **extra),
+                      args.seed)
     if args.agent.startswith("planner:"):
         ctl = make_planner_agent(args.agent.partition(":")[2], args.seed, timeout=args.timeout)
     else:

@@ -54,7 +54,8 @@ from .plans import (
     causal_dependencies,
 )
 from .livelock import LivelockWatch
-from .partner import PartnerModel, Prediction, check_queues, hand_off, plan_around, reserved_walks
+from .partner import (PartnerModel, Prediction, brings, check_queues, hand_off, plan_around,
+                      reserved_walks, shut_out, vacate)
 from .stall import STALL_PATIENCE, StallWatch
 from .strategy import give_way, rejoining, stall_strategy
 from .tasks import BumpRecord, Task, already_done, pan_eta, ready, snapshot
@@ -144,6 +145,7 @@ class Executive:
         self.stall_steps = 0  # steps of the current stall that were not a wait for a switch
         self.predicted: tuple[int, dict[int, Prediction]] = (-1, {})
         self.repairs = 0
+        self.vacated = 0  # boards freed for a partner (:func:`~.partner.vacate`)
         self.stall_strategies: Counter[str] = Counter()
 
     def observe(self, state: State, events: Sequence[object]) -> None:
@@ -238,6 +240,9 @@ class Executive:
             if self.stuck[a] and self.stuck[a] % self.block_patience == 0:
                 self._trigger(state, "blocked", out)
                 self.livelock.on_blocked()
+            if self.stuck[a] == 2 and getattr(self.partner_model, "by_policy", False) and \
+                    shut_out(state, self._spots(state, task.step.target), self._predict(state)):
+                self._trigger(state, "livelock", out)  # a partner that stays holds the way in
             if task is not None and task.waited == self.patience:
                 self._trigger(state, "stalled", out)
             if task is not None and not task.unreachable and \
@@ -247,6 +252,9 @@ class Executive:
         moved, repairs = check_queues(state, self.queues, self.done_steps, self._predict(
             state), self.warned) if state.n_agents > len(self.agent_ids) else (False, 0)
         self.repairs += repairs
+        if self.partner_model is not None:  # free a board a partner waits for (:func:`vacate`)
+            self.vacated += vacate(state, self.queues, self._predict(state),
+                                   self.plan_id * 100_000 + 99_990 - 2 * self.vacated, self.warned) // 2
         if moved:  # a partner took or moved an item the plan needs (:mod:`.partner`)
             self._trigger(state, "taken", out)
         if any(self.queues.values()) and not self._waiting_for_switch(state):
@@ -501,7 +509,9 @@ class Executive:
                 park = self.hubs if pos not in self.hubs else frozenset()
                 requests.append(((3, 0, a), PathRequest(a, pos, park)))
                 continue
-            if pos in spots and not task.deps <= self.done_steps and self._needed_by_other(state, a, pos):
+            if pos in spots and (not task.deps <= self.done_steps and self._needed_by_other(
+                    state, a, pos) or brings(state, task, self._predict(state), self.queues)):
+                # (or a partner carries the step's item to this station: it needs the spot)
                 # waiting on its own spot for someone who needs that very spot: step aside
                 requests.append(((3, 0, a), PathRequest(a, pos, frozenset())))
                 continue
@@ -565,7 +575,7 @@ class Executive:
             "blocked_moves": self.blocked_moves,
             "messages_lost": self.messages_lost,
             "gave_way": self.gave_way,
-            "partner_repairs": self.repairs,
+            "partner_repairs": self.repairs, "boards_vacated": self.vacated,
             **self.livelock.info(),
             **self.stall.info(),
             "stall_strategies": dict(self.stall_strategies),

@@ -23,7 +23,7 @@ from collections import deque
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 
-from ..sim.codes import Cell, Where
+from ..sim.codes import Cell, ItemState, Where
 from ..sim.queries import Bump, bump_effect, distances
 from ..sim.state import Geometry, State
 from .plans import PlanFunction, PlanOutcome, PlanStep
@@ -31,6 +31,7 @@ from .tasks import Task
 
 _HAND, _CELL, _PLATE = int(Where.HAND), int(Where.CELL), int(Where.PLATE)
 _WAITING = int(Where.WAITING)
+_FRESH, _CHOPPED = int(ItemState.FRESH), int(ItemState.CHOPPED)
 #: steps of a predicted walk reserved in the executive's paths
 PREDICT_STEPS = 8
 
@@ -113,7 +114,9 @@ def blocked_geometry(geo: Geometry, cells: frozenset[int]) -> Geometry:
 
 def expected_by_plan(queues: Mapping[int, deque[Task]], item: int, target: int | None) -> bool:
     """Does the first queued step that uses ``item`` at the partner's predicted ``target``
-    come before any step that would carry the item (so the plan already counts on it)?"""
+    come before any step that would carry the item (so the plan already counts on it)? Not
+    when that step is a delivery: the partner's bump serves the dish, and a cook of ours
+    waiting to do it would stand in front of the window in the partner's way."""
     if target is None:
         return False
     for q in queues.values():
@@ -121,7 +124,8 @@ def expected_by_plan(queues: Mapping[int, deque[Task]], item: int, target: int |
             if item not in task.step.items:
                 continue
             if task.step.target == target:
-                return True
+                # a delivery the partner's bump makes itself is not ours to wait for
+                return task.step.kind != "deliver"
             if task.step.kind == "pickup":
                 return False
     return False
@@ -143,7 +147,7 @@ def repair_taken(queues: Mapping[int, deque[Task]], done_steps: set[int], item: 
     drop = [t for _a, t in plan[:at_target]]
     a, last = plan[at_target]
     carriers = {x for x, t in plan[:at_target] if t.step.kind == "pickup"}
-    if last.step.kind == "putdown" or (last.step.kind == "plate" and a in carriers):
+    if last.step.kind in ("putdown", "deliver") or (last.step.kind == "plate" and a in carriers):
         drop.append(last)  # the partner's bump does this very step
     gone = {id(t) for t in drop}
     for cook, q in queues.items():
@@ -222,11 +226,15 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
     repairs, seen = 0, set()
     for task in sorted((t for q in queues.values() for t in q), key=lambda t: t.step.index):
         for i in task.step.items:
-            key = ("taken", task.step.index, i)
-            if i in seen or key in warned:
-                continue
-            seen.add(i)
+            # once per step, item and place: an item the partner put down and takes up
+            # again later (it chopped it, then carries it on) is checked again
             where, loc = state.item_where[i], state.item_loc[i]
+            key = ("taken", task.step.index, i, where, loc)
+            if i in seen:
+                continue
+            seen.add(i)  # only the first queued step that uses it (checked or not)
+            if key in warned:
+                continue
             if where == _HAND and loc not in queues:
                 warned.add(key)
                 answer = answer_taken(state, task, queues, done_steps, predictions)
@@ -240,6 +248,83 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
                     return True, repairs
                 repairs += 1
     return False, repairs
+
+
+def vacate(state: State, queues: Mapping[int, deque[Task]], predictions: Mapping[int, Prediction],
+           index: int, warned: set) -> int:
+    """A board that holds our chopped item, waiting there for a later step of the plan, while
+    a partner carries a raw vegetable to it (or waits there for it): a greedy partner would
+    stand in front of the board until it is free, and where the board is worked from one
+    cell, nobody else can reach the item again. A free cook of ours moves the item to the
+    nearest free counter first (the later steps take it there). The steps added (0 or 2)."""
+    geo = state.geo
+    walk, board = geo.walkables[state.layout_index], int(Cell.BOARD)
+    terrain = geo.terrains[state.layout_index]
+    wanted = {p.target for c, p in predictions.items() if p.target is not None
+              and state.agent_hand[c] >= 0 and terrain[p.target] == board
+              and state.item_state[state.agent_hand[c]] == _FRESH}
+    for cell in wanted:
+        item = state.cell_item[cell]
+        if item < 0 or state.item_state[item] != _CHOPPED or ("vacate", item) in warned:
+            continue
+        users = [t for q in queues.values() for t in q if item in t.step.items]
+        if not users or any(t.step.kind == "chop" for t in users):
+            continue
+        spots = [n for n in geo.neighbors[cell] if n >= 0 and walk[n]]
+        free = [a for a, q in queues.items() if state.agent_hand[a] < 0
+                and not (q and q[0].step.kind != "goto" and q[0].bumps)]
+        reach = {a: distances(geo.neighbors, walk, [state.agent_pos[a]]) for a in free}
+        cook = min((a for a in free if any(reach[a][n] >= 0 for n in spots)),
+                   key=lambda a: min(reach[a][n] for n in spots if reach[a][n] >= 0), default=None)
+        if cook is None:
+            continue
+        counter = _free_counter(state, reach[cook], cell)
+        if counter is None:
+            continue
+        warned.add(("vacate", item))
+        for t in users:
+            if t.step.target == cell:
+                t.step = replace(t.step, target=counter)
+            if t not in queues[cook]:
+                t.deps = t.deps | {index}
+        queues[cook].extendleft([Task(PlanStep(index, cook, "putdown", counter, (item,)), frozenset()),
+                                 Task(PlanStep(index - 1, cook, "pickup", cell, (item,)), frozenset())])
+        return 2
+    return 0
+
+
+def brings(state: State, task: Task, predictions: Mapping[int, Prediction],
+           driven: Mapping[int, object]) -> bool:
+    """Does a partner carry an item of ``task`` to the task's own station (its predicted
+    bump is there)? A cook of ours waiting for it there stands in the partner's way."""
+    found = partner_holding(state, task, driven)
+    pred = None if found is None else predictions.get(found[0])
+    return pred is not None and pred.target == task.step.target
+
+
+def shut_out(state: State, spots: list[int], predictions: Mapping[int, Prediction]) -> bool:
+    """Is every floor cell a station is worked from (``spots``) held by a partner predicted
+    to stay there (its own policy gives it nothing to do)? Then it will not make way."""
+    still = {state.agent_pos[c] for c, p in predictions.items() if p.target is None}
+    return bool(spots) and all(n in still for n in spots)
+
+
+def _free_counter(state: State, reach: list[int], near: int) -> int | None:
+    """The free plain counter nearest ``near`` that a cook with distances ``reach`` works."""
+    geo = state.geo
+    walk, counter = geo.walkables[state.layout_index], int(Cell.COUNTER)
+    rn, cn = geo.rc(near)
+    best = None
+    for c, code in enumerate(geo.terrains[state.layout_index]):
+        if code != counter or state.cell_item[c] >= 0:
+            continue
+        d = min((reach[n] for n in geo.neighbors[c] if n >= 0 and walk[n] and reach[n] >= 0),
+                default=-1)
+        if d >= 0:
+            r, k = geo.rc(c)
+            key = (abs(r - rn) + abs(k - cn), d, c)
+            best = key if best is None or key < best else best
+    return None if best is None else best[2]
 
 
 def _lies_at(state: State, item: int, cell: int) -> bool:
@@ -307,8 +392,10 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
     (cells per step from now, its current cell first) when it has one that none of our
     cooks with work (``driven``: cook -> its queued steps) stands on, else its current cell
     (it stays). A cook of ours with nothing to do steps off a partner's walk: one that has
-    just handed an item off and stands in front of that counter lets the partner take it."""
-    ours = {state.agent_pos[a] for a, work in driven.items() if work}
+    just handed an item off and stands in front of that counter lets the partner take it;
+    one whose next step waits for the item a partner brings (:func:`brings`) lets it by."""
+    ours = {state.agent_pos[a] for a, work in driven.items() if work and not (
+        isinstance(work, deque) and brings(state, work[0], predictions, driven))}
     out: dict[int, object] = {}
     for b in range(state.n_agents):
         if b in driven:
@@ -319,6 +406,7 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
     return out
 
 
-__all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "blocked_geometry",
+__all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "brings", "blocked_geometry",
            "check_queues", "expected_by_plan", "hand_off", "partner_holding", "plan_around",
-           "predicted_state", "repair_taken", "reserved_walks", "substitute"]
+           "predicted_state", "repair_taken", "reserved_walks", "shut_out", "substitute",
+           "vacate"]

@@ -11,15 +11,19 @@ from ocplus_plan.agents.partner_model import PartnerModel
 from ocplus_plan.execution.partner import (
     Prediction,
     answer_taken,
+    brings,
+    check_queues,
     hand_off,
     predicted_state,
     repair_taken,
     reserved_walks,
+    shut_out,
+    vacate,
 )
 from ocplus_plan.execution.plans import PlanStep
 from ocplus_plan.execution.tasks import Task, ready
 from ocplus_plan.sim import make_rules, new_state, transition
-from ocplus_plan.sim.codes import Action, Where
+from ocplus_plan.sim.codes import Action, Cell, ItemState, Where
 from ocplus_plan.sim.queries import distances, interaction_spots
 
 # board on top, tomato crate left, window right, plate below; our cook 0 right, partner 1 left
@@ -180,3 +184,128 @@ def test_a_cook_that_hands_off_steps_off_the_counters_way_in():
     assert away.step.target not in spots
     reach = distances(state.geo.neighbors, walk, [state.agent_pos[1]], blocked=[away.step.target])
     assert any(reach[s] >= 0 for s in spots)
+
+
+# one board, worked from (1,2) only; tomato crate left, lettuce crate below right
+ONE_BOARD = {"name": "one-board", "max_n_agent": 2,
+             "game_map": [[1, 1, 6, 1, 1],
+                          [3, 0, 0, 0, 7],
+                          [1, 5, 1, 4, 1]],
+             "agent_spawn_points": [[1, 3], [1, 1]]}
+
+
+def test_a_board_a_partner_waits_for_is_freed_before_it_blocks_the_only_way_in():
+    # our chopped lettuce waits on the only board for a plate; the partner carries a raw
+    # tomato to that board: a greedy partner would stand in the board's only cell until the
+    # board is free, and nobody could reach the lettuce again. Our free cook first moves
+    # the lettuce to the nearest free counter, and the plate step takes it there.
+    state = _state(ONE_BOARD)
+    transition(state, [S, L])  # the partner takes the tomato
+    tomato, board = state.agent_hand[1], state.geo.flat(0, 2)
+    lettuce = next(i for i, k in enumerate(state.geo.item_kind) if k == 4)
+    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
+    state.cell_item[state.item_loc[lettuce]] = -1
+    state.cell_item[board] = lettuce
+    state.item_where[lettuce], state.item_loc[lettuce] = int(Where.CELL), board
+    state.item_state[lettuce] = int(ItemState.CHOPPED)
+    assert tomato >= 0 and state.item_state[tomato] == int(ItemState.FRESH)
+    steps = [PlanStep(0, 0, "pickup", state.geo.flat(2, 1), (plate,)),
+             PlanStep(1, 0, "plate", board, (plate, lettuce))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    warned: set = set()
+    model = PartnerModel(GreedyAgent(0))
+    model.reset(state, [0])
+    preds = model(state)
+    assert preds[1].target == board  # greedy heads for the busy board and would wait there
+    assert vacate(state, queues, preds, 99, warned) == 2
+    kinds = [(t.step.kind, t.step.items) for t in queues[0]]
+    assert kinds == [("pickup", (lettuce,)), ("putdown", (lettuce,)), ("pickup", (plate,)),
+                     ("plate", (plate, lettuce))]
+    counter = queues[0][1].step.target
+    assert state.geo.terrains[0][counter] == int(Cell.COUNTER) and state.cell_item[counter] < 0
+    assert queues[0][0].step.target == board and queues[0][3].step.target == counter
+    assert queues[0][0].step.index < queues[0][1].step.index
+    # once per item; and nothing to do when no partner wants the board
+    assert vacate(state, queues, preds, 97, warned) == 0
+    assert vacate(state, {0: deque(Task(s, frozenset()) for s in steps)},
+                  {1: Prediction(1, None)}, 99, set()) == 0
+
+
+def test_a_dish_the_partner_carries_to_the_window_is_left_to_it():
+    # the partner has taken the plate our cook was to serve and its next bump is the
+    # window: the delivery is dropped from our plan (counted done), so our cook does not
+    # wait in front of the window, in the partner's way
+    state = _state(KITCHEN)
+    transition(state, [S, int(Action.DOWN)])  # the partner takes the plate
+    plate, window = state.agent_hand[1], state.geo.flat(1, 4)
+    assert plate >= 0 and state.geo.item_kind[plate] == 5
+    for steps in ([PlanStep(0, 0, "pickup", state.geo.flat(2, 1), (plate,)),
+                   PlanStep(1, 0, "deliver", window, (plate,))],
+                  [PlanStep(1, 0, "deliver", window, (plate,))]):
+        queues = {0: deque(Task(s, frozenset()) for s in steps)}
+        done: set[int] = set()
+        assert answer_taken(state, queues[0][0], queues, done, {1: Prediction(1, window)}) \
+            == "repaired"
+        assert not queues[0] and 1 in done
+
+
+def test_a_partner_with_nothing_to_do_in_the_only_way_in_shuts_the_station_off():
+    # the board is worked from (1,2) only; a partner standing there that its own policy
+    # keeps there will not make way (the executive hands off at once, not after a livelock)
+    state = _state(KITCHEN)
+    transition(state, [S, int(Action.RIGHT)])
+    board, spot = state.geo.flat(0, 2), state.geo.flat(1, 2)
+    assert state.agent_pos[1] == spot
+    spots = interaction_spots(state.geo.neighbors, state.geo.walkables[0], board)
+    assert spots == [spot]
+    assert shut_out(state, spots, {1: Prediction(1, None)})
+    assert not shut_out(state, spots, {1: Prediction(1, board)})  # it is about to work there
+    window = state.geo.flat(1, 4)
+    assert not shut_out(state, interaction_spots(state.geo.neighbors, state.geo.walkables[0],
+                                                 window), {1: Prediction(1, None)})
+
+
+def test_a_cook_waiting_in_the_only_way_in_for_what_the_partner_brings_lets_it_by():
+    # our cook waits in the board's only cell to chop the tomato the partner carries there:
+    # the partner's walk is reserved (our cook steps off it) instead of our cook holding
+    # the cell and the partner, which treats it as a wall, never arriving
+    state, tomato = _carrying_partner()
+    transition(state, [L, S])
+    board, spot = state.geo.flat(0, 2), state.geo.flat(1, 2)
+    assert state.agent_pos[0] == spot
+    preds = {1: Prediction(1, board, (spot,))}
+    chop = Task(PlanStep(0, 0, "chop", board, (tomato,)), frozenset())
+    assert brings(state, chop, preds, {0: deque([chop])})
+    assert reserved_walks(state, preds, {0: deque([chop])})[1] == (state.agent_pos[1], spot)
+    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
+    other = Task(PlanStep(0, 0, "pickup", board, (plate,)), frozenset())
+    assert not brings(state, other, preds, {0: deque([other])})
+    assert reserved_walks(state, preds, {0: deque([other])})[1] == state.agent_pos[1]
+
+
+def test_an_item_the_partner_takes_again_after_putting_it_down_is_checked_again():
+    # the partner carries our tomato to the board (the plan counts on it: checked, no
+    # repair), chops it there, then takes it on to the plate: our pickup and plating are
+    # dropped, not left waiting for an item that has gone
+    state, tomato = _carrying_partner()
+    board, plate_cell = state.geo.flat(0, 2), state.geo.flat(2, 1)
+    plate = state.cell_item[plate_cell]
+    steps = [PlanStep(0, 0, "chop", board, (tomato,)), PlanStep(1, 0, "pickup", board, (tomato,)),
+             PlanStep(2, 0, "plate", plate_cell, (plate, tomato))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    done: set[int] = set()
+    warned: set = set()
+    for _ in range(3):  # one step after another while the partner walks to the board
+        assert check_queues(state, queues, done, {1: Prediction(1, board)}, warned) == (False, 0)
+    state.agent_hand[1] = -1  # put down on the board and chopped there
+    state.cell_item[board] = tomato
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.CELL), board
+    state.item_state[tomato] = int(ItemState.CHOPPED)
+    queues[0].popleft()
+    done.add(0)
+    assert check_queues(state, queues, done, {1: Prediction(1, board)}, warned) == (False, 0)
+    state.cell_item[board] = -1  # taken again, on its way to the plate
+    state.agent_hand[1] = tomato
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.HAND), 1
+    assert check_queues(state, queues, done, {1: Prediction(1, plate_cell)}, warned) == (False, 1)
+    assert not queues[0] and {1, 2} <= done
