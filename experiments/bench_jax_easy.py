@@ -24,6 +24,7 @@ import argparse
 import json
 import os
 import platform
+import shutil
 import subprocess
 import sys
 import time
@@ -41,6 +42,7 @@ def _commit() -> str:
 
 
 def _eval(policy: Path, mode: str, seeds: int, out: Path) -> dict:
+    shutil.rmtree(out / f"eval_{mode}", ignore_errors=True)  # this script's own output
     cmd = [str(Path(sys.executable).with_name("ocplus")), "eval", "--preset", "easy",
            "--n-agents", "1", "--agents", f"ppo:{policy}@{mode}", "--seeds", str(seeds),
            "--horizon", "200", "--jobs", "1", "--no-plots", "--quiet", "--json",

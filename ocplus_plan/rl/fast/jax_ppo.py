@@ -118,7 +118,7 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         return jnp.concatenate([x, jnp.broadcast_to(agent_ids, (x.shape[0], n, n))], 2)
 
     near = jax.tree_util.tree_map(jnp.asarray, tables(env.params))
-    shape = jax.vmap(lambda b, a, d: shaping_step(env, b, a, d, near))
+    shape = jax.vmap(lambda b, a, d: shaping_step(env, b, a, d, near, config.gamma))
 
     def rollout(carry: tuple, _: Any) -> tuple:
         params, state, obs, key = carry

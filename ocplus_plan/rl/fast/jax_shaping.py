@@ -5,11 +5,14 @@ The trainer learns from the rules' reward *without* its subtask part (``subtask_
 for a chop, a cook or a wash, ``infos["shaped_reward"]``): that part pays a finished
 subtask and charges nothing when the work is undone (a chopped onion thrown in the trash
 comes back fresh and pays again), and it says nothing about the steps between subtasks.
-In its place the trainer pays ``F = phi(s') - phi(s)`` (Ng, Harada and Russell 1999), with
-``phi(s')`` taken as 0 when the step ends the episode, so the shaping of an episode sums
-to ``-phi(s_0)``, which is 0 (every item starts fresh on its spawn tile): whatever a
-policy does, shaping earns it nothing in total, and a loop (pick up and put back, chop
-and trash) earns exactly 0. It only moves credit earlier in the episode.
+In its place the trainer pays ``F = gamma * phi(s') - phi(s)`` (Ng, Harada and Russell
+1999; ``gamma`` the learner's discount), with ``phi(s')`` taken as 0 when the step ends
+the episode, so the discounted shaping of an episode sums to ``-phi(s_0)``, fixed by the
+episode's first state: whatever a policy does, shaping earns it nothing in total, and a
+loop (pick up and put back, chop and trash) earns exactly what standing still for as long
+earns, as the learner counts it. It only moves credit earlier in the episode. (Without the
+``gamma``, a cook that reaches a high potential and holds it, a finished dish in its
+hand, loses it only at the episode's end, discounted: holding paid more than serving.)
 
 ``phi`` adds, for every ingredient of a kind that an open order needs (the kinds of the
 recipes of the open orders), the value of its stage::
@@ -24,6 +27,10 @@ held clean plate ``carry``, for a held plate whose contents equal an open order'
 ``dish + near * closeness`` (closeness: 1 next to a serving window, 0 at the farthest floor
 cell), and ``-spoiled`` for a plate holding what no open order fits (without a trash can
 it serves nothing until such an order comes). A burnt steak or a dirty plate is worth 0.
+An ingredient no open order needs costs ``carry`` while held (a busy hand). Per cook with
+free hands, ``fetch`` times its closeness to the next thing to fetch: the nearest needed
+fresh ingredient, or a clean plate once a needed ingredient is ready; with a clean plate
+in hand, the nearest needed ready ingredient.
 """
 
 from __future__ import annotations
@@ -62,7 +69,7 @@ class Potential(NamedTuple):
     dish: float = 80.0
     near: float = 40.0
     spoiled: float = 20.0
-    fetch: float = 10.0
+    fetch: float = 5.0
 
 
 class Tables(NamedTuple):
@@ -171,14 +178,16 @@ def potential(s: KitchenState, near: Tables, w: Potential = Potential()) -> Any:
 
 
 def shaping_step(env: Any, before: KitchenState, after: KitchenState, done: Any,
-                 near: Any, w: Potential = Potential()) -> Any:
-    """``F = phi(after) - phi(before)`` for one step of ``env`` (a
+                 near: Tables, gamma: float = 1.0, w: Potential = Potential()) -> Any:
+    """``F = gamma * phi(after) - phi(before)`` for one step of ``env`` (a
     :class:`~ocplus_plan.sim.fast.jax_env.JaxKitchenEnv`; its states carry no params), with
     ``phi(after) = 0`` where the step ended the episode (``after`` is then the next
-    episode's first state and is not used)."""
+    episode's first state and is not used). With the learner's discount as ``gamma`` the
+    discounted sum of ``F`` over an episode is ``-phi(s_0) = 0``: holding a high potential
+    is not worth more than cashing it in."""
     phi_before = potential(env.kitchen_state(before), near, w)
     phi_after = potential(env.kitchen_state(after), near, w)
-    return jnp.where(done, 0.0, phi_after) - phi_before
+    return jnp.where(done, 0.0, gamma * phi_after) - phi_before
 
 
 __all__ = ["Potential", "Tables", "tables", "jax", "potential", "shaping_step"]
