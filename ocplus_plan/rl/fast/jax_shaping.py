@@ -27,7 +27,8 @@ held clean plate ``carry``, for a held plate whose contents equal an open order'
 ``dish + near * closeness`` (closeness: 1 next to a serving window, 0 at the farthest floor
 cell), and ``-spoiled`` for a plate holding what no open order fits (without a trash can
 it serves nothing until such an order comes). A burnt steak or a dirty plate is worth 0.
-An ingredient no open order needs costs ``carry`` while held (a busy hand). Per cook with
+An ingredient no open order needs costs ``busy`` while held. (``spoiled`` and ``busy`` are
+0 by default: with them the cooks of some training seeds learned to touch nothing.) Per cook with
 free hands, ``fetch`` times its closeness to the next thing to fetch: the nearest needed
 fresh ingredient, or a clean plate once a needed ingredient is ready; with a clean plate
 in hand, the nearest needed ready ingredient.
@@ -68,7 +69,8 @@ class Potential(NamedTuple):
     plated: float = 60.0
     dish: float = 80.0
     near: float = 40.0
-    spoiled: float = 20.0
+    spoiled: float = 0.0
+    busy: float = 0.0
     fetch: float = 5.0
 
 
@@ -152,7 +154,7 @@ def potential(s: KitchenState, near: Tables, w: Potential = Potential()) -> Any:
                   jnp.where(staged, w.stage + w.work * progress,
                             jnp.where(held & raw, w.carry, 0.0))))
     total = jnp.sum(jnp.where(needed | plated, value, 0.0)) \
-        - w.carry * jnp.sum(ingredient & held & ~needed)  # a hand busy with what no order needs
+        - w.busy * jnp.sum(ingredient & held & ~needed)  # a hand busy with what no order needs
     # plates: one holding what no open order fits costs spoiled (easy has no trash to
     # empty it: it is lost until such an order comes); a clean one in a hand is worth
     # carry, a finished dish more near a window
