@@ -15,7 +15,8 @@ trainer's fixes, to show what each is worth:
 
 * ``shared``: one network for policy and value (no separate critic);
 * ``rules-reward``: the rules' reward (subtask payments included), no potential shaping;
-* ``in-step``: every kitchen starts its episode at the same step.
+* ``in-step``: every kitchen starts its episode at the same step;
+* ``before``: all four undone (and a constant learning rate): the trainer as it was.
 """
 
 from __future__ import annotations
@@ -33,7 +34,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 VARIANTS = {"full": {}, "shared": {"critic": False},
             "rules-reward": {"shaping": 0.0, "subtask_reward": True},
-            "in-step": {"desync": False}}
+            "in-step": {"desync": False},
+            "before": {"critic": False, "shaping": 0.0, "subtask_reward": True,
+                       "desync": False, "lr_final": 1.0}}
 
 
 def _commit() -> str:
