@@ -66,6 +66,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--timesteps", type=int, default=3_000_000)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--eval-seeds", type=int, default=20)
+    ap.add_argument("--ent-coef", type=float, default=0.01)
     ap.add_argument("--out", type=Path, default=ROOT / "runs" / "jax_easy")
     ap.add_argument("--record", type=Path,
                     default=ROOT / "experiments" / "results" / "bench_jax_easy.jsonl")
@@ -75,14 +76,15 @@ def main(argv: list[str] | None = None) -> int:
     from ocplus_plan.rl.fast.jax_ppo import PPOConfig, train_to_folder
 
     env = ocplus_plan.make_jax_env("easy", n_agents=1)
-    base = PPOConfig(n_envs=64, n_steps=64, n_epochs=2, hidden=128, lr=5e-4, ent_coef=0.01)
+    base = PPOConfig(n_envs=64, n_steps=64, n_epochs=2, hidden=128, lr=5e-4,
+                     ent_coef=args.ent_coef)
     config = base._replace(n_updates=max(1, args.timesteps // (64 * 64)),
                            **VARIANTS[args.variant])
-    out = args.out / args.variant / f"seed{args.seed}"
+    out = args.out / args.variant / f"ent{args.ent_coef}_seed{args.seed}"
     load0 = os.getloadavg()
     cpu0, t0 = time.process_time(), time.perf_counter()
     cli = (f"ocplus train --engine jax --preset easy --n-agents 1 --n-kitchens 64 --n-steps 64 "
-           f"--timesteps {args.timesteps} --n-epochs 2 --lr 5e-4 --ent-coef 0.01 "
+           f"--timesteps {args.timesteps} --n-epochs 2 --lr 5e-4 --ent-coef {args.ent_coef} "
            f"--hidden 128,128 --seed {args.seed} --out {out}")
     summary = train_to_folder(env, config, str(out), args.seed,
                               cli if args.variant == "full" else None, stream=sys.stderr)
