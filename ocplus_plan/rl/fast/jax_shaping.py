@@ -70,7 +70,7 @@ class Potential(NamedTuple):
     dish: float = 80.0
     near: float = 40.0
     spoiled: float = 0.0
-    busy: float = 10.0
+    busy: float = 0.0
     fetch: float = 5.0
 
 
