@@ -15,6 +15,7 @@ steps/s, reward per step, dishes per finished episode) and writes a checkpoint
 
 from __future__ import annotations
 
+from functools import partial
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -93,6 +94,35 @@ def _adam(params: Any, grads: Any, opt: Any, lr: float) -> tuple[Any, Any]:
     return params, (m, v, t)
 
 
+def _gae(config: PPOConfig, values: Any, rewards: Any, dones: Any, last: Any,
+         ) -> tuple[Any, Any]:
+    """(advantages, returns) by GAE over a rollout (a done step bootstraps nothing)."""
+    def back(carry: tuple, xs: tuple) -> tuple:
+        adv, next_v = carry
+        v, r, d = xs
+        nonterminal = 1.0 - d[:, None]
+        delta = r[:, None] + config.gamma * next_v * nonterminal - v
+        adv = delta + config.gamma * config.gae_lambda * nonterminal * adv
+        return (adv, v), adv
+
+    _, adv = jax.lax.scan(back, (jnp.zeros_like(last), last), (values, rewards, dones),
+                          reverse=True)
+    return adv, adv + values
+
+def _loss(config: PPOConfig, params: Any, batch: tuple) -> Any:
+    """Clipped PPO loss of one minibatch, advantages normalised within it."""
+    x, act, old_logp, adv, ret = batch
+    logits, value = forward(params, x)
+    logp_all = jax.nn.log_softmax(logits)
+    logp = jnp.take_along_axis(logp_all, act[..., None], -1)[..., 0]
+    ratio = jnp.exp(logp - old_logp)
+    adv = (adv - adv.mean()) / (adv.std() + 1e-8)
+    pg = -jnp.minimum(ratio * adv, jnp.clip(ratio, 1 - config.clip, 1 + config.clip) * adv)
+    entropy = -(jnp.exp(logp_all) * logp_all).sum(-1)
+    return pg.mean() + config.vf_coef * ((value - ret) ** 2).mean() \
+        - config.ent_coef * entropy.mean()
+
+
 def make_train(env: Any, config: PPOConfig) -> Any:
     """``train(key) -> (params, mean team reward per update)``: the whole run, jittable."""
     init, run = make_chunks(env, config, config.n_updates)
@@ -147,38 +177,13 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         frac = jnp.minimum(1.0, t / total)
         return config.lr * (1.0 - (1.0 - config.lr_final) * frac)
 
-    def gae(values: Any, rewards: Any, dones: Any, last: Any) -> tuple[Any, Any]:
-        def back(carry: tuple, xs: tuple) -> tuple:
-            adv, next_v = carry
-            v, r, d = xs
-            nonterminal = 1.0 - d[:, None]
-            delta = r[:, None] + config.gamma * next_v * nonterminal - v
-            adv = delta + config.gamma * config.gae_lambda * nonterminal * adv
-            return (adv, v), adv
-
-        _, adv = jax.lax.scan(back, (jnp.zeros_like(last), last), (values, rewards, dones),
-                              reverse=True)
-        return adv, adv + values
-
-    def loss(params: Any, batch: tuple) -> Any:
-        x, act, old_logp, adv, ret = batch
-        logits, value = forward(params, x)
-        logp_all = jax.nn.log_softmax(logits)
-        logp = jnp.take_along_axis(logp_all, act[..., None], -1)[..., 0]
-        ratio = jnp.exp(logp - old_logp)
-        adv = (adv - adv.mean()) / (adv.std() + 1e-8)
-        pg = -jnp.minimum(ratio * adv, jnp.clip(ratio, 1 - config.clip, 1 + config.clip) * adv)
-        entropy = -(jnp.exp(logp_all) * logp_all).sum(-1)
-        return pg.mean() + config.vf_coef * ((value - ret) ** 2).mean() \
-            - config.ent_coef * entropy.mean()
-
     def update(carry: tuple, _: Any) -> tuple:
         params, opt, state, obs, key = carry
         (params, state, obs, key), traj = jax.lax.scan(
             rollout, (params, state, obs, key), None, length=t_len)
         x, act, logp, value, r, done, dishes, (game, subtask, shaped, entropy) = traj
         _, last = forward(params, actor_inputs(obs))
-        adv, ret = gae(value, r, done.astype(jnp.float32), last)
+        adv, ret = _gae(config, value, r, done.astype(jnp.float32), last)
         flat = [a.reshape(t_len * e * n, *a.shape[3:]) for a in (x, act, logp, adv, ret)]
         size = t_len * e * n
         mb = size // config.n_minibatches
@@ -191,7 +196,7 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
 
             def minibatch(carry: tuple, batch: tuple) -> tuple:
                 params, opt = carry
-                grads = jax.grad(loss)(params, batch)
+                grads = jax.grad(partial(_loss, config))(params, batch)
                 return _adam(params, grads, opt, learning_rate(opt[2])), None
 
             (params, opt), _ = jax.lax.scan(minibatch, (params, opt), tuple(batches))
