@@ -67,6 +67,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--eval-seeds", type=int, default=20)
     ap.add_argument("--ent-coef", type=float, default=0.01)
+    ap.add_argument("--n-kitchens", type=int, default=64)
+    ap.add_argument("--n-steps", type=int, default=64)
     ap.add_argument("--out", type=Path, default=ROOT / "runs" / "jax_easy")
     ap.add_argument("--record", type=Path,
                     default=ROOT / "experiments" / "results" / "bench_jax_easy.jsonl")
@@ -76,14 +78,16 @@ def main(argv: list[str] | None = None) -> int:
     from ocplus_plan.rl.fast.jax_ppo import PPOConfig, train_to_folder
 
     env = ocplus_plan.make_jax_env("easy", n_agents=1)
-    base = PPOConfig(n_envs=64, n_steps=64, n_epochs=2, hidden=128, lr=5e-4,
-                     ent_coef=args.ent_coef)
-    config = base._replace(n_updates=max(1, args.timesteps // (64 * 64)),
+    base = PPOConfig(n_envs=args.n_kitchens, n_steps=args.n_steps, n_epochs=2, hidden=128,
+                     lr=5e-4, ent_coef=args.ent_coef)
+    config = base._replace(n_updates=max(1, args.timesteps // (args.n_kitchens * args.n_steps)),
                            **VARIANTS[args.variant])
-    out = args.out / args.variant / f"ent{args.ent_coef}_seed{args.seed}"
+    out = (args.out / args.variant
+           / f"k{args.n_kitchens}_n{args.n_steps}_ent{args.ent_coef}_seed{args.seed}")
     load0 = os.getloadavg()
     cpu0, t0 = time.process_time(), time.perf_counter()
-    cli = (f"ocplus train --engine jax --preset easy --n-agents 1 --n-kitchens 64 --n-steps 64 "
+    cli = (f"ocplus train --engine jax --preset easy --n-agents 1 "
+           f"--n-kitchens {args.n_kitchens} --n-steps {args.n_steps} "
            f"--timesteps {args.timesteps} --n-epochs 2 --lr 5e-4 --ent-coef {args.ent_coef} "
            f"--hidden 128,128 --seed {args.seed} --out {out}")
     summary = train_to_folder(env, config, str(out), args.seed,
