@@ -1,15 +1,19 @@
 """A parameter-shared PPO whose whole update loop is one jitted function, over the JAX
 kitchen (:func:`ocplus_plan.make_jax_env`; the ``jax`` extra).
 
-Every cook is one actor of one shared MLP (its observation plus a one-hot of its index);
-a rollout steps ``n_envs`` kitchens ``n_steps`` times with ``vmap``, then GAE and
+Every cook is one actor of one shared policy MLP (its observation plus a one-hot of its
+index), valued by a separate critic MLP (``PPOConfig.critic``). The reward it learns from
+is the rules' reward without the subtask payment plus potential-based shaping
+(:mod:`ocplus_plan.rl.fast.jax_shaping`); the kitchens' clocks start at different steps
+(:func:`desync`) and the learning rate decays linearly to ``lr_final``. A rollout steps ``n_envs`` kitchens ``n_steps`` times with ``vmap``, then GAE and
 ``n_epochs`` passes of clipped-PPO minibatch updates; ``lax.scan`` runs ``n_updates``
 such updates inside one ``jit``. The network and Adam are written out in ``jax.numpy``
 (no flax or optax). :func:`save_npz` writes the weights as a ``.npz``.
 
 :func:`train_to_folder` (``ocplus train --engine jax``) runs the updates in jitted chunks
 (:func:`make_chunks`): after each it prints a progress line (updates, agent-steps,
-steps/s, reward per step, dishes per finished episode) and writes a checkpoint
+steps/s, reward per step, dishes per finished episode, subtasks per episode, policy
+entropy) and writes a checkpoint
 (``OUT/checkpoints/update_NNNNNN.npz`` with its ``train.json``).
 """
 
