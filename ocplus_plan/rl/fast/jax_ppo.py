@@ -1,25 +1,31 @@
 """A parameter-shared PPO whose whole update loop is one jitted function, over the JAX
 kitchen (:func:`ocplus_plan.make_jax_env`; the ``jax`` extra).
 
-Every cook is one actor of one shared MLP (its observation plus a one-hot of its index);
-a rollout steps ``n_envs`` kitchens ``n_steps`` times with ``vmap``, then GAE and
+Every cook is one actor of one shared policy MLP (its observation plus a one-hot of its
+index), valued by a separate critic MLP (``PPOConfig.critic``). The reward it learns from
+is the rules' reward without the subtask payment plus potential-based shaping
+(:mod:`ocplus_plan.rl.fast.jax_shaping`); the kitchens' clocks start at different steps
+(:func:`desync`) and the learning rate decays linearly to ``lr_final``. A rollout steps ``n_envs`` kitchens ``n_steps`` times with ``vmap``, then GAE and
 ``n_epochs`` passes of clipped-PPO minibatch updates; ``lax.scan`` runs ``n_updates``
 such updates inside one ``jit``. The network and Adam are written out in ``jax.numpy``
 (no flax or optax). :func:`save_npz` writes the weights as a ``.npz``.
 
 :func:`train_to_folder` (``ocplus train --engine jax``) runs the updates in jitted chunks
 (:func:`make_chunks`): after each it prints a progress line (updates, agent-steps,
-steps/s, reward per step, dishes per finished episode) and writes a checkpoint
+steps/s, reward per step, dishes per finished episode, subtasks per episode, policy
+entropy) and writes a checkpoint
 (``OUT/checkpoints/update_NNNNNN.npz`` with its ``train.json``).
 """
 
 from __future__ import annotations
 
+from functools import partial
 from typing import Any, NamedTuple
 
 import numpy as np
 
-from ...sim.fast.jax_kitchen import jax, jnp
+from ...sim.fast.jax_kitchen import P_HORIZON, jax, jnp
+from .jax_shaping import shaping_step, tables
 
 
 class PPOConfig(NamedTuple):
@@ -36,22 +42,49 @@ class PPOConfig(NamedTuple):
     ent_coef: float = 0.01
     vf_coef: float = 0.5
     reward_scale: float = 0.02
+    #: the learning rate decays linearly to this fraction of ``lr`` over ``n_updates``
+    lr_final: float = 0.1
+    #: weight of the potential-based shaping (rl/fast/jax_shaping.py); 0: none
+    shaping: float = 1.0
+    #: keep the rules' subtask payment (``infos["shaped_reward"]``) in the training reward
+    subtask_reward: bool = False
+    #: start the kitchens' clocks at different steps (:func:`desync`), so one rollout
+    #: does not see every kitchen at the same phase of its episode
+    desync: bool = True
+    #: a separate value network (not saved: the policy.npz holds the actor)
+    critic: bool = True
 
 
-def init_params(key: Any, n_in: int, hidden: int, n_actions: int = 5) -> dict[str, Any]:
+def init_params(key: Any, n_in: int, hidden: int, n_actions: int = 5,
+                critic: bool = False) -> dict[str, Any]:
+    """The MLP ``w0 b0 w1 b1 w2 b2`` (logits, then a value column); with ``critic`` also a
+    separate value MLP ``v0 c0 v1 c1 v2 c2``, which :func:`forward` then reads the value
+    from (the actor's value column stays unused)."""
     sizes = [(n_in, hidden), (hidden, hidden), (hidden, n_actions + 1)]
     keys = jax.random.split(key, len(sizes))
-    return {f"w{i}": jax.random.normal(k, s) * jnp.sqrt(1.0 / s[0]) for i, (k, s)
-            in enumerate(zip(keys, sizes))} | {f"b{i}": jnp.zeros(s[1]) for i, s in
-                                                enumerate(sizes)}
+    params = {f"w{i}": jax.random.normal(k, s) * jnp.sqrt(1.0 / s[0]) for i, (k, s)
+              in enumerate(zip(keys, sizes))} | {f"b{i}": jnp.zeros(s[1]) for i, s in
+                                                  enumerate(sizes)}
+    if critic:
+        sizes[-1] = (hidden, 1)
+        keys = jax.random.split(jax.random.fold_in(key, 1), len(sizes))
+        params |= {f"v{i}": jax.random.normal(k, s) * jnp.sqrt(1.0 / s[0]) for i, (k, s)
+                   in enumerate(zip(keys, sizes))}
+        params |= {f"c{i}": jnp.zeros(s[1]) for i, s in enumerate(sizes)}
+    return params
+
+
+def _mlp(params: dict[str, Any], x: Any, w: str, b: str) -> Any:
+    h = jnp.tanh(x @ params[f"{w}0"] + params[f"{b}0"])
+    h = jnp.tanh(h @ params[f"{w}1"] + params[f"{b}1"])
+    return h @ params[f"{w}2"] + params[f"{b}2"]
 
 
 def forward(params: dict[str, Any], x: Any) -> tuple[Any, Any]:
     """(action logits, value) of observations ``x`` (``(..., n_in)``)."""
-    h = jnp.tanh(x @ params["w0"] + params["b0"])
-    h = jnp.tanh(h @ params["w1"] + params["b1"])
-    out = h @ params["w2"] + params["b2"]
-    return out[..., :-1], out[..., -1]
+    out = _mlp(params, x, "w", "b")
+    value = _mlp(params, x, "v", "c")[..., 0] if "v0" in params else out[..., -1]
+    return out[..., :-1], value
 
 
 def _adam(params: Any, grads: Any, opt: Any, lr: float) -> tuple[Any, Any]:
@@ -65,13 +98,42 @@ def _adam(params: Any, grads: Any, opt: Any, lr: float) -> tuple[Any, Any]:
     return params, (m, v, t)
 
 
+def _gae(config: PPOConfig, values: Any, rewards: Any, dones: Any, last: Any,
+         ) -> tuple[Any, Any]:
+    """(advantages, returns) by GAE over a rollout (a done step bootstraps nothing)."""
+    def back(carry: tuple, xs: tuple) -> tuple:
+        adv, next_v = carry
+        v, r, d = xs
+        nonterminal = 1.0 - d[:, None]
+        delta = r[:, None] + config.gamma * next_v * nonterminal - v
+        adv = delta + config.gamma * config.gae_lambda * nonterminal * adv
+        return (adv, v), adv
+
+    _, adv = jax.lax.scan(back, (jnp.zeros_like(last), last), (values, rewards, dones),
+                          reverse=True)
+    return adv, adv + values
+
+def _loss(config: PPOConfig, params: Any, batch: tuple) -> Any:
+    """Clipped PPO loss of one minibatch, advantages normalised within it."""
+    x, act, old_logp, adv, ret = batch
+    logits, value = forward(params, x)
+    logp_all = jax.nn.log_softmax(logits)
+    logp = jnp.take_along_axis(logp_all, act[..., None], -1)[..., 0]
+    ratio = jnp.exp(logp - old_logp)
+    adv = (adv - adv.mean()) / (adv.std() + 1e-8)
+    pg = -jnp.minimum(ratio * adv, jnp.clip(ratio, 1 - config.clip, 1 + config.clip) * adv)
+    entropy = -(jnp.exp(logp_all) * logp_all).sum(-1)
+    return pg.mean() + config.vf_coef * ((value - ret) ** 2).mean() \
+        - config.ent_coef * entropy.mean()
+
+
 def make_train(env: Any, config: PPOConfig) -> Any:
     """``train(key) -> (params, mean team reward per update)``: the whole run, jittable."""
     init, run = make_chunks(env, config, config.n_updates)
 
     def train(key: Any) -> tuple[Any, Any]:
-        carry, (rewards, _) = run(init(key))
-        return carry[0], rewards
+        carry, metrics = run(init(key))
+        return carry[0], metrics["reward"]
 
     return train
 
@@ -81,11 +143,16 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
     episode) per update))``: ``run`` does ``chunk`` updates; both jittable, and ``carry[0]``
     is the parameters."""
     n, e, t_len = env.num_agents, config.n_envs, config.n_steps
+    horizon = int(env.params.ints[P_HORIZON])
+    subtask_value = float(env.rules.rewards.subtask_finished) or 1.0
     agent_ids = jnp.eye(n)
 
     def actor_inputs(obs: dict[str, Any]) -> Any:  # (E, N, D + N)
         x = jnp.stack([obs[a] for a in env.agents], 1)
         return jnp.concatenate([x, jnp.broadcast_to(agent_ids, (x.shape[0], n, n))], 2)
+
+    near = jax.tree_util.tree_map(jnp.asarray, tables(env.params))
+    shape = jax.vmap(lambda b, a, d: shaping_step(env, b, a, d, near, config.gamma))
 
     def rollout(carry: tuple, _: Any) -> tuple:
         params, state, obs, key = carry
@@ -93,46 +160,34 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         x = actor_inputs(obs)
         logits, value = forward(params, x)
         act = jax.random.categorical(k_act, logits)
-        logp = jnp.take_along_axis(jax.nn.log_softmax(logits), act[..., None], -1)[..., 0]
-        acts = {a: act[:, i] for i, a in enumerate(env.agents)}
-        obs, state, rew, dones, info = jax.vmap(env.step)(jax.random.split(k_step, e), state,
-                                                          acts)
-        r = rew[env.agents[0]] * config.reward_scale
-        step = (x, act, logp, value, r, dones["__all__"], info["dishes"][:, 0])
-        return (params, state, obs, key), step
-
-    def gae(values: Any, rewards: Any, dones: Any, last: Any) -> tuple[Any, Any]:
-        def back(carry: tuple, xs: tuple) -> tuple:
-            adv, next_v = carry
-            v, r, d = xs
-            nonterminal = 1.0 - d[:, None]
-            delta = r[:, None] + config.gamma * next_v * nonterminal - v
-            adv = delta + config.gamma * config.gae_lambda * nonterminal * adv
-            return (adv, v), adv
-
-        _, adv = jax.lax.scan(back, (jnp.zeros_like(last), last), (values, rewards, dones),
-                              reverse=True)
-        return adv, adv + values
-
-    def loss(params: Any, batch: tuple) -> Any:
-        x, act, old_logp, adv, ret = batch
-        logits, value = forward(params, x)
         logp_all = jax.nn.log_softmax(logits)
         logp = jnp.take_along_axis(logp_all, act[..., None], -1)[..., 0]
-        ratio = jnp.exp(logp - old_logp)
-        adv = (adv - adv.mean()) / (adv.std() + 1e-8)
-        pg = -jnp.minimum(ratio * adv, jnp.clip(ratio, 1 - config.clip, 1 + config.clip) * adv)
-        entropy = -(jnp.exp(logp_all) * logp_all).sum(-1)
-        return pg.mean() + config.vf_coef * ((value - ret) ** 2).mean() \
-            - config.ent_coef * entropy.mean()
+        acts = {a: act[:, i] for i, a in enumerate(env.agents)}
+        before = state
+        obs, state, rew, dones, info = jax.vmap(env.step)(jax.random.split(k_step, e), state,
+                                                          acts)
+        game = rew[env.agents[0]]
+        subtask = info["shaped_reward"][env.agents[0]]
+        shaped = shape(before, state, dones["__all__"]) if config.shaping else 0.0 * game
+        r = game - (0.0 if config.subtask_reward else subtask) + config.shaping * shaped
+        entropy = -(jnp.exp(logp_all) * logp_all).sum(-1).mean()
+        step = (x, act, logp, value, r * config.reward_scale, dones["__all__"],
+                info["dishes"][:, 0], (game, subtask, shaped, entropy))
+        return (params, state, obs, key), step
+
+    total = max(1, config.n_updates * config.n_epochs * config.n_minibatches)
+
+    def learning_rate(t: Any) -> Any:  # linear decay to lr_final x lr over the run
+        frac = jnp.minimum(1.0, t / total)
+        return config.lr * (1.0 - (1.0 - config.lr_final) * frac)
 
     def update(carry: tuple, _: Any) -> tuple:
         params, opt, state, obs, key = carry
         (params, state, obs, key), traj = jax.lax.scan(
             rollout, (params, state, obs, key), None, length=t_len)
-        x, act, logp, value, r, done, dishes = traj
+        x, act, logp, value, r, done, dishes, (game, subtask, shaped, entropy) = traj
         _, last = forward(params, actor_inputs(obs))
-        adv, ret = gae(value, r, done.astype(jnp.float32), last)
+        adv, ret = _gae(config, value, r, done.astype(jnp.float32), last)
         flat = [a.reshape(t_len * e * n, *a.shape[3:]) for a in (x, act, logp, adv, ret)]
         size = t_len * e * n
         mb = size // config.n_minibatches
@@ -145,8 +200,8 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
 
             def minibatch(carry: tuple, batch: tuple) -> tuple:
                 params, opt = carry
-                grads = jax.grad(loss)(params, batch)
-                return _adam(params, grads, opt, config.lr), None
+                grads = jax.grad(partial(_loss, config))(params, batch)
+                return _adam(params, grads, opt, learning_rate(opt[2])), None
 
             (params, opt), _ = jax.lax.scan(minibatch, (params, opt), tuple(batches))
             return (params, opt, key), None
@@ -154,13 +209,23 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         (params, opt, key), _ = jax.lax.scan(epoch, (params, opt, key), None,
                                              length=config.n_epochs)
         ended = done.sum()
-        served = jnp.where(ended > 0, (dishes * done).sum() / jnp.maximum(ended, 1), jnp.nan)
-        return (params, opt, state, obs, key), (r.mean() / config.reward_scale, served)
+
+        def per_episode(v: Any) -> Any:
+            return jnp.where(ended > 0, (v * done).sum() / jnp.maximum(ended, 1), jnp.nan)
+
+        # subtasks (chops, cooks, washes) finished per horizon of steps, at this rollout's rate
+        metrics = {"reward": game.mean(), "dishes": per_episode(dishes),
+                   "subtasks": subtask.mean() * horizon / subtask_value,
+                   "shaping": shaped.mean(), "entropy": entropy.mean()}
+        return (params, opt, state, obs, key), metrics
 
     def init(key: Any) -> tuple:
-        k_init, k_reset, key = jax.random.split(key, 3)
+        k_init, k_reset, k_warm, key = jax.random.split(key, 4)
         obs, state = jax.vmap(env.reset)(jax.random.split(k_reset, e))
-        params = init_params(k_init, env.obs_size + n, config.hidden)
+        if config.desync:
+            obs, state = desync(env, state, k_warm)
+        params = init_params(k_init, env.obs_size + n, config.hidden,
+                             critic=config.critic)
         zeros = jax.tree_util.tree_map(jnp.zeros_like, params)
         return (params, (zeros, zeros, 0), state, obs, key)
 
@@ -170,13 +235,30 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
     return init, run
 
 
+def desync(env: Any, state: Any, key: Any) -> tuple[Any, Any]:
+    """(observations, states) of a batch of fresh kitchens whose clocks start at
+    ``offset_e`` (drawn in 0 .. horizon - 1; the open orders and the next layout switch
+    shifted with them), so their first episodes are cut short and the kitchens' episodes
+    end at different steps of a rollout."""
+    horizon = int(env.params.ints[P_HORIZON])
+    offset = jax.random.randint(key, state.t.shape, 0, horizon).astype(state.t.dtype)
+    col = offset[:, None]
+    state = state._replace(
+        t=state.t + offset, next_switch=state.next_switch + offset,
+        order_created=state.order_created + col,
+        order_deadline=jnp.where(state.order_deadline >= 0, state.order_deadline + col, -1))
+    return jax.vmap(env.get_obs)(state), state
+
+
 def agent_steps(config: PPOConfig, n_agents: int) -> int:
     """Agent-steps one ``train`` call collects."""
     return config.n_updates * config.n_steps * config.n_envs * n_agents
 
 
 def save_npz(path: str, params: dict[str, Any]) -> None:
-    np.savez(path, **{k: np.asarray(v) for k, v in params.items()})
+    """The actor's weights ``w0 b0 w1 b1 w2 b2`` as a ``.npz`` (a separate critic is left
+    out: playing needs only the actor)."""
+    np.savez(path, **{k: np.asarray(v) for k, v in params.items() if k[0] in "wb"})
 
 
 def train_to_folder(env: Any, config: PPOConfig, out: str, seed: int = 0,
@@ -202,30 +284,40 @@ def train_to_folder(env: Any, config: PPOConfig, out: str, seed: int = 0,
     init, run = make_chunks(env, config, chunk)
     carry = jax.jit(init)(jax.random.PRNGKey(seed))
     run = jax.jit(run)
-    rewards: list[float] = []
-    dishes: list[float] = []
+    cpu0 = time.process_time()
+    planned = -(-config.n_updates // chunk) * chunk  # whole chunks: may pass n_updates
+    log: dict[str, list[float]] = {}
     done = 0
     while done < config.n_updates:
-        carry, (r, d) = jax.block_until_ready(run(carry))
+        carry, metrics = jax.block_until_ready(run(carry))
         done += chunk
-        rewards += [float(x) for x in np.asarray(r)]
-        dishes += [float(x) for x in np.asarray(d)]
+        for name, values in metrics.items():
+            log.setdefault(name, []).extend(float(x) for x in np.asarray(values))
         save_npz(str(folder / "checkpoints" / f"update_{done:06d}.npz"), carry[0])
         if stream is not None:
             wall = time.perf_counter() - t0
-            recent = [x for x in dishes[-chunk:] if x == x]
-            print(f"update {done}/{config.n_updates * 1}  {done * per_update} agent-steps  "
-                  f"{done * per_update / wall:.0f} steps/s  reward/step {rewards[-1]:.3f}  "
+            recent = [x for x in log["dishes"][-chunk:] if x == x]
+            print(f"update {done}/{planned}  {done * per_update} agent-steps  "
+                  f"{done * per_update / wall:.0f} steps/s  reward/step {log['reward'][-1]:.3f}  "
                   f"dishes/episode {np.mean(recent) if recent else float('nan'):.2f}  "
-                  f"{wall:.0f}s", file=stream, flush=True)
+                  f"subtasks/episode {log['subtasks'][-1]:.2f}  "
+                  f"entropy {log['entropy'][-1]:.2f}  {wall:.0f}s", file=stream, flush=True)
     wall = time.perf_counter() - t0
     save_npz(str(folder / "policy.npz"), carry[0])
     steps = done * per_update
+
+    def rounded(values: list[float]) -> list[float | None]:
+        return [None if v != v else round(v, 4) for v in values]
+
     summary = {
         **record, "policy": str(folder / "policy.npz"), "timesteps": steps,
-        "wall_time_s": round(wall, 1), "steps_per_s": round(steps / wall, 1),
-        "team_reward_per_step_by_update": [round(r, 4) for r in rewards],
-        "dishes_per_episode_by_update": [None if d != d else round(d, 3) for d in dishes],
+        "wall_time_s": round(wall, 1), "cpu_time_s": round(time.process_time() - cpu0, 1),
+        "steps_per_s": round(steps / wall, 1),
+        "team_reward_per_step_by_update": rounded(log["reward"]),
+        "dishes_per_episode_by_update": rounded(log["dishes"]),
+        "subtasks_per_episode_by_update": rounded(log["subtasks"]),
+        "shaping_per_step_by_update": rounded(log["shaping"]),
+        "entropy_by_update": rounded(log["entropy"]),
         "device": str(jax.devices()[0].device_kind),
     }
     (folder / "train.json").write_text(json.dumps(summary, indent=2) + "\n")
