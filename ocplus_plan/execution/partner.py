@@ -20,11 +20,11 @@ will bump next and the walk it takes there. The executive uses it three ways:
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, replace
 
 from ..sim.codes import Cell, ItemState, Where
-from ..sim.queries import Bump, bump_effect, distances
+from ..sim.queries import Bump, bump_effect, distances, interaction_spots
 from ..sim.state import Geometry, State
 from .plans import PlanFunction, PlanOutcome, PlanStep
 from .tasks import Task
@@ -270,7 +270,7 @@ def vacate(state: State, queues: Mapping[int, deque[Task]], predictions: Mapping
         users = [t for q in queues.values() for t in q if item in t.step.items]
         if not users or any(t.step.kind == "chop" for t in users):
             continue
-        spots = [n for n in geo.neighbors[cell] if n >= 0 and walk[n]]
+        spots = interaction_spots(geo.neighbors, walk, cell)
         free = [a for a, q in queues.items() if state.agent_hand[a] < 0
                 and not (q and q[0].step.kind != "goto" and q[0].bumps)]
         reach = {a: distances(geo.neighbors, walk, [state.agent_pos[a]]) for a in free}
@@ -309,21 +309,25 @@ def shut_out(state: State, spots: list[int], predictions: Mapping[int, Predictio
     return bool(spots) and all(n in still for n in spots)
 
 
-def _free_counter(state: State, reach: list[int], near: int) -> int | None:
-    """The free plain counter nearest ``near`` that a cook with distances ``reach`` works."""
+def _free_counters(state: State, reach: list[int]) -> Iterator[tuple[int, list[int], int]]:
+    """(counter, the floor cells it is worked from, steps to the nearest of them) of every
+    free plain counter that a cook with walking distances ``reach`` works, in cell order."""
     geo = state.geo
     walk, counter = geo.walkables[state.layout_index], int(Cell.COUNTER)
-    rn, cn = geo.rc(near)
-    best = None
     for c, code in enumerate(geo.terrains[state.layout_index]):
         if code != counter or state.cell_item[c] >= 0:
             continue
-        d = min((reach[n] for n in geo.neighbors[c] if n >= 0 and walk[n] and reach[n] >= 0),
-                default=-1)
+        spots = interaction_spots(geo.neighbors, walk, c)
+        d = min((reach[n] for n in spots if reach[n] >= 0), default=-1)
         if d >= 0:
-            r, k = geo.rc(c)
-            key = (abs(r - rn) + abs(k - cn), d, c)
-            best = key if best is None or key < best else best
+            yield c, spots, d
+
+
+def _free_counter(state: State, reach: list[int], near: int) -> int | None:
+    """The free plain counter nearest ``near`` that a cook with distances ``reach`` works."""
+    rn, cn = state.geo.rc(near)
+    best = min(((abs(r - rn) + abs(k - cn), d, c) for c, _spots, d in _free_counters(state, reach)
+                for r, k in [state.geo.rc(c)]), default=None)
     return None if best is None else best[2]
 
 
@@ -344,18 +348,12 @@ def hand_off(state: State, cook: int, index: int) -> list[Task]:
     if held < 0:
         return []
     geo = state.geo
-    walk, counter = geo.walkables[state.layout_index], int(Cell.COUNTER)
+    walk = geo.walkables[state.layout_index]
     mine = distances(geo.neighbors, walk, [state.agent_pos[cook]])
     theirs = distances(geo.neighbors, walk, [p for b, p in enumerate(state.agent_pos)
                                              if b != cook])
-    best = None
-    for c, code in enumerate(geo.terrains[state.layout_index]):
-        if code != counter or state.cell_item[c] >= 0:
-            continue
-        spots = [n for n in geo.neighbors[c] if n >= 0 and walk[n]]
-        d = min((mine[n] for n in spots if mine[n] >= 0), default=-1)
-        if d >= 0 and any(theirs[n] >= 0 for n in spots) and (best is None or d < best[0]):
-            best = (d, c)
+    best = min(((d, c) for c, spots, d in _free_counters(state, mine)
+                if any(theirs[n] >= 0 for n in spots)), default=None)
     if best is None:
         return []
     steps = [Task(PlanStep(index, cook, "putdown", best[1], (held,)), frozenset())]
@@ -370,7 +368,7 @@ def _out_of_the_way(state: State, cook: int, counter: int) -> int | None:
     on which it leaves the other cooks a way to the counter (None: no such cell)."""
     geo = state.geo
     walk = geo.walkables[state.layout_index]
-    spots = [n for n in geo.neighbors[counter] if n >= 0 and walk[n]]
+    spots = interaction_spots(geo.neighbors, walk, counter)
     mine = distances(geo.neighbors, walk, [state.agent_pos[cook]])
     start = min((n for n in spots if mine[n] >= 0), key=lambda n: mine[n], default=None)
     if start is None:
