@@ -60,18 +60,19 @@ def init_params(key: Any, n_in: int, hidden: int, n_actions: int = 5,
     """The MLP ``w0 b0 w1 b1 w2 b2`` (logits, then a value column); with ``critic`` also a
     separate value MLP ``v0 c0 v1 c1 v2 c2``, which :func:`forward` then reads the value
     from (the actor's value column stays unused)."""
-    sizes = [(n_in, hidden), (hidden, hidden), (hidden, n_actions + 1)]
-    keys = jax.random.split(key, len(sizes))
-    params = {f"w{i}": jax.random.normal(k, s) * jnp.sqrt(1.0 / s[0]) for i, (k, s)
-              in enumerate(zip(keys, sizes))} | {f"b{i}": jnp.zeros(s[1]) for i, s in
-                                                  enumerate(sizes)}
+    params = _dense(key, [(n_in, hidden), (hidden, hidden), (hidden, n_actions + 1)], "w", "b")
     if critic:
-        sizes[-1] = (hidden, 1)
-        keys = jax.random.split(jax.random.fold_in(key, 1), len(sizes))
-        params |= {f"v{i}": jax.random.normal(k, s) * jnp.sqrt(1.0 / s[0]) for i, (k, s)
-                   in enumerate(zip(keys, sizes))}
-        params |= {f"c{i}": jnp.zeros(s[1]) for i, s in enumerate(sizes)}
+        params |= _dense(jax.random.fold_in(key, 1),
+                         [(n_in, hidden), (hidden, hidden), (hidden, 1)], "v", "c")
     return params
+
+
+def _dense(key: Any, sizes: list[tuple[int, int]], w: str, b: str) -> dict[str, Any]:
+    """Layers ``{w}i`` (scaled normal) and ``{b}i`` (zeros) of the given sizes."""
+    keys = jax.random.split(key, len(sizes))
+    return {f"{w}{i}": jax.random.normal(k, s) * jnp.sqrt(1.0 / s[0])
+            for i, (k, s) in enumerate(zip(keys, sizes))} | {
+                f"{b}{i}": jnp.zeros(s[1]) for i, s in enumerate(sizes)}
 
 
 def _mlp(params: dict[str, Any], x: Any, w: str, b: str) -> Any:

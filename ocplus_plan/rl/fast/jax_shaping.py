@@ -57,6 +57,7 @@ from ...sim.fast.jax_kitchen import (
     jax,
     jnp,
 )
+from ...sim.grid import distances, interaction_spots
 
 
 class Potential(NamedTuple):
@@ -86,38 +87,25 @@ def _closeness(dist: np.ndarray) -> np.ndarray:
     return np.where(dist >= 0, 1.0 - dist / far, 0.0).astype(np.float32)
 
 
-def _distances(walk: np.ndarray, sources: list[int]) -> np.ndarray:
-    """Steps from the nearest of ``sources`` over walkable cells (-1: unreachable)."""
-    dist = np.full(CELLS, -1, np.int64)
-    frontier = sorted(set(sources))
-    for c in frontier:
-        dist[c] = 0
-    while frontier:
-        nxt = []
-        for c in frontier:
-            for n in _NBRS[c]:
-                if n >= 0 and walk[n] and dist[n] < 0:
-                    dist[n] = dist[c] + 1
-                    nxt.append(int(n))
-        frontier = nxt
-    return dist
-
-
 def tables(params: Params) -> Tables:
     """Per layout: each cell's closeness (1 next to the target, falling linearly with the
     walking distance to 0 at the farthest reachable cell, 0 where unreachable) to a serving
     window, and to each cell (a counter a cook bumps: closeness to a floor cell beside it)."""
     terrain, walk = np.asarray(params.terrain), np.asarray(params.walk)
+    nbrs = _NBRS.tolist()
     window = np.zeros(terrain.shape, np.float32)
     reach = np.zeros((terrain.shape[0], CELLS, CELLS), np.float32)
     for k in range(terrain.shape[0]):
-        def spots(cells: Any) -> list[int]:
-            return [int(n) for c in cells for n in _NBRS[c] if n >= 0 and walk[k, n]]
+        open_ = walk[k].tolist()
 
-        window[k] = _closeness(_distances(walk[k], spots(np.flatnonzero(terrain[k] == _DELIVERY))))
+        def closeness(cells: Any) -> np.ndarray:  # from the cells a cook bumps them from
+            spots = [n for c in cells for n in interaction_spots(nbrs, open_, int(c))]
+            return _closeness(np.asarray(distances(nbrs, open_, spots)))
+
+        window[k] = closeness(np.flatnonzero(terrain[k] == _DELIVERY))
         for target in range(CELLS):
-            if not walk[k, target] and spots([target]):
-                reach[k, :, target] = _closeness(_distances(walk[k], spots([target])))
+            if not open_[target] and interaction_spots(nbrs, open_, target):
+                reach[k, :, target] = closeness([target])
     return Tables(window, reach)
 
 
