@@ -4,19 +4,21 @@
       nice -n 10 python experiments/bench_jax_easy.py --variant full --out runs/jax_easy
 
 trains the JAX PPO on easy with 1 cook (64 kitchens, 64-step rollouts, 2 epochs, lr 5e-4,
-entropy 0.01, 128x128; with ``--variant full`` the same run as ``ocplus train --engine jax
---preset easy --n-agents 1 --n-kitchens 64 --n-steps 64 --timesteps T --n-epochs 2 --lr
-5e-4 --ent-coef 0.01 --hidden 128,128 --seed S``), then plays the policy with the package's
-evaluation (``ocplus eval --preset easy --n-agents 1 --agents ppo:OUT/policy.npz@MODE
---seeds N --horizon 200``, sampled and argmax actions) and appends one JSON line to
-``--record``: command, commit, machine, load, agent-steps, wall and CPU seconds of the
-training, and dishes per 200-step episode. The other variants each undo one of the
-trainer's fixes, to show what each is worth:
+entropy 0.02, 128x128, order curriculum 0.5; with ``--variant full`` the same run as
+``ocplus train --engine jax --preset easy --n-agents 1 --n-kitchens 64 --n-steps 64
+--timesteps T --n-epochs 2 --lr 5e-4 --ent-coef 0.02 --hidden 128,128 --order-curriculum
+0.5 --seed S``), then plays the policy with the package's evaluation (``ocplus eval
+--preset easy --n-agents 1 --agents ppo:OUT/policy.npz@MODE --seeds N --horizon 200``,
+sampled and argmax actions) and appends one JSON line to ``--record``: command, commit,
+machine, load, agent-steps, wall and CPU seconds of the training, and dishes per 200-step
+episode. The other variants each undo one of the trainer's fixes, to show what each is
+worth:
 
 * ``shared``: one network for policy and value (no separate critic);
 * ``rules-reward``: the rules' reward (subtask payments included), no potential shaping;
 * ``in-step``: every kitchen starts its episode at the same step;
-* ``before``: all four undone (and a constant learning rate): the trainer as it was.
+* ``uniform-orders``: no order curriculum (orders drawn uniformly while training too);
+* ``before``: all five undone (and a constant learning rate): the trainer as it was.
 """
 
 from __future__ import annotations
@@ -35,8 +37,9 @@ ROOT = Path(__file__).resolve().parents[1]
 VARIANTS = {"full": {}, "shared": {"critic": False},
             "rules-reward": {"shaping": 0.0, "subtask_reward": True},
             "in-step": {"desync": False},
+            "uniform-orders": {"order_curriculum": 0.0},
             "before": {"critic": False, "shaping": 0.0, "subtask_reward": True,
-                       "desync": False, "lr_final": 1.0}}
+                       "desync": False, "lr_final": 1.0, "order_curriculum": 0.0}}
 
 
 def _commit() -> str:
@@ -66,8 +69,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--timesteps", type=int, default=3_000_000)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--eval-seeds", type=int, default=20)
-    ap.add_argument("--ent-coef", type=float, default=0.01)
+    ap.add_argument("--ent-coef", type=float, default=0.02)
     ap.add_argument("--n-kitchens", type=int, default=64)
+    ap.add_argument("--order-curriculum", type=float, default=None,
+                    help="PPOConfig.order_curriculum (default: the package's)")
     ap.add_argument("--n-steps", type=int, default=64)
     ap.add_argument("--out", type=Path, default=ROOT / "runs" / "jax_easy")
     ap.add_argument("--record", type=Path,
@@ -80,16 +85,20 @@ def main(argv: list[str] | None = None) -> int:
     env = ocplus_plan.make_jax_env("easy", n_agents=1)
     base = PPOConfig(n_envs=args.n_kitchens, n_steps=args.n_steps, n_epochs=2, hidden=128,
                      lr=5e-4, ent_coef=args.ent_coef)
+    if args.order_curriculum is not None:
+        base = base._replace(order_curriculum=args.order_curriculum)
     config = base._replace(n_updates=max(1, args.timesteps // (args.n_kitchens * args.n_steps)),
                            **VARIANTS[args.variant])
     out = (args.out / args.variant
-           / f"k{args.n_kitchens}_n{args.n_steps}_ent{args.ent_coef}_seed{args.seed}")
+           / f"k{args.n_kitchens}_n{args.n_steps}_ent{args.ent_coef}"
+           f"_oc{config.order_curriculum}_t{args.timesteps}_seed{args.seed}")
     load0 = os.getloadavg()
     cpu0, t0 = time.process_time(), time.perf_counter()
     cli = (f"ocplus train --engine jax --preset easy --n-agents 1 "
            f"--n-kitchens {args.n_kitchens} --n-steps {args.n_steps} "
            f"--timesteps {args.timesteps} --n-epochs 2 --lr 5e-4 --ent-coef {args.ent_coef} "
-           f"--hidden 128,128 --seed {args.seed} --out {out}")
+           f"--hidden 128,128 --order-curriculum {config.order_curriculum} --seed {args.seed} "
+           f"--out {out}")
     summary = train_to_folder(env, config, str(out), args.seed,
                               cli if args.variant == "full" else None, stream=sys.stderr)
     cpu, wall = time.process_time() - cpu0, time.perf_counter() - t0

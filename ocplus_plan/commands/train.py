@@ -72,6 +72,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "PRESET:R1/R2 restricts a preset's kitchen to those recipes, e.g. "
                         "medium:steak/tomato (one-ingredient orders teach the pan)")
     g.add_argument("--curriculum-fraction", type=_FRACTION, default=0.3)
+    g.add_argument("--order-curriculum", type=_FRACTION, default=None, metavar="STRENGTH",
+                   help="--engine jax: while training, new orders lean this much towards the "
+                        "recipes served least (default 0.5; 0: drawn as in evaluation)")
     g.add_argument("--init", default=None,
                    help="start from this checkpoint's weights (a .npz; an SB3 .zip needs "
                         "--trust-pickled-checkpoint)")
@@ -149,6 +152,8 @@ def _run_jax(args: argparse.Namespace) -> int:
                        n_updates=max(1, args.steps // per_update), n_epochs=args.n_epochs,
                        hidden=hidden.pop(), lr=args.lr, gamma=args.gamma,
                        ent_coef=args.ent_coef)
+    if args.order_curriculum is not None:
+        config = config._replace(order_curriculum=args.order_curriculum)
     command = "ocplus " + shlex.join(sys.argv[1:]) if sys.argv[1:2] == ["train"] else None
     summary = train_to_folder(env, config, args.out, args.seed, command,
                               stream=None if args.quiet else sys.stderr)
@@ -160,6 +165,11 @@ def _run_jax(args: argparse.Namespace) -> int:
 def run(args: argparse.Namespace) -> int:
     if args.engine == "jax":
         return _run_jax(args)
+    if args.order_curriculum is not None:
+        from ..errors import ConfigError
+
+        raise ConfigError("--order-curriculum is an option of --engine jax; the other engines "
+                          "take --curriculum")
     from ..rl.train import TrainConfig, train
 
     config = TrainConfig(

@@ -5,15 +5,17 @@ Every cook is one actor of one shared policy MLP (its observation plus a one-hot
 index), valued by a separate critic MLP (``PPOConfig.critic``). The reward it learns from
 is the rules' reward without the subtask payment plus potential-based shaping
 (:mod:`ocplus_plan.rl.fast.jax_shaping`); the kitchens' clocks start at different steps
-(:func:`desync`) and the learning rate decays linearly to ``lr_final``. A rollout steps ``n_envs`` kitchens ``n_steps`` times with ``vmap``, then GAE and
-``n_epochs`` passes of clipped-PPO minibatch updates; ``lax.scan`` runs ``n_updates``
-such updates inside one ``jit``. The network and Adam are written out in ``jax.numpy``
+(:func:`desync`), the learning rate decays linearly to ``lr_final``, and while training
+new orders lean towards the recipes the policy serves least (``order_curriculum``,
+:mod:`ocplus_plan.rl.fast.jax_orders`). A rollout steps ``n_envs`` kitchens ``n_steps``
+times with ``vmap``, then GAE and ``n_epochs`` passes of clipped-PPO minibatch updates;
+``lax.scan`` runs ``n_updates`` such updates inside one ``jit``. The network and Adam are written out in ``jax.numpy``
 (no flax or optax). :func:`save_npz` writes the weights as a ``.npz``.
 
 :func:`train_to_folder` (``ocplus train --engine jax``) runs the updates in jitted chunks
 (:func:`make_chunks`): after each it prints a progress line (updates, agent-steps,
 steps/s, reward per step, dishes per finished episode, subtasks per episode, policy
-entropy) and writes a checkpoint
+entropy, orders served per recipe) and writes a checkpoint
 (``OUT/checkpoints/update_NNNNNN.npz`` with its ``train.json``).
 """
 
@@ -25,6 +27,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ...sim.fast.jax_kitchen import P_HORIZON, jax, jnp
+from . import jax_orders
 from .jax_shaping import shaping_step, tables
 
 
@@ -53,6 +56,9 @@ class PPOConfig(NamedTuple):
     desync: bool = True
     #: a separate value network (not saved: the policy.npz holds the actor)
     critic: bool = True
+    #: the order curriculum's strength (rl/fast/jax_orders.py): new orders lean this much
+    #: towards the recipes served least; 0: drawn as in evaluation
+    order_curriculum: float = 0.5
 
 
 def init_params(key: Any, n_in: int, hidden: int, n_actions: int = 5,
@@ -128,6 +134,12 @@ def _loss(config: PPOConfig, params: Any, batch: tuple) -> Any:
         - config.ent_coef * entropy.mean()
 
 
+def _learning_rate(config: PPOConfig, t: Any) -> Any:
+    """The rate at Adam step ``t``: linear decay to ``lr_final x lr`` over the run."""
+    total = max(1, config.n_updates * config.n_epochs * config.n_minibatches)
+    return config.lr * (1.0 - (1.0 - config.lr_final) * jnp.minimum(1.0, t / total))
+
+
 def make_train(env: Any, config: PPOConfig) -> Any:
     """``train(key) -> (params, mean team reward per update)``: the whole run, jittable."""
     init, run = make_chunks(env, config, config.n_updates)
@@ -154,10 +166,12 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
 
     near = jax.tree_util.tree_map(jnp.asarray, tables(env.params))
     shape = jax.vmap(lambda b, a, d: shaping_step(env, b, a, d, near, config.gamma))
+    n_rec, r_max = jax_orders.n_recipes(env.params), int(env.params.recipes.shape[0])
+    orders = jax_orders.batch_step(env, config.order_curriculum > 0)
 
     def rollout(carry: tuple, _: Any) -> tuple:
-        params, state, obs, key = carry
-        key, k_act, k_step = jax.random.split(key, 3)
+        params, state, obs, key, probs = carry
+        key, k_act, k_step, k_draw = jax.random.split(key, 4)
         x = actor_inputs(obs)
         logits, value = forward(params, x)
         act = jax.random.categorical(k_act, logits)
@@ -167,26 +181,25 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         before = state
         obs, state, rew, dones, info = jax.vmap(env.step)(jax.random.split(k_step, e), state,
                                                           acts)
+        state, obs, served, drawn = orders(k_draw, before, state, dones["__all__"], obs,
+                                           probs)
         game = rew[env.agents[0]]
         subtask = info["shaped_reward"][env.agents[0]]
         shaped = shape(before, state, dones["__all__"]) if config.shaping else 0.0 * game
         r = game - (0.0 if config.subtask_reward else subtask) + config.shaping * shaped
         entropy = -(jnp.exp(logp_all) * logp_all).sum(-1).mean()
         step = (x, act, logp, value, r * config.reward_scale, dones["__all__"],
-                info["dishes"][:, 0], (game, subtask, shaped, entropy))
-        return (params, state, obs, key), step
-
-    total = max(1, config.n_updates * config.n_epochs * config.n_minibatches)
-
-    def learning_rate(t: Any) -> Any:  # linear decay to lr_final x lr over the run
-        frac = jnp.minimum(1.0, t / total)
-        return config.lr * (1.0 - (1.0 - config.lr_final) * frac)
+                info["dishes"][:, 0], (game, subtask, shaped, entropy, served, drawn))
+        return (params, state, obs, key, probs), step
 
     def update(carry: tuple, _: Any) -> tuple:
-        params, opt, state, obs, key = carry
-        (params, state, obs, key), traj = jax.lax.scan(
-            rollout, (params, state, obs, key), None, length=t_len)
-        x, act, logp, value, r, done, dishes, (game, subtask, shaped, entropy) = traj
+        params, opt, state, obs, key, rates = carry
+        probs = jax_orders.draw_probs(*rates, n_rec, config.order_curriculum)
+        (params, state, obs, key, _), traj = jax.lax.scan(
+            rollout, (params, state, obs, key, probs), None, length=t_len)
+        x, act, logp, value, r, done, dishes, (game, subtask, shaped, entropy, served,
+                                               drawn) = traj
+        rates = jax_orders.update_rates(rates, served.sum(0), drawn.sum(0))
         _, last = forward(params, actor_inputs(obs))
         adv, ret = _gae(config, value, r, done.astype(jnp.float32), last)
         flat = [a.reshape(t_len * e * n, *a.shape[3:]) for a in (x, act, logp, adv, ret)]
@@ -202,7 +215,7 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
             def minibatch(carry: tuple, batch: tuple) -> tuple:
                 params, opt = carry
                 grads = jax.grad(partial(_loss, config))(params, batch)
-                return _adam(params, grads, opt, learning_rate(opt[2])), None
+                return _adam(params, grads, opt, _learning_rate(config, opt[2])), None
 
             (params, opt), _ = jax.lax.scan(minibatch, (params, opt), tuple(batches))
             return (params, opt, key), None
@@ -217,8 +230,11 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         # subtasks (chops, cooks, washes) finished per horizon of steps, at this rollout's rate
         metrics = {"reward": game.mean(), "dishes": per_episode(dishes),
                    "subtasks": subtask.mean() * horizon / subtask_value,
-                   "shaping": shaped.mean(), "entropy": entropy.mean()}
-        return (params, opt, state, obs, key), metrics
+                   "shaping": shaped.mean(), "entropy": entropy.mean(),
+                   # per recipe: orders served per horizon of steps, and the draw's p_r
+                   "served_by_recipe": served.sum(0)[:n_rec] * horizon / (t_len * e),
+                   "order_probs": probs[:n_rec]}
+        return (params, opt, state, obs, key, rates), metrics
 
     def init(key: Any) -> tuple:
         k_init, k_reset, k_warm, key = jax.random.split(key, 4)
@@ -228,7 +244,8 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         params = init_params(k_init, env.obs_size + n, config.hidden,
                              critic=config.critic)
         zeros = jax.tree_util.tree_map(jnp.zeros_like, params)
-        return (params, (zeros, zeros, 0), state, obs, key)
+        rates = (jnp.zeros(r_max), jnp.zeros(r_max))
+        return (params, (zeros, zeros, 0), state, obs, key, rates)
 
     def run(carry: tuple) -> tuple:
         return jax.lax.scan(update, carry, None, length=chunk)
@@ -287,13 +304,13 @@ def train_to_folder(env: Any, config: PPOConfig, out: str, seed: int = 0,
     run = jax.jit(run)
     cpu0 = time.process_time()
     planned = -(-config.n_updates // chunk) * chunk  # whole chunks: may pass n_updates
-    log: dict[str, list[float]] = {}
+    log: dict[str, list[Any]] = {}
     done = 0
     while done < config.n_updates:
         carry, metrics = jax.block_until_ready(run(carry))
         done += chunk
         for name, values in metrics.items():
-            log.setdefault(name, []).extend(float(x) for x in np.asarray(values))
+            log.setdefault(name, []).extend(np.asarray(values, np.float64).tolist())
         save_npz(str(folder / "checkpoints" / f"update_{done:06d}.npz"), carry[0])
         if stream is not None:
             wall = time.perf_counter() - t0
@@ -302,7 +319,9 @@ def train_to_folder(env: Any, config: PPOConfig, out: str, seed: int = 0,
                   f"{done * per_update / wall:.0f} steps/s  reward/step {log['reward'][-1]:.3f}  "
                   f"dishes/episode {np.mean(recent) if recent else float('nan'):.2f}  "
                   f"subtasks/episode {log['subtasks'][-1]:.2f}  "
-                  f"entropy {log['entropy'][-1]:.2f}  {wall:.0f}s", file=stream, flush=True)
+                  f"entropy {log['entropy'][-1]:.2f}  served by recipe "
+                  f"{'/'.join(f'{x:.1f}' for x in log['served_by_recipe'][-1])}  "
+                  f"{wall:.0f}s", file=stream, flush=True)
     wall = time.perf_counter() - t0
     save_npz(str(folder / "policy.npz"), carry[0])
     steps = done * per_update
@@ -319,6 +338,9 @@ def train_to_folder(env: Any, config: PPOConfig, out: str, seed: int = 0,
         "subtasks_per_episode_by_update": rounded(log["subtasks"]),
         "shaping_per_step_by_update": rounded(log["shaping"]),
         "entropy_by_update": rounded(log["entropy"]),
+        "recipes": ["+".join(i.name.lower() for i in r) for r in env.rules.recipes],
+        "served_by_recipe_by_update": [rounded(v) for v in log["served_by_recipe"]],
+        "order_probs_by_update": [rounded(v) for v in log["order_probs"]],
         "device": str(jax.devices()[0].device_kind),
     }
     (folder / "train.json").write_text(json.dumps(summary, indent=2) + "\n")
