@@ -112,6 +112,8 @@ def main(argv: list[str] | None = None) -> int:
         "agent_steps": summary["timesteps"], "train_wall_s": round(wall, 1),
         "train_cpu_s": round(cpu, 1),
         "dishes_in_training_last_update": summary["dishes_per_episode_by_update"][-1],
+        "recipes": summary["recipes"],
+        "served_by_recipe_last_update": summary["served_by_recipe_by_update"][-1],
         "eval": {mode: _eval(out / "policy.npz", mode, args.eval_seeds, out)
                  for mode in ("sample", "greedy")},
     }

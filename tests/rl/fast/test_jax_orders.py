@@ -70,8 +70,9 @@ def test_only_new_orders_are_redrawn_and_fixed_orders_never(easy):
 
 
 def test_the_potential_is_the_same_for_equal_progress_on_either_order():
-    """One cook from (1,1) holds a fresh tomato (both orders ask for tomato) or a fresh
-    onion (both ask for onion): the same stage of either chain is worth the same."""
+    """One cook holds a fresh tomato at (1,2) (both orders ask for tomato) or a fresh onion
+    at (3,2) (both ask for onion), three steps from a board either way: the same stage of
+    either chain is worth the same."""
     env = ocplus_plan.make_jax_env("easy", n_agents=1, recipes=[["tomato"], ["onion"]],
                                    horizon=40)
     near = jax.tree_util.tree_map(jnp.asarray, tables(env.params))
@@ -79,7 +80,7 @@ def test_the_potential_is_the_same_for_equal_progress_on_either_order():
     phi = jax.jit(lambda s: potential(env.kitchen_state(s), near))
     first = env.reset(jax.random.PRNGKey(0))[1]
     values = []
-    for recipe, route in ((0, [0, 3]), (1, [1, 1, 0, 0, 0, 1])):  # R,U / D,D,R,R,R,D
+    for recipe, route in ((0, [0, 3]), (1, [1, 1, 0, 0, 0, 1, 2, 2])):  # R,U / D,D,R,R,R,D,L,L
         state = first._replace(order_recipe=jnp.full_like(first.order_recipe, recipe))
         for a in route:
             state = step(state, jnp.int32(a))

@@ -81,6 +81,14 @@ def test_each_stage_of_an_onion_dish_pays_and_serving_it_pays_the_rest(onion_env
     assert served_f < 0 and served_r + served_f > 0  # the potential is given back
 
 
+def test_carrying_a_needed_onion_towards_a_free_board_pays(onion_env):
+    """With the onion in hand the next place is a board: a step nearer one pays, a step
+    back costs (discounted, the two cancel out)."""
+    steps = play(onion_env, TO_ONION + [PICK, R, L])
+    nearer, back = steps[6][0], steps[7][0]
+    assert nearer > 0 and back < 0
+
+
 def test_an_onion_no_order_needs_costs_to_hold(onion_env):
     env = ocplus_plan.make_jax_env("easy", n_agents=1, recipes=[["tomato"]], horizon=40)
     steps = play(env, TO_ONION + [PICK, PUT])
