@@ -18,7 +18,10 @@ worth:
 * ``rules-reward``: the rules' reward (subtask payments included), no potential shaping;
 * ``in-step``: every kitchen starts its episode at the same step;
 * ``uniform-orders``: no order curriculum (orders drawn uniformly while training too);
-* ``before``: all five undone (and a constant learning rate): the trainer as it was.
+* ``no-subtask-start``: the subtask payment never paid (not even in the first half);
+* ``subtasks``: the subtask payment paid all along (not annealed);
+* ``before``: the trainer as it was: one network, the rules' reward, kitchens in step,
+  uniform orders, a constant learning rate.
 """
 
 from __future__ import annotations
@@ -38,6 +41,8 @@ VARIANTS = {"full": {}, "shared": {"critic": False},
             "rules-reward": {"shaping": 0.0, "subtask_reward": True},
             "in-step": {"desync": False},
             "uniform-orders": {"order_curriculum": 0.0},
+            "subtasks": {"subtask_reward": True},
+            "no-subtask-start": {"subtask_anneal": 0.0},
             "before": {"critic": False, "shaping": 0.0, "subtask_reward": True,
                        "desync": False, "lr_final": 1.0, "order_curriculum": 0.0}}
 

@@ -9,8 +9,8 @@ is the rules' reward without the subtask payment plus potential-based shaping
 new orders lean towards the recipes the policy serves least (``order_curriculum``,
 :mod:`ocplus_plan.rl.fast.jax_orders`). A rollout steps ``n_envs`` kitchens ``n_steps``
 times with ``vmap``, then GAE and ``n_epochs`` passes of clipped-PPO minibatch updates;
-``lax.scan`` runs ``n_updates`` such updates inside one ``jit``. The network and Adam are written out in ``jax.numpy``
-(no flax or optax). :func:`save_npz` writes the weights as a ``.npz``.
+``lax.scan`` runs ``n_updates`` such updates inside one ``jit``. The network and Adam are
+written out in ``jax.numpy`` (no flax or optax). :func:`save_npz` writes the weights as a ``.npz``.
 
 :func:`train_to_folder` (``ocplus train --engine jax``) runs the updates in jitted chunks
 (:func:`make_chunks`): after each it prints a progress line (updates, agent-steps,
@@ -51,6 +51,9 @@ class PPOConfig(NamedTuple):
     shaping: float = 1.0
     #: keep the rules' subtask payment (``infos["shaped_reward"]``) in the training reward
     subtask_reward: bool = False
+    #: otherwise pay it at first, its weight falling linearly from 1 to 0 over this
+    #: fraction of the updates (:func:`subtask_weight`); 0: never
+    subtask_anneal: float = 0.5
     #: start the kitchens' clocks at different steps (:func:`desync`), so one rollout
     #: does not see every kitchen at the same phase of its episode
     desync: bool = True
@@ -134,6 +137,20 @@ def _loss(config: PPOConfig, params: Any, batch: tuple) -> Any:
         - config.ent_coef * entropy.mean()
 
 
+def subtask_weight(config: PPOConfig, update: Any) -> Any:
+    """The share of the rules' subtask payment in the training reward at ``update``: 1
+    with ``subtask_reward``; else falling linearly from 1 to 0 over the first
+    ``subtask_anneal`` of the updates (it pays the first chops, cooks and washes a policy
+    stumbles on, which the potential alone, paid back when the episode ends, does not; at
+    0 the learner's objective is the rules' reward and the potential's)."""
+    if config.subtask_reward:
+        return jnp.float32(1.0)
+    span = config.subtask_anneal * config.n_updates
+    if span <= 0:
+        return jnp.float32(0.0)
+    return jnp.clip(1.0 - update / span, 0.0, 1.0).astype(jnp.float32)
+
+
 def _learning_rate(config: PPOConfig, t: Any) -> Any:
     """The rate at Adam step ``t``: linear decay to ``lr_final x lr`` over the run."""
     total = max(1, config.n_updates * config.n_epochs * config.n_minibatches)
@@ -170,7 +187,7 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
     orders = jax_orders.batch_step(env, config.order_curriculum > 0)
 
     def rollout(carry: tuple, _: Any) -> tuple:
-        params, state, obs, key, probs = carry
+        params, state, obs, key, (probs, keep) = carry
         key, k_act, k_step, k_draw = jax.random.split(key, 4)
         x = actor_inputs(obs)
         logits, value = forward(params, x)
@@ -181,22 +198,22 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         before = state
         obs, state, rew, dones, info = jax.vmap(env.step)(jax.random.split(k_step, e), state,
                                                           acts)
-        state, obs, served, drawn = orders(k_draw, before, state, dones["__all__"], obs,
-                                           probs)
+        state, obs, served, drawn = orders(k_draw, before, state, dones["__all__"], obs, probs)
         game = rew[env.agents[0]]
         subtask = info["shaped_reward"][env.agents[0]]
         shaped = shape(before, state, dones["__all__"]) if config.shaping else 0.0 * game
-        r = game - (0.0 if config.subtask_reward else subtask) + config.shaping * shaped
+        r = game - (1.0 - keep) * subtask + config.shaping * shaped
         entropy = -(jnp.exp(logp_all) * logp_all).sum(-1).mean()
         step = (x, act, logp, value, r * config.reward_scale, dones["__all__"],
                 info["dishes"][:, 0], (game, subtask, shaped, entropy, served, drawn))
-        return (params, state, obs, key, probs), step
+        return (params, state, obs, key, (probs, keep)), step
 
     def update(carry: tuple, _: Any) -> tuple:
         params, opt, state, obs, key, rates = carry
         probs = jax_orders.draw_probs(*rates, n_rec, config.order_curriculum)
+        keep = subtask_weight(config, opt[2] // (config.n_epochs * config.n_minibatches))
         (params, state, obs, key, _), traj = jax.lax.scan(
-            rollout, (params, state, obs, key, probs), None, length=t_len)
+            rollout, (params, state, obs, key, (probs, keep)), None, length=t_len)
         x, act, logp, value, r, done, dishes, (game, subtask, shaped, entropy, served,
                                                drawn) = traj
         rates = jax_orders.update_rates(rates, served.sum(0), drawn.sum(0))
@@ -233,7 +250,7 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
                    "shaping": shaped.mean(), "entropy": entropy.mean(),
                    # per recipe: orders served per horizon of steps, and the draw's p_r
                    "served_by_recipe": served.sum(0)[:n_rec] * horizon / (t_len * e),
-                   "order_probs": probs[:n_rec]}
+                   "order_probs": probs[:n_rec], "subtask_weight": keep}
         return (params, opt, state, obs, key, rates), metrics
 
     def init(key: Any) -> tuple:
@@ -338,6 +355,7 @@ def train_to_folder(env: Any, config: PPOConfig, out: str, seed: int = 0,
         "subtasks_per_episode_by_update": rounded(log["subtasks"]),
         "shaping_per_step_by_update": rounded(log["shaping"]),
         "entropy_by_update": rounded(log["entropy"]),
+        "subtask_weight_by_update": rounded(log["subtask_weight"]),
         "recipes": ["+".join(i.name.lower() for i in r) for r in env.rules.recipes],
         "served_by_recipe_by_update": [rounded(v) for v in log["served_by_recipe"]],
         "order_probs_by_update": [rounded(v) for v in log["order_probs"]],
@@ -348,5 +366,4 @@ def train_to_folder(env: Any, config: PPOConfig, out: str, seed: int = 0,
 
 
 __all__ = ["PPOConfig", "agent_steps", "forward", "init_params", "make_chunks", "make_train",
-           "save_npz",
-           "train_to_folder"]
+           "save_npz", "subtask_weight", "train_to_folder"]

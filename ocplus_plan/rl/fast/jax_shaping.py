@@ -28,11 +28,10 @@ held clean plate ``carry``, for a held plate whose contents equal an open order'
 cell), and ``-spoiled`` for a plate holding what no open order fits (without a trash can
 it serves nothing until such an order comes). A burnt steak or a dirty plate is worth 0.
 An ingredient no open order needs costs ``busy`` while held. (``spoiled`` and ``busy`` are
-0 by default: with them the cooks of some training seeds learned to touch nothing.) Per cook,
-``fetch`` times its closeness to where it goes next: with free hands, the nearest needed
+0 by default: with them the cooks of some training seeds learned to touch nothing.) Per cook with
+free hands, ``fetch`` times its closeness to the next thing to fetch: the nearest needed
 fresh ingredient, or a clean plate once a needed ingredient is ready; with a clean plate
-in hand, the nearest needed ready ingredient; with a needed ingredient that still needs
-processing, the nearest free station that works it (a board for a fresh vegetable).
+in hand, the nearest needed ready ingredient.
 """
 
 from __future__ import annotations
@@ -164,14 +163,7 @@ def potential(s: KitchenState, near: Tables, w: Potential = Potential()) -> Any:
     best = jnp.max(jnp.where(targets[:, None, :], reach[None], 0.0), -1)  # (3, N)
     hc = jnp.clip(s.hand, 0, kind.shape[0] - 1)
     with_plate = ~free & in_hand[hc] & fits[hc] & ~done[hc]
-    # with a needed ingredient to process: a free station that works it
-    cell_code = p.terrain[s.layout] + 1  # (CELLS,)
-    works = p.works[cell_code[None, :], kind[hc][:, None], state[hc][:, None]] \
-        & (p.code_proc[cell_code][:, Q_IS] > 0)[None] & (s.cell_item < 0)[None]  # (N, CELLS)
-    to_station = jnp.max(jnp.where(works, near.reach[s.layout][s.pos], 0.0), -1)
-    to_work = ~free & needed[hc] & ~ready[hc] & ~plated[hc]
-    fetch = jnp.where(free, jnp.maximum(best[0], best[1]),
-                      jnp.where(with_plate, best[2], jnp.where(to_work, to_station, 0.0)))
+    fetch = jnp.where(free, jnp.maximum(best[0], best[1]), jnp.where(with_plate, best[2], 0.0))
     return (total + plates.sum() + w.fetch * fetch.sum()).astype(jnp.float32)
 
 

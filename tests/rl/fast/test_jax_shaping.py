@@ -81,14 +81,6 @@ def test_each_stage_of_an_onion_dish_pays_and_serving_it_pays_the_rest(onion_env
     assert served_f < 0 and served_r + served_f > 0  # the potential is given back
 
 
-def test_carrying_a_needed_onion_towards_a_free_board_pays(onion_env):
-    """With the onion in hand the next place is a board: a step nearer one pays, a step
-    back costs (discounted, the two cancel out)."""
-    steps = play(onion_env, TO_ONION + [PICK, R, L])
-    nearer, back = steps[6][0], steps[7][0]
-    assert nearer > 0 and back < 0
-
-
 def test_an_onion_no_order_needs_costs_to_hold(onion_env):
     env = ocplus_plan.make_jax_env("easy", n_agents=1, recipes=[["tomato"]], horizon=40)
     steps = play(env, TO_ONION + [PICK, PUT])
@@ -146,3 +138,13 @@ def test_the_critic_is_its_own_network_and_the_saved_policy_is_the_actor(tmp_pat
     np.testing.assert_allclose(np.asarray(value2), np.asarray(value) + 1.0, rtol=1e-6)
     save_npz(str(tmp_path / "policy.npz"), params)
     assert set(np.load(tmp_path / "policy.npz")) == {"w0", "b0", "w1", "b1", "w2", "b2"}
+
+
+def test_the_subtask_payment_is_annealed_to_0_over_its_fraction_of_the_run():
+    from ocplus_plan.rl.fast.jax_ppo import PPOConfig, subtask_weight
+
+    config = PPOConfig(n_updates=100, subtask_anneal=0.5)
+    weights = [float(subtask_weight(config, u)) for u in (0, 25, 50, 99)]
+    assert weights == pytest.approx([1.0, 0.5, 0.0, 0.0])
+    assert float(subtask_weight(config._replace(subtask_reward=True), 99)) == 1.0
+    assert float(subtask_weight(config._replace(subtask_anneal=0.0), 0)) == 0.0
