@@ -12,13 +12,14 @@ entropy 0.02, 128x128, order curriculum 0.5; with ``--variant full`` the same ru
 sampled and argmax actions) and appends one JSON line to ``--record``: command, commit,
 machine, load, agent-steps, wall and CPU seconds of the training, and dishes per 200-step
 episode. The other variants each undo one of the trainer's fixes, to show what each is
-worth:
+worth, or try an option:
 
 * ``shared``: one network for policy and value (no separate critic);
 * ``rules-reward``: the rules' reward (subtask payments included), no potential shaping;
 * ``in-step``: every kitchen starts its episode at the same step;
 * ``uniform-orders``: no order curriculum (orders drawn uniformly while training too);
-* ``no-subtask-start``: the subtask payment never paid (not even in the first half);
+* ``subtask-start``: the subtask payment paid at first, annealed to 0 over the first half
+  (an option, not the default);
 * ``subtasks``: the subtask payment paid all along (not annealed);
 * ``before``: the trainer as it was: one network, the rules' reward, kitchens in step,
   uniform orders, a constant learning rate.
@@ -42,7 +43,7 @@ VARIANTS = {"full": {}, "shared": {"critic": False},
             "in-step": {"desync": False},
             "uniform-orders": {"order_curriculum": 0.0},
             "subtasks": {"subtask_reward": True},
-            "no-subtask-start": {"subtask_anneal": 0.0},
+            "subtask-start": {"subtask_anneal": 0.5},
             "before": {"critic": False, "shaping": 0.0, "subtask_reward": True,
                        "desync": False, "lr_final": 1.0, "order_curriculum": 0.0}}
 

@@ -52,8 +52,9 @@ class PPOConfig(NamedTuple):
     #: keep the rules' subtask payment (``infos["shaped_reward"]``) in the training reward
     subtask_reward: bool = False
     #: otherwise pay it at first, its weight falling linearly from 1 to 0 over this
-    #: fraction of the updates (:func:`subtask_weight`); 0: never
-    subtask_anneal: float = 0.5
+    #: fraction of the updates (:func:`subtask_weight`); 0: never (on easy it rescued one
+    #: training seed and lost another: docs/rl.md)
+    subtask_anneal: float = 0.0
     #: start the kitchens' clocks at different steps (:func:`desync`), so one rollout
     #: does not see every kitchen at the same phase of its episode
     desync: bool = True
@@ -141,8 +142,8 @@ def subtask_weight(config: PPOConfig, update: Any) -> Any:
     """The share of the rules' subtask payment in the training reward at ``update``: 1
     with ``subtask_reward``; else falling linearly from 1 to 0 over the first
     ``subtask_anneal`` of the updates (it pays the first chops, cooks and washes a policy
-    stumbles on, which the potential alone, paid back when the episode ends, does not; at
-    0 the learner's objective is the rules' reward and the potential's)."""
+    stumbles on, which the potential alone, paid back when the episode ends, does not;
+    from then on the learner's objective is the rules' reward and the potential's)."""
     if config.subtask_reward:
         return jnp.float32(1.0)
     span = config.subtask_anneal * config.n_updates
