@@ -47,9 +47,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--map-stages", type=_POSITIVE, default=1,
                    help="with --maps: a curriculum that widens the pool from the smallest "
                         "kitchens to all in this many stages over --curriculum-fraction")
-    g.add_argument("--obs", default="auto", choices=("auto", "features", "grid", "window"),
-                   help="egocentric path features, the SPEC vector (one-hot grid) encoding, or "
-                        "window: features + a grid window (the same size on every map); "
+    g.add_argument("--obs", default="auto",
+                   choices=("auto", "features", "grid", "window", "tasks"),
+                   help="egocentric path features, the SPEC vector (one-hot grid) encoding, "
+                        "window: features + a grid window (the same size on every map), or "
+                        "tasks: features + what the orders still lack (loop engine); "
                         "auto: window with --maps, else features")
     g.add_argument("--obs-radius", type=_types.whole("--obs-radius", 0, 64), default=0,
                    help="grid window radius (0 = whole map; window observations: 0 means 2)")

@@ -55,7 +55,8 @@ class TrainConfig:
     steps: int = 300_000
     seed: int = 0
     out: str = "runs/ppo"
-    #: "features", "grid", "window", or "auto": window (radius 2) with ``maps``, else features
+    #: "features", "grid", "window", "tasks" (features + what the orders still lack, loop
+    #: engine), or "auto": window (radius 2) with ``maps``, else features
     obs: str = "auto"
     obs_radius: int = 0
     n_kitchens: int = 8
@@ -113,7 +114,8 @@ class TrainConfig:
         if self.engine == "auto":
             from ..sim.fast.batch import numba_available
 
-            object.__setattr__(self, "engine", "batch" if numba_available() else "loop")
+            batch = numba_available() and self.obs != "tasks"
+            object.__setattr__(self, "engine", "batch" if batch else "loop")
 
     def validate(self) -> None:
         for name in ("steps", "n_kitchens", "n_steps", "batch_size", "n_epochs"):
@@ -130,6 +132,9 @@ class TrainConfig:
             )
         if self.engine not in ("loop", "batch"):
             raise ConfigError(f"engine must be 'loop', 'batch' or 'auto', got {self.engine!r}")
+        if self.engine == "batch" and self.obs == "tasks":
+            raise ConfigError("the batched engine computes the path features only: train "
+                              "obs 'tasks' with --engine loop (or auto)")
         if isinstance(self.torch_threads, bool) or not isinstance(self.torch_threads, int) \
                 or self.torch_threads < 1:
             raise ConfigError(
