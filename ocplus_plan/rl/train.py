@@ -90,6 +90,8 @@ class TrainConfig:
     bc_steps: int = 100_000
     bc_rounds: int = 1
     bc_epochs: int = 8
+    #: cross-entropy weight of a DAgger sample the learner's argmax missed (1: plain DAgger)
+    bc_focus: float = 1.0
     #: "sb3" (stable-baselines3's PPO.learn) or "lean" (rl/lean.py: the same PPO and
     #: network in a torch loop over the batched kitchens); both save the same checkpoint
     algo: str = "sb3"
@@ -176,7 +178,7 @@ class TrainConfig:
 
     def imitation(self) -> Imitation:
         """The behaviour-cloning settings of this run (meaningful when ``bc`` is set)."""
-        return Imitation(self.bc_steps, self.bc_rounds, self.bc_epochs)
+        return Imitation(self.bc_steps, self.bc_rounds, self.bc_epochs, focus=self.bc_focus)
 
 
 def _rules(config: TrainConfig, preset: str, with_map: bool) -> Rules:
