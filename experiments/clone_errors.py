@@ -8,7 +8,8 @@ greedy``: the greedy cook drives every cook; ``--driver clone``: the policy driv
 actions, as it plays), so the table covers the states the clone reaches itself. At every step
 the greedy cook labels each cook (what it would do) and the policy (a weights-only ``.npz``)
 is asked for its argmax. The first table gives, per greedy subtask (``fetch``, ``to_plate``,
-..., ``idle``) and move/stay, the cook-steps and disagreements. The second sorts each
+..., ``idle``) and move/stay, the cook-steps, the disagreements and the share of those where
+the clone would stay. The second sorts each
 disagreement by what greedy's choice rests on, read from the same state:
 
 * ``blocked wait``: greedy stays because its path is blocked by the other cook (it waits
@@ -66,7 +67,7 @@ def _cause(feat: FeatureEncoder, state, greedy: GreedyAgent, cook: int, goals: d
 
 
 def episode(policy, rules, seed: int, driver: str, tally: dict, causes: dict) -> int:
-    """One episode; adds (subtask, move/stay) -> [steps, disagreements] to ``tally`` and
+    """One episode; adds (subtask, move/stay) -> [steps, disagreements, clone stays] to ``tally`` and
     cause -> disagreements to ``causes``; returns the dishes served."""
     meta = policy.meta
     enc = make_encoder(meta["obs"], rules, meta.get("obs_radius", 0))
@@ -86,6 +87,7 @@ def episode(policy, rules, seed: int, driver: str, tally: dict, causes: dict) ->
             tally[key][0] += 1
             if label != guess:
                 tally[key][1] += 1
+                tally[key][2] += int(guess == _STAY)
                 causes[_cause(feat, state, greedy, cook, goals, label)] += 1
         played = labels if driver == "greedy" else policy.act(obs, rng)
         result = transition(state, played)
@@ -106,7 +108,7 @@ def main() -> int:
         raise SystemExit(f"{args.policy!r}: give a weights-only .npz policy")
     policy = load_checkpoint(args.policy)
     families = [f for f in FAMILIES if not (f == "split" and args.cooks < 2)]
-    tally: dict = collections.defaultdict(lambda: [0, 0])
+    tally: dict = collections.defaultdict(lambda: [0, 0, 0])
     causes: collections.Counter = collections.Counter()
     dishes = []
     for family in families:
@@ -114,8 +116,8 @@ def main() -> int:
             name = kitchen_name(family, args.split, index, args.preset)
             dishes.append(episode(policy, rules_for(name, args.preset, args.cooks, 200), 0,
                                   args.driver, tally, causes))
-    steps = sum(n for n, _ in tally.values())
-    wrong = sum(e for _, e in tally.values())
+    steps = sum(n for n, _, _ in tally.values())
+    wrong = sum(e for _, e, _ in tally.values())
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
                             capture_output=True, text=True).stdout.strip()
     print(f"policy {args.policy}, {args.split} kitchens 0-{args.kitchens_per_family - 1} of "
@@ -123,10 +125,11 @@ def main() -> int:
           f"load {os.getloadavg()[0]:.2f}; dishes per episode {np.mean(dishes):.2f}")
     print(f"agreement with greedy: {1 - wrong / steps:.3f} of {steps} cook-steps\n")
     print("| greedy's subtask | greedy's action | cook-steps | clone disagrees | "
-          "share of disagreements |")
-    print("|---|---|---|---|---|")
-    for (label, moved), (n, e) in sorted(tally.items(), key=lambda kv: -kv[1][1])[:12]:
-        print(f"| {label} | {moved} | {n} | {e / n:.2f} | {e / wrong:.2f} |")
+          "share of disagreements | clone would stay |")
+    print("|---|---|---|---|---|---|")
+    for (label, moved), (n, e, st) in sorted(tally.items(), key=lambda kv: -kv[1][1])[:12]:
+        print(f"| {label} | {moved} | {n} | {e / n:.2f} | {e / wrong:.2f} | "
+              f"{st / max(e, 1):.2f} |")
     print("\n| why greedy chose its action | disagreements | share |\n|---|---|---|")
     for cause, n in causes.most_common():
         print(f"| {cause} | {n} | {n / wrong:.2f} |")
