@@ -8,7 +8,9 @@ distribution (``--maps``: train-split kitchens 0-49 of every family; the ``split
 needs 2 cooks, so 1-cook runs leave it out), with window observations (the default for
 ``--maps``: path features + a radius-2 grid window). ``clone_*`` runs behaviour-clone the
 greedy cook with DAgger relabelling (rl/imitation.py), then fine-tune with PPO;
-``scratch_*`` runs are PPO alone. ``experiments/checkpoints/generalists/NAME.json`` records
+``scratch_*`` runs are PPO alone; ``clonetasks_*`` / ``clonefocus_*`` clone on ``tasks``
+observations (plain, and with ``--bc-focus 4``), and ``ppotasks_*`` run PPO from the
+``clonetasks_*`` clone of the same seed, so they need that run first (the default order). ``experiments/checkpoints/generalists/NAME.json`` records
 the command, wall and CPU seconds, the load, and the training summary, and
 ``NAME.episodes.csv`` the training log. The runs named in SHIPPED are exported weights-only
 (rl/npz_export.py) to ``experiments/checkpoints/generalist_{n}agent/`` (``policy.npz`` +
