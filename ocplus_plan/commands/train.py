@@ -47,9 +47,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--map-stages", type=_POSITIVE, default=1,
                    help="with --maps: a curriculum that widens the pool from the smallest "
                         "kitchens to all in this many stages over --curriculum-fraction")
-    g.add_argument("--obs", default="auto", choices=("auto", "features", "grid", "window"),
-                   help="egocentric path features, the SPEC vector (one-hot grid) encoding, or "
-                        "window: features + a grid window (the same size on every map); "
+    g.add_argument("--obs", default="auto",
+                   choices=("auto", "features", "grid", "window", "tasks"),
+                   help="egocentric path features, the SPEC vector (one-hot grid) encoding, "
+                        "window: features + a grid window (the same size on every map), or "
+                        "tasks: features + what the orders still lack (loop engine); "
                         "auto: window with --maps, else features")
     g.add_argument("--obs-radius", type=_types.whole("--obs-radius", 0, 64), default=0,
                    help="grid window radius (0 = whole map; window observations: 0 means 2)")
@@ -97,6 +99,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="rounds; after the first, the learner drives and the teacher labels "
                         "(DAgger)")
     b.add_argument("--bc-epochs", type=_POSITIVE, default=8, help="fitting passes after each round")
+    b.add_argument("--bc-focus", type=_types.number("--bc-focus", 1.0, 100.0, lo_open=False),
+                   default=1.0, help="in DAgger rounds, weigh the samples where the learner's "
+                                     "own choice missed the teacher's this many times (1: plain)")
     s = p.add_argument_group("speed")
     s.add_argument("--engine", default="auto", choices=("auto", "batch", "loop", "jax"),
                    help="batch: the batched engine (fast extra); loop: one transition per "
@@ -186,6 +191,7 @@ def run(args: argparse.Namespace) -> int:
         resume=args.resume, tensorboard=args.tensorboard,
         torch_threads=args.torch_threads, max_wall_s=args.max_wall,
         bc=args.bc, bc_steps=args.bc_steps, bc_rounds=args.bc_rounds, bc_epochs=args.bc_epochs,
+        bc_focus=args.bc_focus,
         algo=args.algo, precision=args.precision, device=args.device,
     )
     teacher = None

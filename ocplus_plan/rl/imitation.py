@@ -13,6 +13,9 @@ DAgger (Ross et al. 2011): after the first round, in which the teacher drives, l
 rounds let the learner drive (with probability ``1 - 0.5**round`` per kitchen step) while
 the teacher still labels every state, so the data covers the states the learner reaches
 by its own mistakes. The data of all rounds is kept and the network refitted each round.
+With ``focus`` above 1, a DAgger sample where the learner's own argmax differed from the
+teacher's label weighs ``focus`` times as much in the cross-entropy: the states where the
+learner goes wrong, which are the ones its dishes depend on, are a small part of the data.
 
 The teacher is passed in as a factory ``seed -> Controller`` (the CLI resolves the name),
 so this layer imports no controller. Everything a round does is reported (samples, dishes
@@ -22,7 +25,7 @@ per episode while collecting, fit accuracy) and written to ``OUT/train.json``.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -52,6 +55,8 @@ class Imitation:
     batch_size: int = 1024
     learning_rate: float = 1e-3
     vf_coef: float = 0.5
+    #: cross-entropy weight of a DAgger sample where the learner's argmax was not the label
+    focus: float = 1.0
 
     def validate(self) -> None:
         for name in ("steps", "rounds", "epochs", "batch_size"):
@@ -60,6 +65,8 @@ class Imitation:
                 raise ConfigError(f"bc {name} must be a positive integer, got {v!r}")
         if self.learning_rate <= 0:
             raise ConfigError(f"bc learning rate must be positive, got {self.learning_rate}")
+        if not 1.0 <= self.focus <= 100.0:
+            raise ConfigError(f"bc focus must be between 1 and 100, got {self.focus}")
 
 
 @dataclass
@@ -70,10 +77,18 @@ class Dataset:
     obs: list[np.ndarray]
     actions: list[np.ndarray]
     returns: list[np.ndarray]
+    #: per sample: whether the learner's argmax differed from the label (False: no learner)
+    missed: list[np.ndarray] = field(default_factory=list)
 
     def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         return (np.concatenate(self.obs), np.concatenate(self.actions),
                 np.concatenate(self.returns))
+
+    def weights(self, focus: float) -> np.ndarray:
+        """Per sample cross-entropy weight: ``focus`` where the learner missed, else 1."""
+        missed = (np.concatenate(self.missed) if self.missed
+                  else np.zeros(sum(len(a) for a in self.actions), bool))
+        return np.where(missed, np.float32(focus), np.float32(1.0))
 
 
 def discounted(rewards: np.ndarray, gamma: float) -> np.ndarray:
@@ -90,17 +105,19 @@ def discounted(rewards: np.ndarray, gamma: float) -> np.ndarray:
 def collect(rules: Rules | Sequence[Rules], obs_kind: str, obs_radius: int, teacher: Teacher, steps: int,
             seed: int, *, learner: LoadedPolicy | None = None, beta: float = 1.0,
             gamma: float = 0.99, reward_scale: float = 0.02,
-            team_reward: bool = True) -> tuple[Dataset, list[int]]:
+            team_reward: bool = True, judge: bool = False) -> tuple[Dataset, list[int]]:
     """Play whole episodes until ``steps`` kitchen steps are recorded; each step the
     teacher labels every cook, and the teacher's (probability ``beta``) or the learner's
     sampled actions are played; with a list of rule sets (a kitchen distribution) each
     episode plays one drawn uniformly. Returns the data and the dishes of each episode. The
     reward behind the returns is the one PPO trains on once the shaping is 0 (true game
-    reward, the team's sum when ``team_reward``, times ``reward_scale``)."""
+    reward, the team's sum when ``team_reward``, times ``reward_scale``). With ``judge`` (and a
+    learner) each sample also records whether the learner's argmax missed the label."""
     pool = [rules] if isinstance(rules, Rules) else list(rules)
     encoders: dict[int, Any] = {}
     rng = np.random.default_rng([seed, 7])
-    data = Dataset([], [], [])
+    data = Dataset([], [], [], [])
+    judge = judge and learner is not None
     dishes: list[int] = []
     shaper = RewardShaper(Shaping())
     done_steps, episode = 0, 0
@@ -113,11 +130,13 @@ def collect(rules: Rules | Sequence[Rules], obs_kind: str, obs_radius: int, teac
         ctrl = teacher(seed + episode)
         ctrl.reset(state)
         shaper.reset(state)
-        ep_obs, ep_act, ep_rew = [], [], []
+        ep_obs, ep_act, ep_rew, ep_miss = [], [], [], []
         while not state.done:
             obs = encoder.encode_all(state)
             label = ctrl.act(state)
             played = label
+            if judge:
+                ep_miss.append(learner.probs(obs).argmax(axis=1) != np.asarray(label))
             if learner is not None and rng.random() >= beta:
                 played = learner.act(obs, rng)
             result = transition(state, played)
@@ -131,6 +150,8 @@ def collect(rules: Rules | Sequence[Rules], obs_kind: str, obs_radius: int, teac
         data.obs.append(np.concatenate(ep_obs).astype(np.float16))
         data.actions.append(np.asarray(ep_act, np.int64).reshape(-1))
         data.returns.append(discounted(rewards, gamma).reshape(-1))
+        data.missed.append(np.concatenate(ep_miss) if judge
+                           else np.zeros(len(data.actions[-1]), bool))
         dishes.append(int(state.stats["dishes_served"]))
         done_steps += state.t
         episode += 1
@@ -144,6 +165,7 @@ def fit(policy: Any, data: Dataset, cfg: Imitation, seed: int) -> dict[str, floa
     import torch
 
     obs, actions, returns = (torch.as_tensor(a) for a in data.arrays())
+    weights = torch.as_tensor(data.weights(cfg.focus))
     n = len(obs)
     opt = torch.optim.Adam(policy.parameters(), lr=cfg.learning_rate)
     gen = torch.Generator().manual_seed(seed)
@@ -155,7 +177,11 @@ def fit(policy: Any, data: Dataset, cfg: Imitation, seed: int) -> dict[str, floa
         for lo in range(0, n, cfg.batch_size):
             idx = perm[lo:lo + cfg.batch_size]
             values, log_prob, _ = policy.evaluate_actions(obs[idx].float(), actions[idx])
-            loss_pi = -log_prob.mean()
+            if cfg.focus == 1.0:
+                loss_pi = -log_prob.mean()
+            else:
+                w = weights[idx]
+                loss_pi = -(w * log_prob).sum() / w.sum()
             loss_vf = torch.nn.functional.mse_loss(values.flatten(), returns[idx])
             opt.zero_grad()
             (loss_pi + cfg.vf_coef * loss_vf).backward()
@@ -180,7 +206,7 @@ def pretrain(model: Any, rules: Rules | Sequence[Rules], obs_kind: str, obs_radi
     """Behaviour-clone ``teacher`` into ``model.policy`` (an SB3 PPO model), DAgger rounds
     as described in the module doc; returns one report per round."""
     cfg.validate()
-    data = Dataset([], [], [])
+    data = Dataset([], [], [], [])
     learner = LoadedPolicy(Path("<training>"), {}, model)
     reports = []
     for rnd in range(cfg.rounds):
@@ -188,15 +214,17 @@ def pretrain(model: Any, rules: Rules | Sequence[Rules], obs_kind: str, obs_radi
         part, dishes = collect(
             rules, obs_kind, obs_radius, teacher, cfg.steps, seed + 7919 * rnd,
             learner=learner if rnd else None, beta=beta, gamma=gamma,
-            reward_scale=reward_scale, team_reward=team_reward,
+            reward_scale=reward_scale, team_reward=team_reward, judge=cfg.focus != 1.0,
         )
-        for name in ("obs", "actions", "returns"):
+        missed = float(np.concatenate(part.missed).mean()) if rnd and cfg.focus != 1.0 else None
+        for name in ("obs", "actions", "returns", "missed"):
             getattr(data, name).extend(getattr(part, name))
         stats = fit(model.policy, data, cfg, seed + rnd)
         reports.append({"round": rnd, "teacher_share": beta,
                         "samples": int(sum(len(a) for a in data.actions)),
                         "episodes": len(dishes),
                         "dishes_per_episode_collecting": round(float(np.mean(dishes)), 3),
+                        **({} if missed is None else {"learner_missed": round(missed, 4)}),
                         **stats})
     return reports
 

@@ -1,7 +1,9 @@
 """Which observation a policy sees: ``features`` (this package's egocentric encoder, the
 default), ``grid`` (the SPEC section 8 ``vector`` encoding of :mod:`ocplus_plan.sim.observe`)
 or ``window`` (both: the features, then the grid encoding of an ``obs_radius`` window around
-the cook, whose size is the same on every map: the default for a kitchen distribution).
+the cook, whose size is the same on every map: the default for a kitchen distribution)
+or ``tasks`` (the features, then what a task-allocating cook decides on: what the orders
+still lack, the nearest such ingredient, free boards and pans; :mod:`.task_features`).
 
 Both are wrapped to one small interface, :class:`ObsEncoder`: ``size`` and
 ``encode_all(state, agents)`` -> ``(len(agents), size)`` float32.
@@ -18,8 +20,9 @@ from ..errors import ConfigError
 from ..sim.rules import Rules
 from ..sim.state import State
 from .features import FeatureEncoder
+from .task_features import TaskEncoder
 
-OBS_KINDS: tuple[str, ...] = ("features", "grid", "window")
+OBS_KINDS: tuple[str, ...] = ("features", "grid", "window", "tasks")
 #: the window radius of ``window`` observations when none is given
 DEFAULT_WINDOW = 2
 
@@ -73,6 +76,8 @@ def make_encoder(kind: str, rules: Rules, obs_radius: int = 0) -> ObsEncoder:
         return GridEncoder(rules, obs_radius)
     if kind == "window":
         return WindowEncoder(rules, obs_radius)
+    if kind == "tasks":
+        return TaskEncoder(rules)
     raise ConfigError(f"unknown observation kind {kind!r}; choose one of {', '.join(OBS_KINDS)}")
 
 

@@ -55,7 +55,8 @@ class TrainConfig:
     steps: int = 300_000
     seed: int = 0
     out: str = "runs/ppo"
-    #: "features", "grid", "window", or "auto": window (radius 2) with ``maps``, else features
+    #: "features", "grid", "window", "tasks" (features + what the orders still lack, loop
+    #: engine), or "auto": window (radius 2) with ``maps``, else features
     obs: str = "auto"
     obs_radius: int = 0
     n_kitchens: int = 8
@@ -89,6 +90,8 @@ class TrainConfig:
     bc_steps: int = 100_000
     bc_rounds: int = 1
     bc_epochs: int = 8
+    #: cross-entropy weight of a DAgger sample the learner's argmax missed (1: plain DAgger)
+    bc_focus: float = 1.0
     #: "sb3" (stable-baselines3's PPO.learn) or "lean" (rl/lean.py: the same PPO and
     #: network in a torch loop over the batched kitchens); both save the same checkpoint
     algo: str = "sb3"
@@ -113,7 +116,8 @@ class TrainConfig:
         if self.engine == "auto":
             from ..sim.fast.batch import numba_available
 
-            object.__setattr__(self, "engine", "batch" if numba_available() else "loop")
+            batch = numba_available() and self.obs != "tasks"
+            object.__setattr__(self, "engine", "batch" if batch else "loop")
 
     def validate(self) -> None:
         for name in ("steps", "n_kitchens", "n_steps", "batch_size", "n_epochs"):
@@ -130,6 +134,9 @@ class TrainConfig:
             )
         if self.engine not in ("loop", "batch"):
             raise ConfigError(f"engine must be 'loop', 'batch' or 'auto', got {self.engine!r}")
+        if self.engine == "batch" and self.obs == "tasks":
+            raise ConfigError("the batched engine computes the path features only: train "
+                              "obs 'tasks' with --engine loop (or auto)")
         if isinstance(self.torch_threads, bool) or not isinstance(self.torch_threads, int) \
                 or self.torch_threads < 1:
             raise ConfigError(
@@ -171,7 +178,7 @@ class TrainConfig:
 
     def imitation(self) -> Imitation:
         """The behaviour-cloning settings of this run (meaningful when ``bc`` is set)."""
-        return Imitation(self.bc_steps, self.bc_rounds, self.bc_epochs)
+        return Imitation(self.bc_steps, self.bc_rounds, self.bc_epochs, focus=self.bc_focus)
 
 
 def _rules(config: TrainConfig, preset: str, with_map: bool) -> Rules:

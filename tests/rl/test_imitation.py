@@ -94,3 +94,50 @@ def test_cli_refuses_an_unknown_teacher_before_training(tmp_path: Path, capsys):
     assert code == 2
     assert "nosuchcook" in capsys.readouterr().err
     assert not (tmp_path / "run").exists()
+
+
+def test_collect_judges_the_learner_on_every_sample_it_labels(tmp_path: Path):
+    """With ``judge``, each sample says whether the learner's argmax missed the label."""
+    from ocplus_plan.rl.policy import LoadedPolicy
+
+    model, _, _, _ = build(TrainConfig(preset="easy", n_agents=2, n_kitchens=1, n_steps=16,
+                                       batch_size=16, hidden=(32,), out=str(tmp_path)))
+    learner = LoadedPolicy(tmp_path, {}, model)
+    data, _ = collect(rules("easy", 2), "features", 0, greedy, steps=30, seed=4,
+                      learner=learner, beta=1.0, judge=True)
+    obs, actions, _ = data.arrays()
+    missed = np.concatenate(data.missed)
+    np.testing.assert_array_equal(missed, learner.probs(obs).argmax(axis=1) != actions)
+    assert missed.any() and not missed.all()  # an untrained learner misses some, not all
+    weights = data.weights(4.0)
+    assert set(weights[missed]) == {4.0} and set(weights[~missed]) == {1.0}
+    plain, _ = collect(rules("easy", 2), "features", 0, greedy, steps=30, seed=4)
+    assert not np.concatenate(plain.missed).any()  # no learner: nothing judged
+
+
+def test_focus_weighs_the_missed_samples_in_the_fit(tmp_path: Path):
+    """A focused fit moves the actor more on the missed samples than a plain one."""
+    import torch
+
+    data, _ = collect(rules(), "features", 0, greedy, steps=200, seed=1)
+    n = sum(len(a) for a in data.actions)
+    data.missed = [np.arange(n) % 7 == 0]  # mark one sample in seven as missed
+    obs, actions, _ = data.arrays()
+    hit = {}
+    for focus in (1.0, 20.0):
+        model, _, _, _ = build(TrainConfig(preset="easy", n_kitchens=1, n_steps=16,
+                                           batch_size=16, hidden=(32,), seed=0,
+                                           out=str(tmp_path / str(focus))))
+        fit(model.policy, data, Imitation(steps=200, epochs=3, batch_size=64,
+                                          learning_rate=3e-3, focus=focus), seed=0)
+        with torch.no_grad():
+            _, log_prob, _ = model.policy.evaluate_actions(
+                torch.as_tensor(obs[data.missed[0]]).float(),
+                torch.as_tensor(actions[data.missed[0]]))
+        hit[focus] = float(log_prob.mean())
+    assert hit[20.0] > hit[1.0]
+
+
+def test_bc_focus_is_bounded():
+    with pytest.raises(ConfigError, match="bc focus"):
+        TrainConfig(bc="greedy", bc_focus=0.5).imitation().validate()
