@@ -49,10 +49,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "kitchens to all in this many stages over --curriculum-fraction")
     g.add_argument("--obs", default="auto",
                    choices=("auto", "features", "grid", "window", "tasks"),
-                   help="egocentric path features, the SPEC vector (one-hot grid) encoding, "
-                        "window: features + a grid window (the same size on every map), or "
-                        "tasks: features + what the orders still lack (loop engine); "
-                        "auto: window with --maps, else features")
+                   help="features: egocentric paths; grid: SPEC one-hot grid; window: features "
+                        "+ a grid window (one size on every map); tasks: features + what orders "
+                        "still lack (loop engine); auto: window with --maps, else features")
     g.add_argument("--obs-radius", type=_types.whole("--obs-radius", 0, 64), default=0,
                    help="grid window radius (0 = whole map; window observations: 0 means 2)")
     g.add_argument("--n-kitchens", type=_types.whole("--n-kitchens", 1, 65536), default=8,
