@@ -89,7 +89,7 @@ RUNS: dict[str, list[str]] = {
        for s in (0, 1, 2)},
     **{f"clonetasks_2agent_s{s}": ["--preset", PRESET, "--n-agents", "2", "--maps", maps(2),
                                     "--timesteps", "1", "--seed", str(s), *CLONE_TASKS, *LOOP]
-       for s in (0, 1)},
+       for s in (0, 1, 2)},
     # the same with the DAgger samples the clone missed weighing 4 times as much
     **{f"clonefocus_2agent_s{s}": ["--preset", PRESET, "--n-agents", "2", "--maps", maps(2),
                                     "--timesteps", "1", "--seed", str(s), *CLONE_TASKS,
@@ -102,7 +102,7 @@ RUNS: dict[str, list[str]] = {
                                   f"experiments/runs/clonetasks_2agent_s{s}/bc_policy.npz",
                                   "--lr", "1e-4", "--ent-coef", "0.003", "--anneal-fraction",
                                   "0", "--max-wall", "900", *LOOP]
-       for s in (0, 1)},
+       for s in (0, 1, 2)},
     "clone_1agent_s0": _run(1, 0, True),
     "clone_3agent_s0": _run(3, 0, True),
 }
