@@ -14,6 +14,7 @@ from ocplus_plan.execution.partner import (
     brings,
     check_queues,
     hand_off,
+    ours_first,
     predicted_state,
     repair_taken,
     reserved_walks,
@@ -309,3 +310,29 @@ def test_an_item_the_partner_takes_again_after_putting_it_down_is_checked_again(
     state.item_where[tomato], state.item_loc[tomato] = int(Where.HAND), 1
     assert check_queues(state, queues, done, {1: Prediction(1, plate_cell)}, warned) == (False, 1)
     assert not queues[0] and {1, 2} <= done
+
+
+def test_our_steps_stop_at_the_first_that_waits_for_a_partners():
+    # a plan for every cook: the partner (1) fetches the tomato and leaves it on the counter
+    # between the halves; ours (0) moves the plate over, then takes the tomato on
+    crate, counter, plate, spot, board = 5, 7, 14, 12, 9
+    steps = [PlanStep(0, 1, "pickup", crate, (0,)), PlanStep(1, 0, "pickup", plate, (1,)),
+             PlanStep(2, 1, "putdown", counter, (0,)), PlanStep(3, 0, "putdown", spot, (1,)),
+             PlanStep(4, 0, "pickup", counter, (0,)), PlanStep(5, 0, "putdown", board, (0,))]
+    assert [s.index for s in ours_first(steps, (0,))] == [1, 3]
+    assert ours_first(steps[:1] + steps[4:], (0,)) == []  # its first step waits
+
+
+def test_a_crate_whose_only_way_in_a_partner_holds_still_compiles():
+    # the partner stands in the crate's only way in: a wall in the problem, the crate
+    # out of everyone's reach (the items from it have no home the plan could use)
+    from ocplus_plan.planning.compile import compile as compile_state
+
+    spec = {"name": "halves", "max_n_agent": 2,
+            "game_map": [[1, 1, 1, 1, 1], [3, 0, 1, 0, 6], [7, 0, 1, 0, 5], [1, 1, 1, 1, 1]],
+            "agent_spawn_points": [[1, 3], [1, 1]]}
+    state = _state(spec)
+    problem = predicted_state(state, {1: Prediction(1, None)})
+    assert not problem.geo.walkables[0][state.geo.flat(1, 1)]
+    compiled = compile_state(problem, None, agents=[0])
+    assert compiled.problem is not None
