@@ -219,11 +219,24 @@ def answer_taken(state: State, task: Task, queues: Mapping[int, deque[Task]],
         return None
     pred = predictions.get(found[0])
     target = None if pred is None else pred.target
-    if expected_by_plan(queues, found[1], target):
+    if expected_by_plan(queues, found[1], target) or onto_our_plate(state, queues, *found, target):
         return "expected"
     if repair_taken(queues, done_steps, found[1], target) or substitute(state, queues, found[1]):
         return "repaired"
     return "taken"
+
+
+def onto_our_plate(state: State, queues: Mapping[int, deque[Task]], cook: int, item: int,
+                   target: int | None) -> bool:
+    """Does the partner's predicted bump put ``item`` onto a plate lying at ``target`` that the
+    plan's first step with the item carries with it (a plan made from the state that bump
+    leaves: the item is on the plate already, and only the plate is moved on)?"""
+    if target is None or bump_effect(state, state.agent_hand[cook], target) != Bump.ONTO_PLATE:
+        return False
+    plate = state.cell_item[target]
+    first = min((t for q in queues.values() for t in q if item in t.step.items),
+                key=lambda t: t.step.index, default=None)
+    return first is not None and plate in first.step.items
 
 
 def substitute(state: State, queues: Mapping[int, deque[Task]], item: int) -> bool:
@@ -447,6 +460,6 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
 
 
 __all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "brings",
-           "blocked_geometry", "check_queues", "expected_by_plan", "hand_off", "ours_first",
-           "partner_holding", "plan_around", "predicted_state", "repair_taken", "reserved_walks",
-           "shut_out", "substitute", "vacate"]
+           "blocked_geometry", "check_queues", "expected_by_plan", "hand_off", "onto_our_plate",
+           "ours_first", "partner_holding", "plan_around", "predicted_state", "repair_taken",
+           "reserved_walks", "shut_out", "substitute", "vacate"]

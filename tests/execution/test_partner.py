@@ -14,6 +14,7 @@ from ocplus_plan.execution.partner import (
     brings,
     check_queues,
     hand_off,
+    onto_our_plate,
     ours_first,
     predicted_state,
     repair_taken,
@@ -336,3 +337,58 @@ def test_a_crate_whose_only_way_in_a_partner_holds_still_compiles():
     assert not problem.geo.walkables[0][state.geo.flat(1, 1)]
     compiled = compile_state(problem, None, agents=[0])
     assert compiled.problem is not None
+
+
+# three rows of floor: a way round any one cook (crate left, board and window right)
+HALL = {"name": "hall", "max_n_agent": 2,
+        "game_map": [[1, 1, 1, 1, 1, 1, 1],
+                     [3, 0, 0, 0, 0, 0, 6],
+                     [1, 0, 0, 0, 0, 0, 7],
+                     [1, 0, 0, 0, 0, 0, 1],
+                     [1, 1, 1, 5, 1, 1, 1]],
+        "agent_spawn_points": [[1, 3], [1, 1]]}
+
+
+def test_a_greedy_partners_predicted_walk_goes_round_our_cook_as_its_policy_does():
+    # the partner carries the tomato to the board; its shortest walk runs through our cook
+    # at (1,3), and greedy treats our cook as a wall: the walk it takes goes round, so
+    # our cook's paths keep clear of it (a walk through our cook reserved nothing, and
+    # both cooks stepped into the same cell; hard, seed 0, steps 61-93)
+    state = _state(HALL)
+    transition(state, [S, L])
+    assert state.agent_hand[1] >= 0
+    model = PartnerModel(GreedyAgent(0))
+    model.reset(state, [0])
+    pred = model(state)[1]
+    assert pred.target == state.geo.flat(1, 6) and pred.path
+    assert state.agent_pos[0] not in pred.path
+    walk = reserved_walks(state, {1: pred}, {0: ["a step"]})[1]
+    assert walk == (state.agent_pos[1], *pred.path[:8])
+    # with no way round (one lane), the walk it waits to take: an idle cook steps off it
+    state = _state(LANE)
+    transition(state, [S, L])
+    model = PartnerModel(GreedyAgent(0))
+    model.reset(state, [0])
+    pred = model(state)[1]
+    assert state.agent_pos[0] in pred.path
+
+
+def test_a_partner_carrying_an_item_onto_our_plate_is_expected_not_replanned():
+    # the plan was made from the state the partner's bump leaves: the chopped tomato on
+    # the plate; its first step with the tomato serves the plate (a replan every step
+    # while the partner walked, medium seed 0, steps 100-108)
+    state, tomato = _carrying_partner()
+    state.item_state[tomato] = int(ItemState.CHOPPED)
+    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
+    plate_cell, window = state.item_loc[plate], state.geo.flat(1, 4)
+    steps = [PlanStep(0, 0, "pickup", plate_cell, (plate,)),
+             PlanStep(1, 0, "deliver", window, (plate, tomato))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    preds = {1: Prediction(1, plate_cell)}
+    assert onto_our_plate(state, queues, 1, tomato, plate_cell)
+    assert answer_taken(state, queues[0][1], queues, set(), preds) == "expected"
+    assert len(queues[0]) == 2
+    # a plan that takes the tomato on elsewhere first does not fit
+    board = state.geo.flat(0, 2)
+    queues = {0: deque([Task(PlanStep(0, 0, "plate", board, (tomato,)), frozenset())])}
+    assert not onto_our_plate(state, queues, 1, tomato, plate_cell)
