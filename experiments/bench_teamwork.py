@@ -9,6 +9,10 @@ episode, then the targets with their numbers):
   what two greedy cooks serve, and at least 0.8x on each kitchen.
 - ``idle-partner``: the generated kitchens: the default planner beside an idle partner
   (2 cooks) and alone with 1 cook. Target: at least 0.8 of the dishes served alone.
+- ``learned-partner``: the generated kitchens, 2 cooks: the default planner beside a
+  learned agent (``--learned``, default ``ppo``: on a generated kitchen the shipped
+  generalist for 2 cooks, see docs/rl.md), and that agent driving both cooks. Target: pooled
+  at least what the learned agent serves with itself.
 - ``presets``: easy, medium, hard with 1 and 2 cooks: the default planner and greedy.
   Target: the planner at or above greedy on all six (hard with 2 cooks at least 3.0).
 - ``zero``: ``--zero-kitchens`` test kitchens per family, 2 cooks, seed ``--first-seed``
@@ -51,7 +55,7 @@ from ocplus_plan.execution.stall import STALL_STRETCH, StallWatch  # noqa: E402
 from ocplus_plan.sim import make_rules, new_state  # noqa: E402
 from ocplus_plan.sim.generate import FAMILIES  # noqa: E402
 
-GROUPS = ("greedy-partner", "idle-partner", "presets", "zero")
+GROUPS = ("greedy-partner", "idle-partner", "learned-partner", "presets", "zero")
 PLANNER = "planner:"  # the default planner
 INFO = ("planner_calls", "statuses", "replans_by_reason", "planning_cpu_s", "partner_repairs",
         "stall_strategies", "livelock_stretches", "all_cooks_fallbacks", "failure_fallbacks",
@@ -106,6 +110,10 @@ def cells(args: argparse.Namespace) -> list[tuple[str, str, int, int, str, str |
             for k in gens:
                 out += [("idle-partner", k, 2, seed, PLANNER, "idle"),
                         ("idle-partner", k, 1, seed, PLANNER, None)]
+        if "learned-partner" in args.groups:
+            for k in gens:
+                out += [("learned-partner", k, 2, seed, PLANNER, args.learned),
+                        ("learned-partner", k, 2, seed, args.learned, None)]
         if "presets" in args.groups:
             for k in ("easy", "medium", "hard"):
                 for n in (1, 2):
@@ -155,6 +163,7 @@ def targets(rows: list[dict]) -> list[dict]:
         out.append({"target": "idle partner: >= 0.8 of the dishes served alone",
                     "episodes": len(idle), "with_idle_partner": a, "alone": b,
                     "ratio": _ratio(a, b), "reached": bool(b) and a >= 0.8 * b})
+    out += _learned_target(cell)
     presets = defaultdict(lambda: defaultdict(list))
     for r in cell.values():
         if r["group"] == "presets":
@@ -185,6 +194,24 @@ def targets(rows: list[dict]) -> list[dict]:
     return out
 
 
+def _learned_target(cell: dict[tuple, dict]) -> list[dict]:
+    """Beside a learned partner against that agent driving both cooks (pooled, per kitchen)."""
+    per: dict[str, list[int]] = defaultdict(lambda: [0, 0, 0])
+    for r in cell.values():
+        if r["group"] == "learned-partner" and r["agent"] == PLANNER:
+            ref = cell.get(("learned-partner", r["kitchen"], 2, r["seed"], r["partner"], None))
+            if ref is not None:
+                row = per[r["kitchen"]]
+                row[0], row[1], row[2] = row[0] + r["dishes"], row[1] + ref["dishes"], row[2] + 1
+    if not per:
+        return []
+    a, b = sum(x for x, _, _ in per.values()), sum(y for _, y, _ in per.values())
+    return [{"target": "learned partner: pooled >= what it serves with itself",
+             "episodes": sum(n for _, _, n in per.values()), "planner_with_learned": a,
+             "learned_both_cooks": b, "pooled_ratio": _ratio(a, b), "per_kitchen": dict(per),
+             "reached": a >= b}]
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -197,6 +224,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--gen-per-family", type=int, default=2)
     p.add_argument("--gen-first", type=int, default=0)
     p.add_argument("--zero-kitchens", type=int, default=20, help="kitchens per family (zero)")
+    p.add_argument("--learned", default="ppo",
+                   help="the learned agent of learned-partner (ppo: the shipped generalist)")
     p.add_argument("--timeout", type=float, default=10.0, help="CPU seconds per planner call")
     p.add_argument("--out", type=Path, default=None, help="also append the JSON lines here")
     p.add_argument("--resume", action="store_true", help="skip the episodes already in --out")

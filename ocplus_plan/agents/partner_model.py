@@ -20,7 +20,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ..execution.partner import Prediction
-from ..sim.queries import interaction_spots, walk_to, walks
 from ..sim.state import State
 from .base import Controller
 from .greedy import GreedyAgent
@@ -68,11 +67,16 @@ class PartnerModel:
             if goal is None or (not self.by_policy and self.still[c] >= self.patience):
                 out[c] = Prediction(c, None)
                 continue
-            spots = set(interaction_spots(view.nbrs, view.walk, goal[0]))
-            found = walks(view.nbrs, view.walk, [state.agent_pos[c]])
-            spot = next((f for f in found.order if f in spots), None)
-            path = walk_to(found, spot) if spot is not None else None
-            out[c] = Prediction(c, goal[0], tuple(path or ()))
+            # the walk the policy takes: around the other cooks, which it treats as walls (a
+            # walk through our cook is one the partner never takes: it goes round); with no
+            # way round, the walk it waits to take (a cook of ours with nothing to do on it
+            # steps off)
+            pos, others = state.agent_pos[c], frozenset(
+                p for b, p in enumerate(state.agent_pos) if b != c)
+            step, path = self.shadow._step_towards(view, pos, goal[0], others)
+            if step is None:
+                step, path = self.shadow._step_towards(view, pos, goal[0], frozenset())
+            out[c] = Prediction(c, goal[0], tuple(path) if step is not None else ())
         return out
 
 

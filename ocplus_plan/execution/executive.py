@@ -315,11 +315,13 @@ class Executive:
         self.unhandled.clear()
         if not outcome.ok:
             # keep the last valid plan; try again later, backing off while it keeps failing
-            # (a layout switch retries at once: it may be what made the problem unsolvable)
+            # (a layout switch retries at once: it may be what made the problem unsolvable;
+            # ``waiting`` for a partner's hand-over, :func:`~.partner.plan_around`, never backs off)
             self.triggers.append((state.t, "planner_failed"))
             self.failure_messages[f"{outcome.status}: {outcome.message}"[:300]] += 1
             self.failures_in_row += 1
-            self.next_retry = state.t + min(4 * self.retry_after, self.retry_after * self.failures_in_row)
+            self.next_retry = state.t + (self.retry_after if outcome.status == "waiting" else min(
+                4 * self.retry_after, self.retry_after * self.failures_in_row))
             return
         self.failures_in_row = 0
         self.last_plan_t = state.t

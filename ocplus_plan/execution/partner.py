@@ -26,7 +26,8 @@ from dataclasses import dataclass, replace
 from ..sim.codes import Cell, ItemState, Where
 from ..sim.queries import Bump, bump_effect, distances, interaction_spots
 from ..sim.state import Geometry, State
-from .plans import PlanFunction, PlanOutcome, PlanStep
+from .plans import PlanFunction, PlanOutcome, PlanStep, causal_dependencies
+from .proven import PROVEN_STATUSES
 from .tasks import Task
 
 _HAND, _CELL, _PLATE = int(Where.HAND), int(Where.CELL), int(Where.PLATE)
@@ -61,7 +62,48 @@ def plan_around(planner: PlanFunction, state: State, agents: tuple[int, ...], re
     outcome = planner(problem, agents, reason)
     if not outcome.ok and problem.geo is not state.geo:
         outcome = planner(predicted_state(state, predictions, walls=False), agents, reason)
+    if outcome.status in PROVEN_STATUSES and predictions:
+        return _with_partners(planner, state, agents, reason, predictions)
     return outcome
+
+
+def _with_partners(planner: PlanFunction, state: State, agents: tuple[int, ...], reason: str,
+                   predictions: Mapping[int, Prediction]) -> PlanOutcome:
+    """Our cooks alone can serve nothing (a kitchen split between the cooks: the partner's
+    half holds a station every dish needs): plan every cook, and keep our steps up to the
+    first that waits for a partner's (:func:`ours_first`). Our cooks do their half and
+    leave the work on the counters between the halves; the partner's policy decides the
+    rest, and we plan again when our steps are done. ``waiting`` (not a plan) when our
+    first step already waits for the partner: the executive asks again later."""
+    joint = planner(predicted_state(state, predictions, walls=False),
+                    tuple(range(state.n_agents)), reason)
+    if not joint.ok:
+        return joint
+    steps = ours_first(joint.steps, agents)
+    if not steps:
+        return PlanOutcome("waiting", [], joint.planning_time,
+                           "every cook planned: our first step waits for a partner's")
+    return replace(joint, steps=steps)
+
+
+def ours_first(steps: list[PlanStep], agents: tuple[int, ...]) -> list[PlanStep]:
+    """The steps of ``agents`` that come before (and do not wait for) any step of another
+    cook: a step that touches a cell or item a partner's earlier step touches
+    (:func:`~.plans.causal_dependencies`) is cut with the rest of its cook's steps, and so is
+    one that waits for a step cut."""
+    order = sorted(steps, key=lambda s: (s.start or 0.0, s.index))
+    deps = causal_dependencies(order)
+    cut: set[int] = set()
+    stopped: set[int] = set()
+    kept = []
+    for s in order:
+        if s.agent not in agents or s.agent in stopped or deps[s.index] & cut:
+            cut.add(s.index)
+            if s.agent in agents:
+                stopped.add(s.agent)
+            continue
+        kept.append(s)
+    return kept
 
 
 def predicted_state(state: State, predictions: Mapping[int, Prediction],
@@ -177,11 +219,24 @@ def answer_taken(state: State, task: Task, queues: Mapping[int, deque[Task]],
         return None
     pred = predictions.get(found[0])
     target = None if pred is None else pred.target
-    if expected_by_plan(queues, found[1], target):
+    if expected_by_plan(queues, found[1], target) or onto_our_plate(state, queues, *found, target):
         return "expected"
     if repair_taken(queues, done_steps, found[1], target) or substitute(state, queues, found[1]):
         return "repaired"
     return "taken"
+
+
+def onto_our_plate(state: State, queues: Mapping[int, deque[Task]], cook: int, item: int,
+                   target: int | None) -> bool:
+    """Does the partner's predicted bump put ``item`` onto a plate lying at ``target`` that the
+    plan's first step with the item carries with it (a plan made from the state that bump
+    leaves: the item is on the plate already, and only the plate is moved on)?"""
+    if target is None or bump_effect(state, state.agent_hand[cook], target) != Bump.ONTO_PLATE:
+        return False
+    plate = state.cell_item[target]
+    first = min((t for q in queues.values() for t in q if item in t.step.items),
+                key=lambda t: t.step.index, default=None)
+    return first is not None and plate in first.step.items
 
 
 def substitute(state: State, queues: Mapping[int, deque[Task]], item: int) -> bool:
@@ -404,7 +459,7 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
     return out
 
 
-__all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "brings", "blocked_geometry",
-           "check_queues", "expected_by_plan", "hand_off", "partner_holding", "plan_around",
-           "predicted_state", "repair_taken", "reserved_walks", "shut_out", "substitute",
-           "vacate"]
+__all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "brings",
+           "blocked_geometry", "check_queues", "expected_by_plan", "hand_off", "onto_our_plate",
+           "ours_first", "partner_holding", "plan_around", "predicted_state", "repair_taken",
+           "reserved_walks", "shut_out", "substitute", "vacate"]

@@ -310,9 +310,10 @@ def _place_facts(builder: _Builder, state: State, spots: SpotGraph, objects: _Ob
             builder.true("nowait", name)
     plain_counters = [p for p in spots.places if terrain[p] == Cell.COUNTER]
     for i in range(state.n_items):
-        home = objects.places[geo.item_home[i]]
-        builder.true("home", objects.items[i], home)
-        builder.true("drop_ok", objects.items[i], home)
+        home = objects.places.get(geo.item_home[i])
+        if home is not None:  # (a crate nobody reaches, a partner in its only way in: none)
+            builder.true("home", objects.items[i], home)
+            builder.true("drop_ok", objects.items[i], home)
         for p in plain_counters:
             builder.true("drop_ok", objects.items[i], objects.places[p])
     for s, p in spots.adjacent:

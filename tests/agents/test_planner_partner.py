@@ -9,11 +9,14 @@ import pytest
 
 from ocplus_plan.agents import Episode, StayAgent, make_controller
 from ocplus_plan.agents import with_partner
-from ocplus_plan.agents.planner import PlannerAgent
+from ocplus_plan.agents.base import Controller
+from ocplus_plan.agents.greedy import GreedyAgent
+from ocplus_plan.agents.planner import PlannerAgent, make_planner_agent
 from ocplus_plan.errors import ConfigError
 from ocplus_plan.eval.results import read_results
 from ocplus_plan.eval.runner import EvalConfig, run_eval
-from ocplus_plan.sim import make_rules, new_state
+from ocplus_plan.sim import make_rules, new_state, transition
+from ocplus_plan.sim.codes import Action
 
 warnings.simplefilter("ignore", UserWarning)
 
@@ -100,3 +103,63 @@ def test_a_partner_holding_an_item_is_modelled_but_not_driven():
     assert pipeline.modelled_cooks(state, (0, 1, 2), "stations") is None
     state.agent_hand[2] = 0  # (only the hand is read)
     assert pipeline.modelled_cooks(state, (0, 1), "stations") == [0, 1, 2]
+
+
+# two halves joined by the counters (1,2) and (2,2): the tomato crate and the window on the
+# partner's side (cook 1, left), the board and the plate on ours (cook 0, right)
+HALVES = {"name": "halves", "max_n_agent": 2,
+          "game_map": [[1, 1, 1, 1, 1],
+                       [3, 0, 1, 0, 6],
+                       [7, 0, 1, 0, 5],
+                       [1, 1, 1, 1, 1]],
+          "agent_spawn_points": [[1, 3], [1, 1]]}
+
+
+class _Teammate(Controller):
+    """Plays its cook as a greedy controller driving every cook would: it hands what it
+    cannot use over to the other cook through a counter (as a clone of two greedy cooks)."""
+
+    name = "teammate"
+
+    def __init__(self) -> None:
+        self.inner = GreedyAgent(0)
+
+    def _reset(self, state) -> None:
+        self.inner.reset(state, list(range(state.n_agents)))
+
+    def act(self, state) -> list[int]:
+        actions = self.inner.act(state)
+        return [actions[a] for a in self.agent_ids]
+
+
+@pytest.mark.skipif(not _fd_ok(), reason="fast-downward unavailable")
+def test_a_cook_that_cannot_serve_alone_does_its_half_of_a_split_kitchen():
+    """Our cook reaches neither the crate nor the window: alone it has no plan. It plans
+    every cook, does its steps up to the first that waits for the partner's hand-over (it
+    waits, asking again), then chops and plates what the partner hands over and leaves
+    the dish on a counter between the halves, where the partner takes it to the window."""
+    state = new_state(make_rules("easy", map=HALVES, n_agents=2, recipes=["tomato"],
+                                 horizon=25), 0)
+    agent = make_planner_agent("", 0)
+    Episode(state, with_partner(agent, _Teammate(), 2)).run()
+    info = agent.info()
+    assert state.stats["dishes_served"] >= 1, info
+    assert info["statuses"].get("waiting", 0) >= 1  # its first step waited for the partner
+
+
+def test_a_greedy_partner_never_hands_over_to_a_cook_it_does_not_drive():
+    """Why the generated split kitchens serve nothing beside a greedy partner: driving only
+    its own cook, greedy never takes up an ingredient it cannot bring to a station itself
+    (agents/greedy.py: a cook it does not drive is no teammate), so nothing crosses; driving
+    both cooks, it hands the tomato over through a counter."""
+    for driven, crosses in (([1], False), ([0, 1], True)):
+        state = new_state(make_rules("easy", map=HALVES, n_agents=2, recipes=["tomato"],
+                                     horizon=20), 0)
+        greedy = GreedyAgent(0)
+        greedy.reset(state, driven)
+        handed = False
+        for _ in range(20):
+            actions = dict(zip(driven, greedy.act(state)))
+            transition(state, [actions.get(a, int(Action.STAY)) for a in range(2)])
+            handed |= any(state.cell_item[state.geo.flat(r, 2)] >= 0 for r in (1, 2))
+        assert handed == crosses

@@ -14,6 +14,8 @@ from ocplus_plan.execution.partner import (
     brings,
     check_queues,
     hand_off,
+    onto_our_plate,
+    ours_first,
     predicted_state,
     repair_taken,
     reserved_walks,
@@ -309,3 +311,84 @@ def test_an_item_the_partner_takes_again_after_putting_it_down_is_checked_again(
     state.item_where[tomato], state.item_loc[tomato] = int(Where.HAND), 1
     assert check_queues(state, queues, done, {1: Prediction(1, plate_cell)}, warned) == (False, 1)
     assert not queues[0] and {1, 2} <= done
+
+
+def test_our_steps_stop_at_the_first_that_waits_for_a_partners():
+    # a plan for every cook: the partner (1) fetches the tomato and leaves it on the counter
+    # between the halves; ours (0) moves the plate over, then takes the tomato on
+    crate, counter, plate, spot, board = 5, 7, 14, 12, 9
+    steps = [PlanStep(0, 1, "pickup", crate, (0,)), PlanStep(1, 0, "pickup", plate, (1,)),
+             PlanStep(2, 1, "putdown", counter, (0,)), PlanStep(3, 0, "putdown", spot, (1,)),
+             PlanStep(4, 0, "pickup", counter, (0,)), PlanStep(5, 0, "putdown", board, (0,))]
+    assert [s.index for s in ours_first(steps, (0,))] == [1, 3]
+    assert ours_first(steps[:1] + steps[4:], (0,)) == []  # its first step waits
+
+
+def test_a_crate_whose_only_way_in_a_partner_holds_still_compiles():
+    # the partner stands in the crate's only way in: a wall in the problem, the crate
+    # out of everyone's reach (the items from it have no home the plan could use)
+    from ocplus_plan.planning.compile import compile as compile_state
+
+    spec = {"name": "halves", "max_n_agent": 2,
+            "game_map": [[1, 1, 1, 1, 1], [3, 0, 1, 0, 6], [7, 0, 1, 0, 5], [1, 1, 1, 1, 1]],
+            "agent_spawn_points": [[1, 3], [1, 1]]}
+    state = _state(spec)
+    problem = predicted_state(state, {1: Prediction(1, None)})
+    assert not problem.geo.walkables[0][state.geo.flat(1, 1)]
+    compiled = compile_state(problem, None, agents=[0])
+    assert compiled.problem is not None
+
+
+# three rows of floor: a way round any one cook (crate left, board and window right)
+HALL = {"name": "hall", "max_n_agent": 2,
+        "game_map": [[1, 1, 1, 1, 1, 1, 1],
+                     [3, 0, 0, 0, 0, 0, 6],
+                     [1, 0, 0, 0, 0, 0, 7],
+                     [1, 0, 0, 0, 0, 0, 1],
+                     [1, 1, 1, 5, 1, 1, 1]],
+        "agent_spawn_points": [[1, 3], [1, 1]]}
+
+
+def test_a_greedy_partners_predicted_walk_goes_round_our_cook_as_its_policy_does():
+    # the partner carries the tomato to the board; its shortest walk runs through our cook
+    # at (1,3), and greedy treats our cook as a wall: the walk it takes goes round, so
+    # our cook's paths keep clear of it (a walk through our cook reserved nothing, and
+    # both cooks stepped into the same cell; hard, seed 0, steps 61-93)
+    state = _state(HALL)
+    transition(state, [S, L])
+    assert state.agent_hand[1] >= 0
+    model = PartnerModel(GreedyAgent(0))
+    model.reset(state, [0])
+    pred = model(state)[1]
+    assert pred.target == state.geo.flat(1, 6) and pred.path
+    assert state.agent_pos[0] not in pred.path
+    walk = reserved_walks(state, {1: pred}, {0: ["a step"]})[1]
+    assert walk == (state.agent_pos[1], *pred.path[:8])
+    # with no way round (one lane), the walk it waits to take: an idle cook steps off it
+    state = _state(LANE)
+    transition(state, [S, L])
+    model = PartnerModel(GreedyAgent(0))
+    model.reset(state, [0])
+    pred = model(state)[1]
+    assert state.agent_pos[0] in pred.path
+
+
+def test_a_partner_carrying_an_item_onto_our_plate_is_expected_not_replanned():
+    # the plan was made from the state the partner's bump leaves: the chopped tomato on
+    # the plate; its first step with the tomato serves the plate (a replan every step
+    # while the partner walked, medium seed 0, steps 100-108)
+    state, tomato = _carrying_partner()
+    state.item_state[tomato] = int(ItemState.CHOPPED)
+    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
+    plate_cell, window = state.item_loc[plate], state.geo.flat(1, 4)
+    steps = [PlanStep(0, 0, "pickup", plate_cell, (plate,)),
+             PlanStep(1, 0, "deliver", window, (plate, tomato))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    preds = {1: Prediction(1, plate_cell)}
+    assert onto_our_plate(state, queues, 1, tomato, plate_cell)
+    assert answer_taken(state, queues[0][1], queues, set(), preds) == "expected"
+    assert len(queues[0]) == 2
+    # a plan that takes the tomato on elsewhere first does not fit
+    board = state.geo.flat(0, 2)
+    queues = {0: deque([Task(PlanStep(0, 0, "plate", board, (tomato,)), frozenset())])}
+    assert not onto_our_plate(state, queues, 1, tomato, plate_cell)
