@@ -396,9 +396,9 @@ class GreedyAgent(Controller):
                     self.hands_off[s.agent_hand[a]] = (a, s.t + 2 * _STUCK + 8)
                 continue
             others = frozenset(p for b, p in enumerate(s.agent_pos) if b != a) | reserved
-            step, path = self._step_towards(v, pos, cell, others)
+            step, path = self.step_towards(v, pos, cell, others)
             if step is None:
-                paths.update(self._step_towards(v, pos, cell, frozenset())[1])
+                paths.update(self.step_towards(v, pos, cell, frozenset())[1])
                 self.waited[a] += 1
                 self.stuck[a] += 1
                 step = self._sidestep(v, a, others) if self.waited[a] > self.patience else None
@@ -430,8 +430,8 @@ class GreedyAgent(Controller):
                     self.counts["yields"] += 1
         return [int(actions[a]) for a in self.agent_ids]
 
-    def _step_towards(self, v: KitchenView, pos: int, cell: int, blocked: frozenset[int],
-                      walk: tuple[bool, ...] | None = None) -> tuple[int | None, list[int]]:
+    def step_towards(self, v: KitchenView, pos: int, cell: int, blocked: frozenset[int],
+                     walk: tuple[bool, ...] | None = None) -> tuple[int | None, list[int]]:
         """First step of a shortest path to a floor cell next to ``cell`` avoiding ``blocked``.
 
         When the current layout has no path but a switch would open one, head along the
@@ -444,7 +444,7 @@ class GreedyAgent(Controller):
         if path:
             return path[0], path
         if walk is None and v.dynamic:
-            step, path = self._step_towards(v, pos, cell, blocked, v.walk_any)
+            step, path = self.step_towards(v, pos, cell, blocked, v.walk_any)
             if step is not None and v.walk[step]:
                 return step, path
             if step is not None:  # wait for the switch off the cells that it changes

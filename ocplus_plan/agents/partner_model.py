@@ -73,9 +73,9 @@ class PartnerModel:
             # steps off)
             pos, others = state.agent_pos[c], frozenset(
                 p for b, p in enumerate(state.agent_pos) if b != c)
-            step, path = self.shadow._step_towards(view, pos, goal[0], others)
+            step, path = self.shadow.step_towards(view, pos, goal[0], others)
             if step is None:
-                step, path = self.shadow._step_towards(view, pos, goal[0], frozenset())
+                step, path = self.shadow.step_towards(view, pos, goal[0], frozenset())
             out[c] = Prediction(c, goal[0], tuple(path) if step is not None else ())
         return out
 
