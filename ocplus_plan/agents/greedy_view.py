@@ -10,14 +10,13 @@ from __future__ import annotations
 
 from collections import Counter
 
-from ..sim.codes import COUNTERS, Cell, Item, ItemState, Where
-from ..sim.queries import distances, interaction_spots, plate_fits, walkable_in_any_layout
+from ..sim.codes import COUNTERS, Cell, Item, ItemState
+from ..sim.queries import (distances, interaction_spots, order_needs, plate_fits,
+                           walkable_in_any_layout)
 from ..sim.state import State
 
 _COUNTER_CODES = frozenset(int(c) for c in COUNTERS)
 _PLAIN_COUNTER = int(Cell.COUNTER)
-_PLATE = int(Item.PLATE)
-_FRESH, _CLEAN = int(ItemState.FRESH), int(ItemState.CLEAN)
 
 
 class KitchenView:
@@ -113,33 +112,12 @@ class KitchenView:
         return Counter(self.kind[i] for i in self.s.plate_contents(plate))
 
     def _plates(self) -> None:
-        """Match clean plates to open orders and count what each still needs."""
-        s = self.s
-        recipes = [Counter(int(k) for k in o.recipe) for o in s.orders]
-        self.recipes = recipes
-        clean = [i for i in range(s.n_items) if self.kind[i] == _PLATE
-                 and s.item_state[i] == _CLEAN and s.item_where[i] in (Where.CELL, Where.HAND)]
-        self.plate_contents = {p: self.contents(p) for p in clean}
-        self.plate_order: dict[int, int] = {}
-        used: set[int] = set()
-        for oi, rec in enumerate(recipes):
-            best, best_n = -1, -1
-            for p in clean:
-                c = self.plate_contents[p]
-                if p not in used and plate_fits(c, rec) and sum(c.values()) > best_n:
-                    best, best_n = p, sum(c.values())
-            if best >= 0:
-                used.add(best)
-                self.plate_order[best] = oi
-        self.plate_missing = {p: recipes[oi] - self.plate_contents[p]
-                              for p, oi in self.plate_order.items()}
-        need: Counter = Counter()
-        for m in self.plate_missing.values():
-            need.update(m)
-        for oi, rec in enumerate(recipes):
-            if oi not in self.plate_order.values():
-                need.update(rec)
-        self.need = need
+        """Match clean plates to open orders and count what each still needs
+        (:func:`~ocplus_plan.sim.queries.order_needs`)."""
+        needs = order_needs(self.s)
+        recipes = self.recipes = needs.recipes
+        self.plate_contents, self.plate_order = needs.plate_contents, needs.plate_order
+        self.plate_missing, self.need, self.supply = needs.plate_missing, needs.need, needs.supply
         #: kind -> index of the oldest open order that still needs it (older orders go first)
         self.first_need: dict[int, int] = {}
         for oi, rec in enumerate(recipes):
@@ -147,18 +125,8 @@ class KitchenView:
             missing = rec if plate is None else self.plate_missing[plate]
             for k in missing:
                 self.first_need.setdefault(k, oi)
-        self.bad_plates = [p for p in clean if p not in self.plate_order
-                           and self.plate_contents[p]
-                           and not any(plate_fits(self.plate_contents[p], r) for r in recipes)]
-        supply: Counter = Counter()
-        for i in range(s.n_items):
-            k, st, w = self.kind[i], s.item_state[i], s.item_where[i]
-            if k == _PLATE or w in (Where.PLATE, Where.WAITING):
-                continue
-            if st == s.rules.tables.ready_of(k) or (st == _FRESH and (
-                    w == Where.HAND or self.terrain[s.item_loc[i]] in (Cell.BOARD, self.heat))):
-                supply[k] += 1
-        self.supply = supply
+        self.bad_plates = [p for p, c in self.plate_contents.items() if p not in self.plate_order
+                           and c and not any(plate_fits(c, r) for r in recipes)]
 
     def exact_match(self, plate: int) -> bool:
         c = self.plate_contents.get(plate)

@@ -29,14 +29,13 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..sim.codes import COUNTERS, Cell, Item, ItemState, Where
-from ..sim.queries import plate_fits
+from ..sim.codes import COUNTERS, Cell, Item, ItemState
+from ..sim.queries import order_needs
 from ..sim.rules import Rules
 from ..sim.state import State
 from .features import INGREDIENTS, PATH_SCALE, FeatureEncoder
 
-_PLATE = int(Item.PLATE)
-_FRESH, _CLEAN = int(ItemState.FRESH), int(ItemState.CLEAN)
+_FRESH = int(ItemState.FRESH)
 _BOARD = int(Cell.BOARD)
 _COUNTER_CODES = frozenset(int(c) for c in COUNTERS)
 _NONE = (0.0,) * 7
@@ -53,39 +52,14 @@ TASK_NAMES: tuple[str, ...] = (
 
 def unmet_need(state: State) -> tuple[Counter, Counter]:
     """(kind -> count the open orders still need beyond the supply on its way, kind -> count
-    the clean plates matched to orders still miss). Plates are matched to orders oldest order
-    first, each to the fitting plate with the most on it."""
-    kinds, tables = state.geo.item_kind, state.rules.tables
-    terrain = state.geo.terrains[state.layout_index]
-    heat = tables.station_of(int(Item.STEAK))
-    recipes = [Counter(int(k) for k in o.recipe) for o in state.orders]
-    clean = [i for i in range(state.n_items) if kinds[i] == _PLATE
-             and state.item_state[i] == _CLEAN and state.item_where[i] in (Where.CELL, Where.HAND)]
-    contents = {p: Counter(kinds[i] for i in state.plate_contents(p)) for p in clean}
-    need: Counter = Counter()
+    the clean plates matched to orders still miss), from
+    :func:`~ocplus_plan.sim.queries.order_needs` as the greedy cook reads them."""
+    needs = order_needs(state)
     missing: Counter = Counter()
-    used: set[int] = set()
-    for rec in recipes:
-        best, best_n = -1, -1
-        for p in clean:
-            n = sum(contents[p].values())
-            if p not in used and plate_fits(contents[p], rec) and n > best_n:
-                best, best_n = p, n
-        if best >= 0:
-            used.add(best)
-            missing.update(rec - contents[best])
-            need.update(rec - contents[best])
-        else:
-            need.update(rec)
-    supply: Counter = Counter()
-    for i in range(state.n_items):
-        k, st, w = kinds[i], state.item_state[i], state.item_where[i]
-        if k == _PLATE or w in (Where.PLATE, Where.WAITING):
-            continue
-        if st == tables.ready_of(k) or (st == _FRESH and (
-                w == Where.HAND or terrain[state.item_loc[i]] in (_BOARD, heat))):
-            supply[k] += 1
-    return Counter({k: n - supply[k] for k, n in need.items() if n > supply[k]}), missing
+    for m in needs.plate_missing.values():
+        missing.update(m)
+    return Counter({k: n - needs.supply[k] for k, n in needs.need.items()
+                    if n > needs.supply[k]}), missing
 
 
 class TaskEncoder:

@@ -16,12 +16,13 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Iterable
+from dataclasses import dataclass
 from enum import IntEnum
 from functools import lru_cache
 from typing import TYPE_CHECKING
 
 from ..errors import ConfigError
-from .codes import COUNTERS, STATIONS, Action, Cell, Item, ItemState
+from .codes import COUNTERS, STATIONS, Action, Cell, Item, ItemState, Where
 from .grid import (Neighbors, Walks, distances, grid_neighbors, interaction_spots, walk_actions,
                    walk_to, walks)
 
@@ -283,8 +284,55 @@ def plate_fits(contents: Counter[int], recipe: Counter[int]) -> bool:
     return not (contents - recipe)
 
 
-__all__ = ["Bump", "SwitchingWalks", "Walks", "bump_effect", "bumps_needed", "direction", "distances",
-           "grid_neighbors", "interaction_spots", "is_plateable", "layout_at", "plate_fits",
+@dataclass(frozen=True)
+class OrderNeeds:
+    """What the open orders still need (:func:`order_needs`); kinds count ingredient kinds."""
+
+    recipes: list[Counter]  #: per open order (oldest first), kind -> count
+    plate_contents: dict[int, Counter]  #: clean plate (on a cell or in a hand) -> what it holds
+    plate_order: dict[int, int]  #: clean plate -> index of the order it is matched to
+    plate_missing: dict[int, Counter]  #: matched plate -> what its order still misses
+    need: Counter  #: kind -> count the orders need (a matched order: what its plate misses)
+    supply: Counter  #: kind -> count on its way (ready, or fresh in a hand or on its station)
+
+
+def order_needs(state: State) -> OrderNeeds:
+    """Match clean plates to the open orders (oldest order first, each to the fitting plate
+    with the most on it) and count what the orders still need and what is on its way; the
+    greedy cook allocates work by these, and a learner's features read them."""
+    kind = state.geo.item_kind
+    terrain = state.geo.terrains[state.layout_index]
+    heat = state.rules.tables.station_of(_STEAK)
+    recipes = [Counter(int(k) for k in o.recipe) for o in state.orders]
+    clean = [i for i in range(state.n_items) if kind[i] == _PLATE and state.item_state[i] == _CLEAN
+             and state.item_where[i] in (Where.CELL, Where.HAND)]
+    contents = {p: Counter(kind[i] for i in state.plate_contents(p)) for p in clean}
+    plate_order: dict[int, int] = {}
+    for oi, rec in enumerate(recipes):
+        fitting = [p for p in clean if p not in plate_order and plate_fits(contents[p], rec)]
+        if fitting:
+            plate_order[max(fitting, key=lambda p: sum(contents[p].values()))] = oi  # (the first)
+    missing = {p: recipes[oi] - contents[p] for p, oi in plate_order.items()}
+    need: Counter = Counter()
+    for m in missing.values():
+        need.update(m)
+    for oi, rec in enumerate(recipes):
+        if oi not in plate_order.values():
+            need.update(rec)
+    supply: Counter = Counter()
+    for i in range(state.n_items):
+        k, st, w = kind[i], state.item_state[i], state.item_where[i]
+        if k == _PLATE or w in (Where.PLATE, Where.WAITING):
+            continue
+        if st == state.rules.tables.ready_of(k) or (st == int(ItemState.FRESH) and (
+                w == Where.HAND or terrain[state.item_loc[i]] in (Cell.BOARD, heat))):
+            supply[k] += 1
+    return OrderNeeds(recipes, contents, plate_order, missing, need, supply)
+
+
+__all__ = ["Bump", "OrderNeeds", "SwitchingWalks", "Walks", "bump_effect", "bumps_needed", "direction",
+           "distances", "grid_neighbors", "interaction_spots", "is_plateable", "layout_at",
+           "order_needs", "plate_fits",
            "stations_cut_off", "switching_walks", "ticks_until_burnt", "ticks_until_cooked",
            "ticks_until_done", "ticks_until_overrun", "walk_actions",
            "walk_to", "walkable_in_any_layout", "walks"]
