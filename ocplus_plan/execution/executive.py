@@ -122,6 +122,7 @@ class Executive:
         self.prev_burns = state.stats["burns"]
         self.last_plan_t: int | None = None
         self.next_retry = 0
+        self.waited_on: tuple | None = None  # the items' places at the last ``waiting`` answer
         self.warned: set[tuple[str, int]] = set()
         self.triggers: list[tuple[int, str]] = []
         self.unhandled: list[str] = []  # triggers not yet answered by a replan
@@ -316,11 +317,14 @@ class Executive:
         if not outcome.ok:
             # keep the last valid plan; try again later, backing off while it keeps failing
             # (a layout switch retries at once: it may be what made the problem unsolvable;
-            # ``waiting`` for a partner's hand-over, :func:`~.partner.plan_around`, never backs off)
+            # ``waiting`` for a partner's hand-over, :func:`~.partner.plan_around`, does not
+            # back off after an item moved: the hand-over may have come)
             self.triggers.append((state.t, "planner_failed"))
             self.failure_messages[f"{outcome.status}: {outcome.message}"[:300]] += 1
             self.failures_in_row += 1
-            self.next_retry = state.t + (self.retry_after if outcome.status == "waiting" else min(
+            items = (tuple(state.item_where), tuple(state.item_loc))
+            soon, self.waited_on = outcome.status == "waiting" and items != self.waited_on, items
+            self.next_retry = state.t + (self.retry_after if soon else min(
                 4 * self.retry_after, self.retry_after * self.failures_in_row))
             return
         self.failures_in_row = 0

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from ocplus_plan.agents import run_episode
+from ocplus_plan.agents import make_controller, run_episode
 from ocplus_plan.errors import ConfigError
 from ocplus_plan.execution.executive import (
     Executive,
@@ -91,6 +91,26 @@ def test_planner_failure_never_crashes_and_agents_stay_safe():
         assert [t for t, _ in info["replan_log"]][:4] == [0, 5, 15, 30]
         assert sum(info["statuses"].values()) == info["planner_calls"]
         assert info["triggers_by_reason"]["planner_failed"] == info["planner_calls"]
+
+
+def waiting_planner(state, agents, reason=""):
+    return PlanOutcome("waiting", [], 0.0, "our first step waits for a partner's")
+
+
+def test_waiting_for_a_partner_backs_off_while_no_item_moves():
+    # cook 1 stands idle: nothing a partner could hand over moves, so the asks back off
+    _, info, _ = play(make_rules("easy", n_agents=2), planner=waiting_planner, agents=[0],
+                      steps=40)
+    assert [t for t, _ in info["replan_log"]][:4] == [0, 5, 15, 30]
+
+
+def test_waiting_for_a_partner_asks_again_soon_after_an_item_moved():
+    # a greedy cook 1 moves items all the time: each ask comes 5 steps after the last
+    partner = (make_controller("greedy", 0), [1])
+    _, info, _ = play(make_rules("easy", n_agents=2), planner=waiting_planner, agents=[0],
+                      extra=[partner], steps=40)
+    assert [t for t, _ in info["replan_log"]][:4] == [0, 5, 10, 15]
+    assert info["statuses"] == {"waiting": info["planner_calls"]}
 
 
 def test_planner_timeout_after_a_valid_plan_keeps_the_old_plan():
