@@ -63,6 +63,10 @@ class PPOConfig(NamedTuple):
     #: the order curriculum's strength (rl/fast/jax_orders.py): new orders lean this much
     #: towards the recipes served least; 0: drawn as in evaluation
     order_curriculum: float = 0.5
+    #: a learner that has served no order within this fraction of the updates since it
+    #: started is started again (:func:`should_restart`): fresh weights drawn with a new
+    #: key, fresh Adam, its own learning-rate decay over the updates left; 0: never
+    restart_after: float = 0.2
 
 
 def init_params(key: Any, n_in: int, hidden: int, n_actions: int = 5,
@@ -152,10 +156,23 @@ def subtask_weight(config: PPOConfig, update: Any) -> Any:
     return jnp.clip(1.0 - update / span, 0.0, 1.0).astype(jnp.float32)
 
 
-def _learning_rate(config: PPOConfig, t: Any) -> Any:
-    """The rate at Adam step ``t``: linear decay to ``lr_final x lr`` over the run."""
-    total = max(1, config.n_updates * config.n_epochs * config.n_minibatches)
+def _learning_rate(config: PPOConfig, t: Any, start: Any = 0) -> Any:
+    """The rate at the learner's Adam step ``t``: linear decay to ``lr_final x lr`` over
+    the updates from ``start`` (the update the learner started at) to the run's end."""
+    total = jnp.maximum(1, (config.n_updates - start) * config.n_epochs
+                        * config.n_minibatches)
     return config.lr * (1.0 - (1.0 - config.lr_final) * jnp.minimum(1.0, t / total))
+
+
+def should_restart(config: PPOConfig, update: Any, start: Any, served: Any) -> Any:
+    """Whether the learner that started at ``start`` and has served ``served`` orders
+    since is started again before ``update``: it has served none in ``restart_after`` of
+    the run's updates. (With the potential-based shaping alone a learner that has not
+    stumbled on a dish by the time its critic has learned ``V = ... - phi`` has no signal
+    left: the shaping cancels in its advantages. On easy the runs that learn serve their
+    first order within 25-54 updates of 740; docs/rl.md.)"""
+    span = jnp.ceil(config.restart_after * config.n_updates)
+    return (config.restart_after > 0) & (served <= 0) & (update - start >= span)
 
 
 def make_train(env: Any, config: PPOConfig) -> Any:
@@ -210,7 +227,8 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         return (params, state, obs, key, (probs, keep)), step
 
     def update(carry: tuple, _: Any) -> tuple:
-        params, opt, state, obs, key, rates = carry
+        params, opt, state, obs, key, rates, life = carry
+        params, opt, life = restart(params, opt, life)
         probs = jax_orders.draw_probs(*rates, n_rec, config.order_curriculum)
         keep = subtask_weight(config, opt[2] // (config.n_epochs * config.n_minibatches))
         (params, state, obs, key, _), traj = jax.lax.scan(
@@ -218,6 +236,7 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         x, act, logp, value, r, done, dishes, (game, subtask, shaped, entropy, served,
                                                drawn) = traj
         rates = jax_orders.update_rates(rates, served.sum(0), drawn.sum(0))
+        u, start, served_since, restarts, k_init = life
         _, last = forward(params, actor_inputs(obs))
         adv, ret = _gae(config, value, r, done.astype(jnp.float32), last)
         flat = [a.reshape(t_len * e * n, *a.shape[3:]) for a in (x, act, logp, adv, ret)]
@@ -233,7 +252,7 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
             def minibatch(carry: tuple, batch: tuple) -> tuple:
                 params, opt = carry
                 grads = jax.grad(partial(_loss, config))(params, batch)
-                return _adam(params, grads, opt, _learning_rate(config, opt[2])), None
+                return _adam(params, grads, opt, _learning_rate(config, opt[2], start)), None
 
             (params, opt), _ = jax.lax.scan(minibatch, (params, opt), tuple(batches))
             return (params, opt, key), None
@@ -251,8 +270,25 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
                    "shaping": shaped.mean(), "entropy": entropy.mean(),
                    # per recipe: orders served per horizon of steps, and the draw's p_r
                    "served_by_recipe": served.sum(0)[:n_rec] * horizon / (t_len * e),
-                   "order_probs": probs[:n_rec], "subtask_weight": keep}
-        return (params, opt, state, obs, key, rates), metrics
+                   "order_probs": probs[:n_rec], "subtask_weight": keep,
+                   # the critic before this update's passes: how much of the returns'
+                   # variance it explains, and the returns' mean (reward_scale units)
+                   "explained_variance": 1.0 - jnp.var(ret - value) / (jnp.var(ret) + 1e-8),
+                   "return_mean": ret.mean(), "restarts": restarts}
+        life = (u + 1, start, served_since + served.sum(), restarts, k_init)
+        return (params, opt, state, obs, key, rates, life), metrics
+
+    def restart(params: Any, opt: Any, life: tuple) -> tuple:
+        """The learner, or a fresh one where :func:`should_restart` says so."""
+        u, start, served_since, restarts, k_init = life
+        again = should_restart(config, u, start, served_since)
+        fresh = init_params(jax.random.fold_in(k_init, restarts + 1), env.obs_size + n,
+                            config.hidden, critic=config.critic)
+        pick = lambda a, b: jnp.where(again, a, b)  # noqa: E731
+        params = jax.tree_util.tree_map(pick, fresh, params)
+        opt = jax.tree_util.tree_map(pick, jax.tree_util.tree_map(jnp.zeros_like, opt), opt)
+        return params, opt, (u, jnp.where(again, u, start), served_since,
+                             restarts + again.astype(restarts.dtype), k_init)
 
     def init(key: Any) -> tuple:
         k_init, k_reset, k_warm, key = jax.random.split(key, 4)
@@ -263,7 +299,9 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
                              critic=config.critic)
         zeros = jax.tree_util.tree_map(jnp.zeros_like, params)
         rates = (jnp.zeros(r_max), jnp.zeros(r_max))
-        return (params, (zeros, zeros, 0), state, obs, key, rates)
+        # update, the learner's first update, orders it served, restarts, its init key
+        life = (jnp.int32(0), jnp.int32(0), jnp.float32(0.0), jnp.int32(0), k_init)
+        return (params, (zeros, zeros, jnp.int32(0)), state, obs, key, rates, life)
 
     def run(carry: tuple) -> tuple:
         return jax.lax.scan(update, carry, None, length=chunk)
@@ -339,7 +377,7 @@ def train_to_folder(env: Any, config: PPOConfig, out: str, seed: int = 0,
                   f"subtasks/episode {log['subtasks'][-1]:.2f}  "
                   f"entropy {log['entropy'][-1]:.2f}  served by recipe "
                   f"{'/'.join(f'{x:.1f}' for x in log['served_by_recipe'][-1])}  "
-                  f"{wall:.0f}s", file=stream, flush=True)
+                  f"restarts {log['restarts'][-1]:.0f}  {wall:.0f}s", file=stream, flush=True)
     wall = time.perf_counter() - t0
     save_npz(str(folder / "policy.npz"), carry[0])
     steps = done * per_update
@@ -357,6 +395,11 @@ def train_to_folder(env: Any, config: PPOConfig, out: str, seed: int = 0,
         "shaping_per_step_by_update": rounded(log["shaping"]),
         "entropy_by_update": rounded(log["entropy"]),
         "subtask_weight_by_update": rounded(log["subtask_weight"]),
+        "explained_variance_by_update": rounded(log["explained_variance"]),
+        "return_mean_by_update": rounded(log["return_mean"]),
+        # learners started again for serving nothing (config restart_after), and the
+        # update the kept learner started at
+        "restarts": int(carry[6][3]), "learner_start_update": int(carry[6][1]),
         "recipes": ["+".join(i.name.lower() for i in r) for r in env.rules.recipes],
         "served_by_recipe_by_update": [rounded(v) for v in log["served_by_recipe"]],
         "order_probs_by_update": [rounded(v) for v in log["order_probs"]],
