@@ -7,12 +7,12 @@ trains the JAX PPO on easy with 1 cook (64 kitchens, 64-step rollouts, 2 epochs,
 entropy 0.02, 128x128, order curriculum 0.5; with ``--variant full`` the same run as
 ``ocplus train --engine jax --preset easy --n-agents 1 --n-kitchens 64 --n-steps 64
 --timesteps T --n-epochs 2 --lr 5e-4 --ent-coef 0.02 --hidden 128,128 --order-curriculum
-0.5 --seed S``), then plays the policy with the package's evaluation (``ocplus eval
---preset easy --n-agents 1 --agents ppo:OUT/policy.npz@MODE --seeds N --horizon 200``,
-sampled and argmax actions) and appends one JSON line to ``--record``: command, commit,
-machine, load, agent-steps, wall and CPU seconds of the training, and dishes per 200-step
-episode. The other variants each undo one of the trainer's fixes, to show what each is
-worth, or try an option:
+0.5 --restart-after 0.2 --seed S``), then plays the policy with the package's evaluation
+(``ocplus eval --preset easy --n-agents 1 --agents ppo:OUT/policy.npz@MODE --seeds N
+--horizon 200``, sampled and argmax actions) and appends one JSON line to ``--record``:
+command, commit, machine, load, agent-steps, wall and CPU seconds of the training, the
+learners started again, and dishes per 200-step episode. The other variants each undo one
+of the trainer's fixes, to show what each is worth, or try an option:
 
 * ``shared``: one network for policy and value (no separate critic);
 * ``rules-reward``: the rules' reward (subtask payments included), no potential shaping;
@@ -21,6 +21,8 @@ worth, or try an option:
 * ``subtask-start``: the subtask payment paid at first, annealed to 0 over the first half
   (an option, not the default);
 * ``subtasks``: the subtask payment paid all along (not annealed);
+* ``no-restart``: a learner that serves nothing is never started again
+  (``PPOConfig.restart_after`` 0);
 * ``before``: the trainer as it was: one network, the rules' reward, kitchens in step,
   uniform orders, a constant learning rate.
 """
@@ -44,6 +46,7 @@ VARIANTS = {"full": {}, "shared": {"critic": False},
             "uniform-orders": {"order_curriculum": 0.0},
             "subtasks": {"subtask_reward": True},
             "subtask-start": {"subtask_anneal": 0.5},
+            "no-restart": {"restart_after": 0.0},
             "before": {"critic": False, "shaping": 0.0, "subtask_reward": True,
                        "desync": False, "lr_final": 1.0, "order_curriculum": 0.0}}
 
@@ -80,6 +83,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--order-curriculum", type=float, default=None,
                     help="PPOConfig.order_curriculum (default: the package's)")
     ap.add_argument("--n-steps", type=int, default=64)
+    ap.add_argument("--restart-after", type=float, default=None,
+                    help="PPOConfig.restart_after (default: the package's)")
     ap.add_argument("--out", type=Path, default=ROOT / "runs" / "jax_easy")
     ap.add_argument("--record", type=Path,
                     default=ROOT / "experiments" / "results" / "bench_jax_easy.jsonl")
@@ -93,17 +98,21 @@ def main(argv: list[str] | None = None) -> int:
                      lr=5e-4, ent_coef=args.ent_coef)
     if args.order_curriculum is not None:
         base = base._replace(order_curriculum=args.order_curriculum)
+    if args.restart_after is not None:
+        base = base._replace(restart_after=args.restart_after)
     config = base._replace(n_updates=max(1, args.timesteps // (args.n_kitchens * args.n_steps)),
                            **VARIANTS[args.variant])
     out = (args.out / args.variant
            / f"k{args.n_kitchens}_n{args.n_steps}_ent{args.ent_coef}"
-           f"_oc{config.order_curriculum}_t{args.timesteps}_seed{args.seed}")
+           f"_oc{config.order_curriculum}_ra{config.restart_after}_t{args.timesteps}"
+           f"_seed{args.seed}")
     load0 = os.getloadavg()
     cpu0, t0 = time.process_time(), time.perf_counter()
     cli = (f"ocplus train --engine jax --preset easy --n-agents 1 "
            f"--n-kitchens {args.n_kitchens} --n-steps {args.n_steps} "
            f"--timesteps {args.timesteps} --n-epochs 2 --lr 5e-4 --ent-coef {args.ent_coef} "
-           f"--hidden 128,128 --order-curriculum {config.order_curriculum} --seed {args.seed} "
+           f"--hidden 128,128 --order-curriculum {config.order_curriculum} "
+           f"--restart-after {config.restart_after} --seed {args.seed} "
            f"--out {out}")
     summary = train_to_folder(env, config, str(out), args.seed,
                               cli if args.variant == "full" else None, stream=sys.stderr)
@@ -118,6 +127,8 @@ def main(argv: list[str] | None = None) -> int:
         "agent_steps": summary["timesteps"], "train_wall_s": round(wall, 1),
         "train_cpu_s": round(cpu, 1),
         "dishes_in_training_last_update": summary["dishes_per_episode_by_update"][-1],
+        "restarts": summary["restarts"],
+        "learner_start_update": summary["learner_start_update"],
         "recipes": summary["recipes"],
         "served_by_recipe_last_update": summary["served_by_recipe_by_update"][-1],
         "eval": {mode: _eval(out / "policy.npz", mode, args.eval_seeds, out)

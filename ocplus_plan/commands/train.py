@@ -76,6 +76,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--order-curriculum", type=_FRACTION, default=None, metavar="STRENGTH",
                    help="--engine jax: while training, new orders lean this much towards the "
                         "recipes served least (default 0.5; 0: drawn as in evaluation)")
+    g.add_argument("--restart-after", type=_FRACTION, default=None, metavar="FRACTION",
+                   help="--engine jax: a learner that has served no order within this "
+                        "fraction of the updates is started again with fresh weights "
+                        "(default 0.2; 0: never)")
     g.add_argument("--init", default=None,
                    help="start from this checkpoint's weights (a .npz; an SB3 .zip needs "
                         "--trust-pickled-checkpoint)")
@@ -158,6 +162,8 @@ def _run_jax(args: argparse.Namespace) -> int:
                        ent_coef=args.ent_coef)
     if args.order_curriculum is not None:
         config = config._replace(order_curriculum=args.order_curriculum)
+    if args.restart_after is not None:
+        config = config._replace(restart_after=args.restart_after)
     command = "ocplus " + shlex.join(sys.argv[1:]) if sys.argv[1:2] == ["train"] else None
     summary = train_to_folder(env, config, args.out, args.seed, command,
                               stream=None if args.quiet else sys.stderr)
@@ -169,11 +175,14 @@ def _run_jax(args: argparse.Namespace) -> int:
 def run(args: argparse.Namespace) -> int:
     if args.engine == "jax":
         return _run_jax(args)
-    if args.order_curriculum is not None:
-        from ..errors import ConfigError
+    for flag, value in (("--order-curriculum", args.order_curriculum),
+                        ("--restart-after", args.restart_after)):
+        if value is not None:
+            from ..errors import ConfigError
 
-        raise ConfigError("--order-curriculum is an option of --engine jax; the other engines "
-                          "take --curriculum")
+            raise ConfigError(f"{flag} is an option of --engine jax; the other engines "
+                              "take --curriculum" if flag == "--order-curriculum" else
+                              f"{flag} is an option of --engine jax")
     from ..rl.train import TrainConfig, train
 
     config = TrainConfig(

@@ -7,7 +7,8 @@ is the rules' reward without the subtask payment plus potential-based shaping
 (:mod:`ocplus_plan.rl.fast.jax_shaping`); the kitchens' clocks start at different steps
 (:func:`desync`), the learning rate decays linearly to ``lr_final``, and while training
 new orders lean towards the recipes the policy serves least (``order_curriculum``,
-:mod:`ocplus_plan.rl.fast.jax_orders`). A rollout steps ``n_envs`` kitchens ``n_steps``
+:mod:`ocplus_plan.rl.fast.jax_orders`), and a learner that has served no order in a fifth
+of the run is started again with fresh weights (``restart_after``, :func:`should_restart`). A rollout steps ``n_envs`` kitchens ``n_steps``
 times with ``vmap``, then GAE and ``n_epochs`` passes of clipped-PPO minibatch updates;
 ``lax.scan`` runs ``n_updates`` such updates inside one ``jit``. The network and Adam are
 written out in ``jax.numpy`` (no flax or optax). :func:`save_npz` writes the weights as a ``.npz``.
