@@ -73,13 +73,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "PRESET:R1/R2 restricts a preset's kitchen to those recipes, e.g. "
                         "medium:steak/tomato (one-ingredient orders teach the pan)")
     g.add_argument("--curriculum-fraction", type=_FRACTION, default=0.3)
-    g.add_argument("--order-curriculum", type=_FRACTION, default=None, metavar="STRENGTH",
-                   help="--engine jax: while training, new orders lean this much towards the "
-                        "recipes served least (default 0.5; 0: drawn as in evaluation)")
-    g.add_argument("--restart-after", type=_FRACTION, default=None, metavar="FRACTION",
-                   help="--engine jax: a learner that has served no order within this "
-                        "fraction of the updates is started again with fresh weights "
-                        "(default 0.2; 0: never)")
+    _jax_options(g)
     g.add_argument("--init", default=None,
                    help="start from this checkpoint's weights (a .npz; an SB3 .zip needs "
                         "--trust-pickled-checkpoint)")
@@ -131,6 +125,17 @@ def register(sub: argparse._SubParsersAction) -> None:
                     "train.json")
     add_deprecated_alias(p, "--no-progress", "--quiet", takes_value=False)
     p.set_defaults(func=run)
+
+
+def _jax_options(g: argparse._ArgumentGroup) -> None:
+    """The learning options only ``--engine jax`` takes."""
+    g.add_argument("--order-curriculum", type=_FRACTION, default=None, metavar="STRENGTH",
+                   help="--engine jax: while training, new orders lean this much towards the "
+                        "recipes served least (default 0.5; 0: drawn as in evaluation)")
+    g.add_argument("--restart-after", type=_FRACTION, default=None, metavar="FRACTION",
+                   help="--engine jax: a learner that has served no order within this "
+                        "fraction of the updates is started again with fresh weights "
+                        "(default 0.2; 0: never)")
 
 
 def _hidden(text: str) -> tuple[int, ...]:

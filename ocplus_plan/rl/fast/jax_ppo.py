@@ -176,6 +176,47 @@ def should_restart(config: PPOConfig, update: Any, start: Any, served: Any) -> A
     return (config.restart_after > 0) & (served <= 0) & (update - start >= span)
 
 
+def _restart(config: PPOConfig, n_in: int, params: Any, opt: Any, life: tuple) -> tuple:
+    """(params, Adam state, life) of the learner, or of a fresh one where
+    :func:`should_restart` says so (``life``: the update, the learner's first update, the
+    orders it served, the restarts so far, the run's init key)."""
+    u, start, served_since, restarts, k_init = life
+    again = should_restart(config, u, start, served_since)
+    fresh = init_params(jax.random.fold_in(k_init, restarts + 1), n_in, config.hidden,
+                        critic=config.critic)
+    pick = lambda a, b: jnp.where(again, a, b)  # noqa: E731
+    params = jax.tree_util.tree_map(pick, fresh, params)
+    opt = jax.tree_util.tree_map(pick, jax.tree_util.tree_map(jnp.zeros_like, opt), opt)
+    return params, opt, (u, jnp.where(again, u, start), served_since,
+                         restarts + again.astype(restarts.dtype), k_init)
+
+
+def _epochs(config: PPOConfig, params: Any, opt: Any, key: Any, flat: list, start: Any,
+            ) -> tuple:
+    """``n_epochs`` passes of minibatch updates over one rollout's ``flat`` samples (the
+    learner started at update ``start``)."""
+    size = flat[0].shape[0]
+    mb = size // config.n_minibatches
+
+    def epoch(carry: tuple, _: Any) -> tuple:
+        params, opt, key = carry
+        key, k_perm = jax.random.split(key)
+        perm = jax.random.permutation(k_perm, size)[: mb * config.n_minibatches]
+        batches = [f[perm].reshape(config.n_minibatches, mb, *f.shape[1:]) for f in flat]
+
+        def minibatch(carry: tuple, batch: tuple) -> tuple:
+            params, opt = carry
+            grads = jax.grad(partial(_loss, config))(params, batch)
+            return _adam(params, grads, opt, _learning_rate(config, opt[2], start)), None
+
+        (params, opt), _ = jax.lax.scan(minibatch, (params, opt), tuple(batches))
+        return (params, opt, key), None
+
+    (params, opt, key), _ = jax.lax.scan(epoch, (params, opt, key), None,
+                                         length=config.n_epochs)
+    return params, opt, key
+
+
 def make_train(env: Any, config: PPOConfig) -> Any:
     """``train(key) -> (params, mean team reward per update)``: the whole run, jittable."""
     init, run = make_chunks(env, config, config.n_updates)
@@ -229,7 +270,7 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
 
     def update(carry: tuple, _: Any) -> tuple:
         params, opt, state, obs, key, rates, life = carry
-        params, opt, life = restart(params, opt, life)
+        params, opt, life = _restart(config, env.obs_size + n, params, opt, life)
         probs = jax_orders.draw_probs(*rates, n_rec, config.order_curriculum)
         keep = subtask_weight(config, opt[2] // (config.n_epochs * config.n_minibatches))
         (params, state, obs, key, _), traj = jax.lax.scan(
@@ -241,25 +282,7 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         _, last = forward(params, actor_inputs(obs))
         adv, ret = _gae(config, value, r, done.astype(jnp.float32), last)
         flat = [a.reshape(t_len * e * n, *a.shape[3:]) for a in (x, act, logp, adv, ret)]
-        size = t_len * e * n
-        mb = size // config.n_minibatches
-
-        def epoch(carry: tuple, _: Any) -> tuple:
-            params, opt, key = carry
-            key, k_perm = jax.random.split(key)
-            perm = jax.random.permutation(k_perm, size)[: mb * config.n_minibatches]
-            batches = [f[perm].reshape(config.n_minibatches, mb, *f.shape[1:]) for f in flat]
-
-            def minibatch(carry: tuple, batch: tuple) -> tuple:
-                params, opt = carry
-                grads = jax.grad(partial(_loss, config))(params, batch)
-                return _adam(params, grads, opt, _learning_rate(config, opt[2], start)), None
-
-            (params, opt), _ = jax.lax.scan(minibatch, (params, opt), tuple(batches))
-            return (params, opt, key), None
-
-        (params, opt, key), _ = jax.lax.scan(epoch, (params, opt, key), None,
-                                             length=config.n_epochs)
+        params, opt, key = _epochs(config, params, opt, key, flat, start)
         ended = done.sum()
 
         def per_episode(v: Any) -> Any:
@@ -278,18 +301,6 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
                    "return_mean": ret.mean(), "restarts": restarts}
         life = (u + 1, start, served_since + served.sum(), restarts, k_init)
         return (params, opt, state, obs, key, rates, life), metrics
-
-    def restart(params: Any, opt: Any, life: tuple) -> tuple:
-        """The learner, or a fresh one where :func:`should_restart` says so."""
-        u, start, served_since, restarts, k_init = life
-        again = should_restart(config, u, start, served_since)
-        fresh = init_params(jax.random.fold_in(k_init, restarts + 1), env.obs_size + n,
-                            config.hidden, critic=config.critic)
-        pick = lambda a, b: jnp.where(again, a, b)  # noqa: E731
-        params = jax.tree_util.tree_map(pick, fresh, params)
-        opt = jax.tree_util.tree_map(pick, jax.tree_util.tree_map(jnp.zeros_like, opt), opt)
-        return params, opt, (u, jnp.where(again, u, start), served_since,
-                             restarts + again.astype(restarts.dtype), k_init)
 
     def init(key: Any) -> tuple:
         k_init, k_reset, k_warm, key = jax.random.split(key, 4)
