@@ -160,9 +160,14 @@ def subtask_weight(config: PPOConfig, update: Any) -> Any:
 def _learning_rate(config: PPOConfig, t: Any, start: Any = 0) -> Any:
     """The rate at the learner's Adam step ``t``: linear decay to ``lr_final x lr`` over
     the updates from ``start`` (the update the learner started at) to the run's end."""
-    total = jnp.maximum(1, (config.n_updates - start) * config.n_epochs
-                        * config.n_minibatches)
-    return config.lr * (1.0 - (1.0 - config.lr_final) * jnp.minimum(1.0, t / total))
+    per = config.n_epochs * config.n_minibatches
+    whole = max(1, config.n_updates * per)
+    # the first learner's fraction as a division by the constant: XLA then computes the
+    # rates it always did (a division by a traced count differs in the last bit, and a run
+    # amplifies that into another run)
+    left = jnp.maximum(1, (config.n_updates - start) * per)
+    done = jnp.where(start == 0, t / whole, t / left)
+    return config.lr * (1.0 - (1.0 - config.lr_final) * jnp.minimum(1.0, done))
 
 
 def should_restart(config: PPOConfig, update: Any, start: Any, served: Any) -> Any:
