@@ -8,7 +8,8 @@ is the rules' reward without the subtask payment plus potential-based shaping
 (:func:`desync`), the learning rate decays linearly to ``lr_final``, and while training
 new orders lean towards the recipes the policy serves least (``order_curriculum``,
 :mod:`ocplus_plan.rl.fast.jax_orders`), and a learner that has served no order in a fifth
-of the run is started again with fresh weights (``restart_after``, :func:`should_restart`). A rollout steps ``n_envs`` kitchens ``n_steps``
+of the run is started again with fresh weights and kitchens (``restart_after``,
+:func:`should_restart`). A rollout steps ``n_envs`` kitchens ``n_steps``
 times with ``vmap``, then GAE and ``n_epochs`` passes of clipped-PPO minibatch updates;
 ``lax.scan`` runs ``n_updates`` such updates inside one ``jit``. The network and Adam are
 written out in ``jax.numpy`` (no flax or optax). :func:`save_npz` writes the weights as a ``.npz``.
@@ -181,19 +182,26 @@ def should_restart(config: PPOConfig, update: Any, start: Any, served: Any) -> A
     return (config.restart_after > 0) & (served <= 0) & (update - start >= span)
 
 
-def _restart(config: PPOConfig, n_in: int, params: Any, opt: Any, life: tuple) -> tuple:
-    """(params, Adam state, life) of the learner, or of a fresh one where
-    :func:`should_restart` says so (``life``: the update, the learner's first update, the
-    orders it served, the restarts so far, the run's init key)."""
+def _restart(config: PPOConfig, n_in: int, kitchens: Any, learner: tuple, life: tuple,
+             ) -> tuple:
+    """(``learner``, life) as they are, or a fresh learner where :func:`should_restart`
+    says so: ``learner`` is (params, Adam state, kitchen states, observations); the fresh
+    one has weights drawn with ``fold_in(init key, restarts + 1)``, a fresh Adam, and
+    ``kitchens(key)``'s fresh kitchens (so no order a learner served is one its predecessor
+    left half made). ``life``: the update, the learner's first update, the orders it
+    served, the restarts so far, the run's init key."""
     u, start, served_since, restarts, k_init = life
     again = should_restart(config, u, start, served_since)
-    fresh = init_params(jax.random.fold_in(k_init, restarts + 1), n_in, config.hidden,
-                        critic=config.critic)
-    pick = lambda a, b: jnp.where(again, a, b)  # noqa: E731
-    params = jax.tree_util.tree_map(pick, fresh, params)
-    opt = jax.tree_util.tree_map(pick, jax.tree_util.tree_map(jnp.zeros_like, opt), opt)
-    return params, opt, (u, jnp.where(again, u, start), served_since,
-                         restarts + again.astype(restarts.dtype), k_init)
+
+    def fresh(old: tuple) -> tuple:
+        key = jax.random.fold_in(k_init, restarts + 1)
+        params = init_params(key, n_in, config.hidden, critic=config.critic)
+        opt = jax.tree_util.tree_map(jnp.zeros_like, old[1])
+        return (params, opt, *kitchens(jax.random.fold_in(key, 1)))
+
+    learner = jax.lax.cond(again, fresh, lambda old: old, learner)
+    return learner, (u, jnp.where(again, u, start), served_since,
+                     restarts + again.astype(restarts.dtype), k_init)
 
 
 def _epochs(config: PPOConfig, params: Any, opt: Any, key: Any, flat: list, start: Any,
@@ -275,7 +283,8 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
 
     def update(carry: tuple, _: Any) -> tuple:
         params, opt, state, obs, key, rates, life = carry
-        params, opt, life = _restart(config, env.obs_size + n, params, opt, life)
+        (params, opt, state, obs), life = _restart(
+            config, env.obs_size + n, kitchens, (params, opt, state, obs), life)
         probs = jax_orders.draw_probs(*rates, n_rec, config.order_curriculum)
         keep = subtask_weight(config, opt[2] // (config.n_epochs * config.n_minibatches))
         (params, state, obs, key, _), traj = jax.lax.scan(
@@ -307,11 +316,17 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         life = (u + 1, start, served_since + served.sum(), restarts, k_init)
         return (params, opt, state, obs, key, rates, life), metrics
 
-    def init(key: Any) -> tuple:
-        k_init, k_reset, k_warm, key = jax.random.split(key, 4)
+    def kitchens(k_reset: Any, k_warm: Any = None) -> tuple:  # (states, observations)
+        if k_warm is None:
+            k_reset, k_warm = jax.random.split(k_reset)
         obs, state = jax.vmap(env.reset)(jax.random.split(k_reset, e))
         if config.desync:
             obs, state = desync(env, state, k_warm)
+        return state, obs
+
+    def init(key: Any) -> tuple:
+        k_init, k_reset, k_warm, key = jax.random.split(key, 4)
+        state, obs = kitchens(k_reset, k_warm)
         params = init_params(k_init, env.obs_size + n, config.hidden,
                              critic=config.critic)
         zeros = jax.tree_util.tree_map(jnp.zeros_like, params)
