@@ -67,7 +67,8 @@ class PPOConfig(NamedTuple):
     order_curriculum: float = 0.5
     #: a learner that has served no order within this fraction of the updates since it
     #: started is started again (:func:`should_restart`): fresh weights drawn with a new
-    #: key, fresh Adam, its own learning-rate decay over the updates left; 0: never
+    #: key, fresh Adam, its own learning-rate decay over the updates left, fresh kitchens;
+    #: 0: never
     restart_after: float = 0.2
 
 
@@ -177,7 +178,7 @@ def should_restart(config: PPOConfig, update: Any, start: Any, served: Any) -> A
     the run's updates. (With the potential-based shaping alone a learner that has not
     stumbled on a dish by the time its critic has learned ``V = ... - phi`` has no signal
     left: the shaping cancels in its advantages. On easy the runs that learn serve their
-    first order within 25-54 updates of 740; docs/rl.md.)"""
+    first order within 17-127 updates of 732; docs/rl.md.)"""
     span = jnp.ceil(config.restart_after * config.n_updates)
     return (config.restart_after > 0) & (served <= 0) & (update - start >= span)
 

@@ -62,3 +62,15 @@ def test_the_restarted_learner_has_fresh_weights_from_a_new_key(tmp_path: Path, 
                  "--restart-after", "0.5", "--out", str(tmp_path / "b")])
     assert code == 2 and "--engine jax" in capsys.readouterr().err
     assert not (tmp_path / "b").exists()
+
+
+def test_ocplus_train_passes_restart_after_to_the_jax_trainer(tmp_path: Path):
+    from ocplus_plan.cli import main
+
+    assert main(["train", "--engine", "jax", "--preset", "easy", "--timesteps", "32",
+                 "--n-kitchens", "2", "--n-steps", "4", "--n-epochs", "1", "--hidden", "8,8",
+                 "--obs-radius", "1", "--restart-after", "0.5", "--out", str(tmp_path),
+                 "--quiet"]) == 0
+    summary = json.loads((tmp_path / "train.json").read_text())
+    assert summary["config"]["restart_after"] == 0.5
+    assert (summary["restarts"], summary["learner_start_update"]) == (1, 2)  # of 4 updates
