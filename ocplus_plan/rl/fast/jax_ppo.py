@@ -8,8 +8,8 @@ is the rules' reward without the subtask payment plus potential-based shaping
 (:func:`desync`), the learning rate decays linearly to ``lr_final``, and while training
 new orders lean towards the recipes the policy serves least (``order_curriculum``,
 :mod:`ocplus_plan.rl.fast.jax_orders`), and a learner that has served no order in a fifth
-of the run is started again with fresh weights and kitchens (``restart_after``,
-:func:`should_restart`). A rollout steps ``n_envs`` kitchens ``n_steps``
+of the run (since it started or since its last order) is started again with fresh weights
+and kitchens (``restart_after``, :func:`should_restart`). A rollout steps ``n_envs`` kitchens ``n_steps``
 times with ``vmap``, then GAE and ``n_epochs`` passes of clipped-PPO minibatch updates;
 ``lax.scan`` runs ``n_updates`` such updates inside one ``jit``. The network and Adam are
 written out in ``jax.numpy`` (no flax or optax). :func:`save_npz` writes the weights as a ``.npz``.
@@ -65,10 +65,10 @@ class PPOConfig(NamedTuple):
     #: the order curriculum's strength (rl/fast/jax_orders.py): new orders lean this much
     #: towards the recipes served least; 0: drawn as in evaluation
     order_curriculum: float = 0.5
-    #: a learner that has served no order within this fraction of the updates since it
-    #: started is started again (:func:`should_restart`): fresh weights drawn with a new
-    #: key, fresh Adam, its own learning-rate decay over the updates left, fresh kitchens;
-    #: 0: never
+    #: a learner that has served no order in this fraction of the run's updates (since
+    #: it started or since its last order) is started again (:func:`should_restart`):
+    #: fresh weights drawn with a new key, fresh Adam, its own learning-rate decay over the
+    #: updates left, fresh kitchens; 0: never
     restart_after: float = 0.2
 
 
@@ -172,15 +172,16 @@ def _learning_rate(config: PPOConfig, t: Any, start: Any = 0) -> Any:
     return config.lr * (1.0 - (1.0 - config.lr_final) * jnp.minimum(1.0, done))
 
 
-def should_restart(config: PPOConfig, update: Any, start: Any, served: Any) -> Any:
-    """Whether the learner that started at ``start`` and has served ``served`` orders
-    since is started again before ``update``: it has served none in ``restart_after`` of
-    the run's updates. (With the potential-based shaping alone a learner that has not
-    stumbled on a dish by the time its critic has learned ``V = ... - phi`` has no signal
-    left: the shaping cancels in its advantages. On easy the runs that learn serve their
-    first order within 17-127 updates of 732; docs/rl.md.)"""
+def should_restart(config: PPOConfig, update: Any, idle_from: Any) -> Any:
+    """Whether the learner is started again before ``update``, having served no order
+    since update ``idle_from`` (the update it started at, or the one after its last
+    order): ``restart_after`` of the run's updates have passed since. (With the
+    potential-based shaping alone a learner that is not serving by the time its critic
+    has learned ``V = ... - phi`` has no signal left: the shaping cancels in its
+    advantages. On easy the runs that learn serve their first order within 17-127
+    updates of 732 and are never idle for 147; docs/rl.md.)"""
     span = jnp.ceil(config.restart_after * config.n_updates)
-    return (config.restart_after > 0) & (served <= 0) & (update - start >= span)
+    return (config.restart_after > 0) & (update - idle_from >= span)
 
 
 def _restart(config: PPOConfig, n_in: int, kitchens: Any, learner: tuple, life: tuple,
@@ -189,10 +190,11 @@ def _restart(config: PPOConfig, n_in: int, kitchens: Any, learner: tuple, life: 
     says so: ``learner`` is (params, Adam state, kitchen states, observations); the fresh
     one has weights drawn with ``fold_in(init key, restarts + 1)``, a fresh Adam, and
     ``kitchens(key)``'s fresh kitchens (so no order a learner served is one its predecessor
-    left half made). ``life``: the update, the learner's first update, the orders it
-    served, the restarts so far, the run's init key."""
-    u, start, served_since, restarts, k_init = life
-    again = should_restart(config, u, start, served_since)
+    left half made). ``life``: the update, the learner's first update, the update it has not
+    served an order since (:func:`should_restart`), the restarts so far, the run's init
+    key."""
+    u, start, idle_from, restarts, k_init = life
+    again = should_restart(config, u, idle_from)
 
     def fresh(old: tuple) -> tuple:
         key = jax.random.fold_in(k_init, restarts + 1)
@@ -201,7 +203,7 @@ def _restart(config: PPOConfig, n_in: int, kitchens: Any, learner: tuple, life: 
         return (params, opt, *kitchens(jax.random.fold_in(key, 1)))
 
     learner = jax.lax.cond(again, fresh, lambda old: old, learner)
-    return learner, (u, jnp.where(again, u, start), served_since,
+    return learner, (u, jnp.where(again, u, start), jnp.where(again, u, idle_from),
                      restarts + again.astype(restarts.dtype), k_init)
 
 
@@ -293,7 +295,7 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         x, act, logp, value, r, done, dishes, (game, subtask, shaped, entropy, served,
                                                drawn) = traj
         rates = jax_orders.update_rates(rates, served.sum(0), drawn.sum(0))
-        u, start, served_since, restarts, k_init = life
+        u, start, idle_from, restarts, k_init = life
         _, last = forward(params, actor_inputs(obs))
         adv, ret = _gae(config, value, r, done.astype(jnp.float32), last)
         flat = [a.reshape(t_len * e * n, *a.shape[3:]) for a in (x, act, logp, adv, ret)]
@@ -314,7 +316,7 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
                    # variance it explains, and the returns' mean (reward_scale units)
                    "explained_variance": 1.0 - jnp.var(ret - value) / (jnp.var(ret) + 1e-8),
                    "return_mean": ret.mean(), "restarts": restarts}
-        life = (u + 1, start, served_since + served.sum(), restarts, k_init)
+        life = (u + 1, start, jnp.where(served.sum() > 0, u + 1, idle_from), restarts, k_init)
         return (params, opt, state, obs, key, rates, life), metrics
 
     def kitchens(k_reset: Any, k_warm: Any = None) -> tuple:  # (states, observations)
@@ -332,8 +334,9 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
                              critic=config.critic)
         zeros = jax.tree_util.tree_map(jnp.zeros_like, params)
         rates = (jnp.zeros(r_max), jnp.zeros(r_max))
-        # update, the learner's first update, orders it served, restarts, its init key
-        life = (jnp.int32(0), jnp.int32(0), jnp.float32(0.0), jnp.int32(0), k_init)
+        # update, the learner's first update, the update it has served nothing since,
+        # restarts, the run's init key
+        life = (jnp.int32(0), jnp.int32(0), jnp.int32(0), jnp.int32(0), k_init)
         return (params, (zeros, zeros, jnp.int32(0)), state, obs, key, rates, life)
 
     def run(carry: tuple) -> tuple:

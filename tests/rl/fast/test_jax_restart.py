@@ -1,6 +1,7 @@
 """The JAX trainer starts a learner again when it has served no order in
-``PPOConfig.restart_after`` of the run: fresh weights from a new key, fresh Adam, its own
-learning-rate decay over the updates left; a learner that served is kept."""
+``PPOConfig.restart_after`` of the run (since it started or since its last order): fresh
+weights from a new key, fresh Adam, its own learning-rate decay over the updates left; a
+learner that keeps serving is kept."""
 
 from __future__ import annotations
 
@@ -24,14 +25,14 @@ from ocplus_plan.rl.fast.jax_ppo import (  # noqa: E402
 TINY = PPOConfig(n_envs=2, n_steps=4, n_updates=4, n_epochs=1, n_minibatches=2, hidden=8)
 
 
-def test_only_a_learner_that_served_nothing_for_its_span_is_started_again():
+def test_only_a_learner_idle_for_its_span_is_started_again():
     config = PPOConfig(n_updates=100, restart_after=0.2)
-    assert not bool(should_restart(config, 19, 0, 0.0))  # its span is not over yet
-    assert bool(should_restart(config, 20, 0, 0.0))
-    assert not bool(should_restart(config, 20, 0, 1.0))  # it served an order: kept
-    assert not bool(should_restart(config, 39, 20, 0.0))  # counted from its own start
-    assert bool(should_restart(config, 40, 20, 0.0))
-    assert not bool(should_restart(config._replace(restart_after=0.0), 99, 0, 0.0))
+    assert not bool(should_restart(config, 19, 0))  # its span is not over yet
+    assert bool(should_restart(config, 20, 0))  # nothing served since update 0
+    assert not bool(should_restart(config, 20, 11))  # it served an order in update 10
+    assert not bool(should_restart(config, 30, 11))
+    assert bool(should_restart(config, 31, 11))  # and none since: idle for 20 updates
+    assert not bool(should_restart(config._replace(restart_after=0.0), 99, 0))
 
 
 def test_a_started_again_learner_decays_its_learning_rate_over_the_updates_left():
