@@ -36,7 +36,8 @@ class KitchenView:
         # cook plans over the union of the layouts' floors, at a price for the wait (with
         # teammates, hand-overs through counters are faster than waiting for switches). Lone
         # means the only cook this controller drives (``driven``, default: every cook): a
-        # cook beside others it does not drive has nobody to hand over to.
+        # cook beside others it does not drive walks over the switches itself (it passes
+        # them only what it can take nowhere, in any layout).
         lone = (state.n_agents if driven is None else driven) == 1
         self.dynamic = state.rules.dynamic and len(geo.walkables) > 1 and lone
         self.walk_any = walkable_in_any_layout(geo) if self.dynamic else self.walk
