@@ -86,6 +86,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--tensorboard", default=None, metavar="DIR",
                    help="also log training metrics as TensorBoard event files in DIR "
                         "(tensorboard extra)")
+    g.add_argument("--partner", default=None, metavar="AGENT:SHARE",
+                   help="in SHARE of the kitchens AGENT (greedy, random or stay) plays the "
+                        "last cook and the policy the others (its steps are not samples); in "
+                        "the rest the policy plays every cook. E.g. greedy:0.5 (loop engine)")
     g.add_argument("--checkpoint-every", type=_POSITIVE, default=None,
                    help="steps between checkpoints (default: steps / 5)")
     b = p.add_argument_group("imitation warm start")
@@ -168,6 +172,11 @@ def _run_jax(args: argparse.Namespace) -> int:
 
 def run(args: argparse.Namespace) -> int:
     if args.engine == "jax":
+        if args.partner is not None:
+            from ..errors import ConfigError
+
+            raise ConfigError("--partner trains beside a scripted cook on the loop engine, "
+                              "not --engine jax")
         return _run_jax(args)
     if args.order_curriculum is not None:
         from ..errors import ConfigError
@@ -191,7 +200,7 @@ def run(args: argparse.Namespace) -> int:
         torch_threads=args.torch_threads, max_wall_s=args.max_wall,
         bc=args.bc, bc_steps=args.bc_steps, bc_rounds=args.bc_rounds, bc_epochs=args.bc_epochs,
         bc_focus=args.bc_focus,
-        algo=args.algo, precision=args.precision, device=args.device,
+        algo=args.algo, precision=args.precision, device=args.device, partner=args.partner,
     )
     teacher = None
     if args.bc is not None:
@@ -199,6 +208,12 @@ def run(args: argparse.Namespace) -> int:
 
         make_controller(args.bc, args.seed)  # an unknown name fails now, not after set-up
         teacher = functools.partial(make_controller, args.bc)  # seed -> a new teacher
+    partner = None
+    if args.partner is not None:
+        from ..agents import make_controller
+        from ..rl.train import parse_partner
+
+        partner = functools.partial(make_controller, parse_partner(args.partner)[0])
     if sys.argv[1:2] == ["train"]:
         command = "ocplus " + shlex.join(sys.argv[1:])
     else:  # called in-process (tests, scripts): the essential options
@@ -208,8 +223,11 @@ def run(args: argparse.Namespace) -> int:
             parts += ["--n-agents", str(args.n_agents)]
         if args.maps is not None:
             parts += ["--maps", args.maps]
+        if args.partner is not None:
+            parts += ["--partner", args.partner]
         command = "ocplus " + shlex.join(parts)
-    summary = train(config, command=command, progress=not args.quiet, teacher=teacher)
+    summary = train(config, command=command, progress=not args.quiet, teacher=teacher,
+                    partner=partner)
     emit({k: summary[k] for k in (
         "policy", "timesteps", "stopped_by_wall_budget", "episodes",
         "dishes_per_episode_last50", "wall_time_s", "steps_per_s")}, args)
