@@ -92,19 +92,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "the rest the policy plays every cook. E.g. greedy:0.5 (loop engine)")
     g.add_argument("--checkpoint-every", type=_POSITIVE, default=None,
                    help="steps between checkpoints (default: steps / 5)")
-    b = p.add_argument_group("imitation warm start")
-    b.add_argument("--bc", default=None, metavar="AGENT",
-                   help="behaviour-clone this controller first (e.g. greedy), then run PPO "
-                        "from the cloned policy; OUT/bc_policy.zip keeps the clone")
-    b.add_argument("--bc-steps", type=_POSITIVE, default=100_000,
-                   help="kitchen steps of teacher-labelled play per round")
-    b.add_argument("--bc-rounds", type=_POSITIVE, default=1,
-                   help="rounds; after the first, the learner drives and the teacher labels "
-                        "(DAgger)")
-    b.add_argument("--bc-epochs", type=_POSITIVE, default=8, help="fitting passes after each round")
-    b.add_argument("--bc-focus", type=_types.number("--bc-focus", 1.0, 100.0, lo_open=False),
-                   default=1.0, help="in DAgger rounds, weigh the samples where the learner's "
-                                     "own choice missed the teacher's this many times (1: plain)")
+    _add_imitation_args(p)
     s = p.add_argument_group("speed")
     s.add_argument("--engine", default="auto", choices=("auto", "batch", "loop", "jax"),
                    help="batch: the batched engine (fast extra); loop: one transition per "
@@ -131,6 +119,23 @@ def register(sub: argparse._SubParsersAction) -> None:
                     "train.json")
     add_deprecated_alias(p, "--no-progress", "--quiet", takes_value=False)
     p.set_defaults(func=run)
+
+
+def _add_imitation_args(p: argparse.ArgumentParser) -> None:
+    """The behaviour-cloning warm start's options."""
+    b = p.add_argument_group("imitation warm start")
+    b.add_argument("--bc", default=None, metavar="AGENT",
+                   help="behaviour-clone this controller first (e.g. greedy), then run PPO "
+                        "from the cloned policy; OUT/bc_policy.zip keeps the clone")
+    b.add_argument("--bc-steps", type=_POSITIVE, default=100_000,
+                   help="kitchen steps of teacher-labelled play per round")
+    b.add_argument("--bc-rounds", type=_POSITIVE, default=1,
+                   help="rounds; after the first, the learner drives and the teacher labels "
+                        "(DAgger)")
+    b.add_argument("--bc-epochs", type=_POSITIVE, default=8, help="fitting passes after each round")
+    b.add_argument("--bc-focus", type=_types.number("--bc-focus", 1.0, 100.0, lo_open=False),
+                   default=1.0, help="in DAgger rounds, weigh the samples where the learner's "
+                                     "own choice missed the teacher's this many times (1: plain)")
 
 
 def _hidden(text: str) -> tuple[int, ...]:
