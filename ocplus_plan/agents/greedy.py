@@ -11,8 +11,11 @@ pan, a plate, the window, the sink, the trash) or, when it cannot reach such a
 place, puts it on a counter that a cook who can reach it also reaches (hand-over
 through counters, SPEC section 3).
 
-Hand-overs, relays and rescues count only on the cooks this controller drives: an agent it
-does not drive (a partner, a blocking agent) is an obstacle, never a teammate to leave work to.
+Relays and rescues count only on the cooks this controller drives. A hand-over goes to a cook
+it drives when one can finish the job, else to a cook it does not drive (a partner on the
+other side of a split kitchen: a "pass"), but only while fewer than ``_PASSES`` items it
+passed still lie untaken where it put them: beside a partner that never takes them (an idle
+cook) the counters do not fill up.
 Movement: breadth-first paths on the current layout with the other agents' cells
 and the cells already claimed this step as obstacles (so the controller itself
 never causes a swap or a contested move); an agent whose way is blocked steps
@@ -51,9 +54,10 @@ _STEAK, _PLATE = int(Item.STEAK), int(Item.PLATE)
 _FRESH, _COOKED = int(ItemState.FRESH), int(ItemState.COOKED)
 _BURNT, _CLEAN, _DIRTY = int(ItemState.BURNT), int(ItemState.CLEAN), int(ItemState.DIRTY)
 #: destinations only one cook should head for at a time (many may bump a plate or the window)
-_EXCLUSIVE = frozenset({"to_board", "to_pan", "to_sink", "put_down", "handover", "relay"})
+_EXCLUSIVE = frozenset({"to_board", "to_pan", "to_sink", "put_down", "handover", "relay", "pass"})
 _STUCK = 4  # blocked steps (net) before a cook relays what it carries through a counter
 _MARGIN = 4  # spare steps a cook keeps between reaching a cooked steak and its burning
+_PASSES = 2  # items passed to cooks this controller does not drive that may lie untaken
 
 
 @dataclass(frozen=True)
@@ -87,6 +91,8 @@ class GreedyAgent(Controller):
         self.counts: Counter = Counter()
         #: cook -> pan: it put its load down to save the steak there, so it goes next
         self.pan_duty: dict[int, int] = {}
+        #: item -> counter: passed to a cook this controller does not drive, not yet taken
+        self.passed: dict[int, int] = {}
 
     def info(self) -> dict[str, object]:
         """Task choices, hand-overs, yields and idle steps of the episode."""
@@ -104,16 +110,29 @@ class GreedyAgent(Controller):
         goals: dict[int, tuple[int, str]] = {}  # agent -> (cell to bump, label)
         claimed: set[int] = set()
         budget = self._budgets(v)
+        partners = self._partners(v)
         for a in self.agent_ids:  # holders first: their destinations are claims too
             if state.agent_hand[a] >= 0:
-                goal = self._carry(v, a, claimed, budget)
+                goal = self._carry(v, a, claimed, budget, partners)
                 if goal is not None:
                     goals[a] = goal
                     if goal[1] in _EXCLUSIVE:
                         claimed.add(goal[0])
+                    if goal[1] == "pass" and goal[0] in v.nbrs[state.agent_pos[a]]:
+                        self.passed[state.agent_hand[a]] = goal[0]  # its bump puts it there
         self._assign(v, [a for a in self.agent_ids if state.agent_hand[a] < 0], claimed,
-                     budget, goals)
+                     budget, goals, partners)
         return v, goals
+
+    def _partners(self, v: KitchenView) -> list[int]:
+        """The cooks this controller does not drive that it may pass work to now: all of them
+        while fewer than ``_PASSES`` items it passed still lie where it put them, else none."""
+        s = v.s
+        self.passed = {i: c for i, c in self.passed.items()
+                       if s.item_where[i] == Where.CELL and s.item_loc[i] == c}
+        if len(self.passed) >= _PASSES:
+            return []
+        return [b for b in range(s.n_agents) if b not in self.agent_ids]
 
     def _budgets(self, v: KitchenView) -> Counter:
         s = v.s
@@ -128,7 +147,8 @@ class GreedyAgent(Controller):
         return b
 
     # ---------------------------------------------------------------- holding agents
-    def _carry(self, v: KitchenView, a: int, claimed: set[int], budget: Counter) -> tuple[int, str] | None:
+    def _carry(self, v: KitchenView, a: int, claimed: set[int], budget: Counter,
+               partners: list[int] | tuple[()] = ()) -> tuple[int, str] | None:
         """Where agent ``a`` takes what it holds: a useful station, or a counter."""
         s = v.s
         item = s.agent_hand[a]
@@ -198,21 +218,26 @@ class GreedyAgent(Controller):
             elif label == "to_plate":
                 budget[("plate", k)] -= 1
             return best, label
-        if dests and any(v.reach(b, d) < float("inf") for b in self.agent_ids if b != a
-                         for d in dests):
-            handover = self._handover(v, a, dests, claimed)
+        mates = [b for b in self.agent_ids if b != a]
+        if dests and any(v.reach(b, d) < float("inf") for b in mates for d in dests):
+            handover = self._handover(v, a, dests, claimed, mates)
             if handover is not None:
                 return handover, "handover"
+        if dests and partners:  # nobody it drives can finish: a partner may
+            handover = self._handover(v, a, dests, claimed, partners)
+            if handover is not None:
+                return handover, "pass"
         # nothing useful in reach right now: free the hands
         spot = self._nearest(v, a, [f for f in v.free_counters()
                                     if f not in claimed and v.near_pan(f)])
         return None if spot is None else (spot, "put_down")
 
-    def _handover(self, v: KitchenView, a: int, dests: list[int], claimed: set[int]) -> int | None:
-        """A free counter that ``a`` reaches and some cook who reaches a destination reaches."""
+    def _handover(self, v: KitchenView, a: int, dests: list[int], claimed: set[int],
+                  mates: list[int]) -> int | None:
+        """A free counter that ``a`` reaches and some cook of ``mates`` who reaches a
+        destination reaches."""
         reach = v.reach
-        helpers = [b for b in self.agent_ids if b != a
-                   and any(reach(b, d) < float("inf") for d in dests)]
+        helpers = [b for b in mates if any(reach(b, d) < float("inf") for d in dests)]
         spots = [f for f in v.free_counters() if f not in claimed
                  and any(reach(b, f) < float("inf") for b in helpers)]
         return self._nearest(v, a, spots)
@@ -301,7 +326,7 @@ class GreedyAgent(Controller):
         return len(v.plate_contents) < len(v.recipes)
 
     def _assign(self, v: KitchenView, free: list[int], claimed: set[int], budget: Counter,
-                goals: dict[int, tuple[int, str]]) -> None:
+                goals: dict[int, tuple[int, str]], partners: list[int]) -> None:
         """Match free agents to subtasks: priority first, then distance (kept tasks win ties)."""
         by_cell: dict[int, list[Subtask]] = {}
         for t in self._candidates(v, budget):
@@ -321,7 +346,7 @@ class GreedyAgent(Controller):
                 d = v.reach_now(a, cell)
                 if d == float("inf"):  # behind another cook: possible, but costs a detour
                     d = v.reach(a, cell) + 20
-                if d == float("inf") or not self._useful_for(v, a, ts[0]):
+                if d == float("inf") or not self._useful_for(v, a, ts[0], partners):
                     continue
                 keep = prev is not None and prev.cell == cell and prev.kind == ts[0].kind
                 duty = self.pan_duty.get(a) == cell and ts[0].kind == "rescue"
@@ -348,9 +373,10 @@ class GreedyAgent(Controller):
                 self.tasks[a] = None
                 self.counts["idle_steps"] += 1
 
-    def _useful_for(self, v: KitchenView, a: int, task: Subtask) -> bool:
+    def _useful_for(self, v: KitchenView, a: int, task: Subtask, partners: list[int]) -> bool:
         """Whether ``a`` should pick this up: it can finish the job, or it is the hand-over
-        side (nobody who can finish can reach the item where it lies)."""
+        side (nobody who can finish can reach the item where it lies): finishers are the
+        other cooks it drives, else the ``partners`` it may pass work to."""
         s = v.s
         if task.kind in ("chop", "wash"):
             return True
@@ -373,9 +399,11 @@ class GreedyAgent(Controller):
             return True
         if any(v.reach(a, d) < float("inf") for d in dests):
             return True
-        finishers = [b for b in self.agent_ids if b != a
-                     and any(v.reach(b, d) < float("inf") for d in dests)]
-        return bool(finishers) and all(v.reach(b, task.cell) == float("inf") for b in finishers)
+        for mates in ([b for b in self.agent_ids if b != a], partners):
+            finishers = [b for b in mates if any(v.reach(b, d) < float("inf") for d in dests)]
+            if finishers:
+                return all(v.reach(b, task.cell) == float("inf") for b in finishers)
+        return False
 
     # ---------------------------------------------------------------- movement
     def _moves(self, v: KitchenView, goals: dict[int, tuple[int, str]]) -> list[int]:
@@ -390,8 +418,8 @@ class GreedyAgent(Controller):
             if cell in v.nbrs[pos]:
                 actions[a] = direction(s.geo, pos, cell)
                 self.waited[a] = self.stuck[a] = 0
-                if label in ("handover", "relay"):
-                    self.counts[label + "s"] += 1
+                if label in ("handover", "relay", "pass"):
+                    self.counts[label + ("es" if label == "pass" else "s")] += 1
                 if label == "relay":
                     self.hands_off[s.agent_hand[a]] = (a, s.t + 2 * _STUCK + 8)
                 continue

@@ -147,19 +147,70 @@ def test_a_cook_that_cannot_serve_alone_does_its_half_of_a_split_kitchen():
     assert info["statuses"].get("waiting", 0) >= 1  # its first step waited for the partner
 
 
-def test_a_greedy_partner_never_hands_over_to_a_cook_it_does_not_drive():
-    """Why the generated split kitchens serve nothing beside a greedy partner: driving only
-    its own cook, greedy never takes up an ingredient it cannot bring to a station itself
-    (agents/greedy.py: a cook it does not drive is no teammate), so nothing crosses; driving
-    both cooks, it hands the tomato over through a counter."""
-    for driven, crosses in (([1], False), ([0, 1], True)):
-        state = new_state(make_rules("easy", map=HALVES, n_agents=2, recipes=["tomato"],
-                                     horizon=20), 0)
-        greedy = GreedyAgent(0)
-        greedy.reset(state, driven)
-        handed = False
-        for _ in range(20):
-            actions = dict(zip(driven, greedy.act(state)))
-            transition(state, [actions.get(a, int(Action.STAY)) for a in range(2)])
-            handed |= any(state.cell_item[state.geo.flat(r, 2)] >= 0 for r in (1, 2))
-        assert handed == crosses
+def _halves(horizon: int, spawns=((1, 3), (1, 1)), game_map=None, recipe="tomato"):
+    m = dict(HALVES, agent_spawn_points=[list(p) for p in spawns])
+    if game_map is not None:
+        m["game_map"] = game_map
+    return new_state(make_rules("easy", map=m, n_agents=2, recipes=[recipe], horizon=horizon), 0)
+
+
+def test_a_greedy_cook_hands_over_to_a_cook_it_does_not_drive():
+    """Driving only the crate side (cook 1), greedy passes the tomato over a counter between
+    the halves to the cook it does not drive, which alone reaches the board."""
+    state = _halves(12)
+    greedy = GreedyAgent(0)
+    greedy.reset(state, [1])
+    middle = [state.geo.flat(r, 2) for r in (1, 2)]
+    for _ in range(12):
+        transition(state, [int(Action.STAY), *greedy.act(state)])
+        if any(state.cell_item[c] >= 0 for c in middle):
+            break
+    assert any(state.cell_item[c] >= 0 for c in middle)
+    assert greedy.info()["greedy_passes"] == 1
+
+
+def test_two_greedy_controllers_one_cook_each_serve_on_a_split_kitchen():
+    """Each greedy controller drives one cook of the split kitchen: the tomato crosses one
+    way, the dish the other, and dishes are served (before, neither half served anything)."""
+    state = _halves(60)
+    left, right = GreedyAgent(0), GreedyAgent(1)
+    Episode(state, [(right, [0]), (left, [1])]).run()
+    assert state.stats["dishes_served"] >= 2
+    assert left.info()["greedy_passes"] >= 2 and right.info()["greedy_passes"] >= 1
+
+
+# the halves with four counters between them and three crates (tomato, lettuce, onion) on
+# the left: more items than the bounded passes
+TALL = [[1, 1, 1, 1, 1],
+        [3, 0, 1, 0, 6],
+        [4, 0, 1, 0, 1],
+        [8, 0, 1, 0, 1],
+        [7, 0, 1, 0, 5],
+        [1, 1, 1, 1, 1]]
+
+
+def test_a_greedy_cook_beside_an_idle_partner_stops_passing_items():
+    """The cook it does not drive never takes anything: of the three vegetables the orders
+    need, greedy passes 2 (the bound on items lying untaken) and then leaves the crates
+    alone; the counters between the halves do not fill up."""
+    state = _halves(80, game_map=TALL, recipe="tomato+onion+lettuce")
+    greedy = GreedyAgent(0)
+    greedy.reset(state, [1])
+    middle = [state.geo.flat(r, 2) for r in range(1, 5)]
+    for _ in range(80):
+        transition(state, [int(Action.STAY), *greedy.act(state)])
+    assert sum(state.cell_item[c] >= 0 for c in middle) == 2
+    assert greedy.info()["greedy_passes"] == 2
+    assert state.agent_hand[1] < 0  # it is not left carrying a third
+
+
+@pytest.mark.skipif(not _fd_ok(), reason="fast-downward unavailable")
+@pytest.mark.parametrize("spawns", [((1, 3), (1, 1)), ((1, 1), (1, 3))])
+def test_a_planning_cook_serves_beside_a_greedy_partner_on_a_split_kitchen(spawns):
+    """Our cook on either half, a greedy partner on the other: the partner's policy, as the
+    partner model predicts it, passes the tomato (or the dish) over, and our cook plans to
+    take it from the counter: dishes are served both ways."""
+    state = _halves(24, spawns)
+    agent = make_planner_agent("", 0)
+    Episode(state, with_partner(agent, GreedyAgent(0), 2)).run()
+    assert state.stats["dishes_served"] >= 1, agent.info()
