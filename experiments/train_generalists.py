@@ -114,6 +114,8 @@ RUNS: dict[str, list[str]] = {
     # (--partner greedy:0.5; its steps are not samples) and the policy both cooks in the rest
     **{f"ppopartner_2agent_s{s}": [*_ppo_tasks(s), "--partner", "greedy:0.5"]
        for s in (0, 1, 2)},
+    # the same with greedy driving cook 1 in every kitchen slot (no self-play), seed 1
+    "ppopartnerall_2agent_s1": [*_ppo_tasks(1), "--partner", "greedy:1"],
     "clone_1agent_s0": _run(1, 0, True),
     "clone_3agent_s0": _run(3, 0, True),
 }
