@@ -53,7 +53,11 @@ def test_a_bad_partner_spec_is_refused_naming_the_form(text):
     (["--partner", "greedy:0.5", "--resume-from", "x.zip", "--trust-pickled-checkpoint"],
      "does not go with --resume-from"),
 ])
-def test_the_cli_refuses_a_bad_partner_in_one_line(tmp_path: Path, capsys, extra, why):
+def test_the_cli_refuses_a_bad_partner_in_one_line(tmp_path: Path, capsys, monkeypatch, extra,
+                                                   why):
+    from ocplus_plan.rl.weights import TRUST_ENV
+
+    monkeypatch.setenv(TRUST_ENV, "0")  # --trust-pickled-checkpoint sets it: undone after
     code = main(["train", "--preset", "easy", "--timesteps", "100", "--out",
                  str(tmp_path / "x"), *extra])
     err = capsys.readouterr().err.strip()
