@@ -10,7 +10,9 @@ needs 2 cooks, so 1-cook runs leave it out), with window observations (the defau
 greedy cook with DAgger relabelling (rl/imitation.py), then fine-tune with PPO;
 ``scratch_*`` runs are PPO alone; ``clonetasks_*`` / ``clonefocus_*`` clone on ``tasks``
 observations (plain, and with ``--bc-focus 4``), and ``ppotasks_*`` run PPO from the
-``clonetasks_*`` clone of the same seed, so they need that run first (the default order). ``experiments/checkpoints/generalists/NAME.json`` records
+``clonetasks_*`` clone of the same seed, so they need that run first (the default order);
+``ppopartner_*`` are those with the greedy cook driving cook 1 in half of the kitchens
+(``--partner greedy:0.5``). ``experiments/checkpoints/generalists/NAME.json`` records
 the command, wall and CPU seconds, the load, and the training summary, and
 ``NAME.episodes.csv`` the training log. The runs named in SHIPPED are exported weights-only
 (rl/npz_export.py) to ``experiments/checkpoints/generalist_{n}agent/`` (``policy.npz`` +
@@ -76,6 +78,17 @@ CLONE_TASKS = [*CLONE_FEATURES_BIG[:CLONE_FEATURES_BIG.index("--obs")], "--obs",
                *CLONE_FEATURES_BIG[CLONE_FEATURES_BIG.index("--obs") + 2:]]
 LOOP = ["--engine", "loop", "--n-kitchens", "32", "--batch-size", "2048", "--n-epochs", "4"]
 
+
+
+def _ppo_tasks(seed: int) -> list[str]:
+    """PPO on the true reward from ``clonetasks_2agent_s{seed}``'s clone, 900 s of wall."""
+    return ["--preset", PRESET, "--n-agents", "2", "--maps", maps(2), "--timesteps",
+            "20000000", "--seed", str(seed), "--obs", "tasks", "--hidden", "256,256",
+            "--init", f"experiments/runs/clonetasks_2agent_s{seed}/bc_policy.npz", "--lr",
+            "1e-4", "--ent-coef", "0.003", "--anneal-fraction", "0", "--max-wall", "900",
+            *LOOP]
+
+
 RUNS: dict[str, list[str]] = {
     "clonefeat_2agent_s0": ["--preset", PRESET, "--n-agents", "2", "--maps", maps(2),
                             "--timesteps", "1", "--seed", "0", *CLONE_FEATURES, *FAST],
@@ -96,13 +109,13 @@ RUNS: dict[str, list[str]] = {
                                     "--bc-focus", "4", *LOOP]
        for s in (0, 1)},
     # PPO on the true reward from those clones (their bc_policy.npz: actor and critic), 900 s wall
-    **{f"ppotasks_2agent_s{s}": ["--preset", PRESET, "--n-agents", "2", "--maps", maps(2),
-                                  "--timesteps", "20000000", "--seed", str(s), "--obs", "tasks",
-                                  "--hidden", "256,256", "--init",
-                                  f"experiments/runs/clonetasks_2agent_s{s}/bc_policy.npz",
-                                  "--lr", "1e-4", "--ent-coef", "0.003", "--anneal-fraction",
-                                  "0", "--max-wall", "900", *LOOP]
+    **{f"ppotasks_2agent_s{s}": _ppo_tasks(s) for s in (0, 1, 2)},
+    # the same PPO where the greedy cook drives cook 1 in half of the 32 kitchen slots
+    # (--partner greedy:0.5; its steps are not samples) and the policy both cooks in the rest
+    **{f"ppopartner_2agent_s{s}": [*_ppo_tasks(s), "--partner", "greedy:0.5"]
        for s in (0, 1, 2)},
+    # the same with greedy driving cook 1 in every kitchen slot (no self-play), seed 1
+    "ppopartnerall_2agent_s1": [*_ppo_tasks(1), "--partner", "greedy:1"],
     "clone_1agent_s0": _run(1, 0, True),
     "clone_3agent_s0": _run(3, 0, True),
 }

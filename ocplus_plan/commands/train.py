@@ -84,21 +84,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--tensorboard", default=None, metavar="DIR",
                    help="also log training metrics as TensorBoard event files in DIR "
                         "(tensorboard extra)")
+    g.add_argument("--partner", default=None, metavar="AGENT:SHARE",
+                   help="in SHARE of the kitchens AGENT (greedy, random or stay) plays the "
+                        "last cook and the policy the others (its steps are not samples); in "
+                        "the rest the policy plays every cook. E.g. greedy:0.5 (loop engine)")
     g.add_argument("--checkpoint-every", type=_POSITIVE, default=None,
                    help="steps between checkpoints (default: steps / 5)")
-    b = p.add_argument_group("imitation warm start")
-    b.add_argument("--bc", default=None, metavar="AGENT",
-                   help="behaviour-clone this controller first (e.g. greedy), then run PPO "
-                        "from the cloned policy; OUT/bc_policy.zip keeps the clone")
-    b.add_argument("--bc-steps", type=_POSITIVE, default=100_000,
-                   help="kitchen steps of teacher-labelled play per round")
-    b.add_argument("--bc-rounds", type=_POSITIVE, default=1,
-                   help="rounds; after the first, the learner drives and the teacher labels "
-                        "(DAgger)")
-    b.add_argument("--bc-epochs", type=_POSITIVE, default=8, help="fitting passes after each round")
-    b.add_argument("--bc-focus", type=_types.number("--bc-focus", 1.0, 100.0, lo_open=False),
-                   default=1.0, help="in DAgger rounds, weigh the samples where the learner's "
-                                     "own choice missed the teacher's this many times (1: plain)")
+    _add_imitation_args(p)
     s = p.add_argument_group("speed")
     s.add_argument("--engine", default="auto", choices=("auto", "batch", "loop", "jax"),
                    help="batch: the batched engine (fast extra); loop: one transition per "
@@ -136,6 +128,23 @@ def _jax_options(g: argparse._ArgumentGroup) -> None:
                    help="--engine jax: a learner that has served no order within this "
                         "fraction of the updates is started again with fresh weights "
                         "(default 0.2; 0: never)")
+
+
+def _add_imitation_args(p: argparse.ArgumentParser) -> None:
+    """The behaviour-cloning warm start's options."""
+    b = p.add_argument_group("imitation warm start")
+    b.add_argument("--bc", default=None, metavar="AGENT",
+                   help="behaviour-clone this controller first (e.g. greedy), then run PPO "
+                        "from the cloned policy; OUT/bc_policy.zip keeps the clone")
+    b.add_argument("--bc-steps", type=_POSITIVE, default=100_000,
+                   help="kitchen steps of teacher-labelled play per round")
+    b.add_argument("--bc-rounds", type=_POSITIVE, default=1,
+                   help="rounds; after the first, the learner drives and the teacher labels "
+                        "(DAgger)")
+    b.add_argument("--bc-epochs", type=_POSITIVE, default=8, help="fitting passes after each round")
+    b.add_argument("--bc-focus", type=_types.number("--bc-focus", 1.0, 100.0, lo_open=False),
+                   default=1.0, help="in DAgger rounds, weigh the samples where the learner's "
+                                     "own choice missed the teacher's this many times (1: plain)")
 
 
 def _hidden(text: str) -> tuple[int, ...]:
@@ -179,6 +188,11 @@ def _run_jax(args: argparse.Namespace) -> int:
 
 def run(args: argparse.Namespace) -> int:
     if args.engine == "jax":
+        if args.partner is not None:
+            from ..errors import ConfigError
+
+            raise ConfigError("--partner trains beside a scripted cook on the loop engine, "
+                              "not --engine jax")
         return _run_jax(args)
     for flag, value in (("--order-curriculum", args.order_curriculum),
                         ("--restart-after", args.restart_after)):
@@ -205,7 +219,7 @@ def run(args: argparse.Namespace) -> int:
         torch_threads=args.torch_threads, max_wall_s=args.max_wall,
         bc=args.bc, bc_steps=args.bc_steps, bc_rounds=args.bc_rounds, bc_epochs=args.bc_epochs,
         bc_focus=args.bc_focus,
-        algo=args.algo, precision=args.precision, device=args.device,
+        algo=args.algo, precision=args.precision, device=args.device, partner=args.partner,
     )
     teacher = None
     if args.bc is not None:
@@ -213,6 +227,12 @@ def run(args: argparse.Namespace) -> int:
 
         make_controller(args.bc, args.seed)  # an unknown name fails now, not after set-up
         teacher = functools.partial(make_controller, args.bc)  # seed -> a new teacher
+    partner = None
+    if args.partner is not None:
+        from ..agents import make_controller
+        from ..rl.train import parse_partner
+
+        partner = functools.partial(make_controller, parse_partner(args.partner)[0])
     if sys.argv[1:2] == ["train"]:
         command = "ocplus " + shlex.join(sys.argv[1:])
     else:  # called in-process (tests, scripts): the essential options
@@ -222,8 +242,11 @@ def run(args: argparse.Namespace) -> int:
             parts += ["--n-agents", str(args.n_agents)]
         if args.maps is not None:
             parts += ["--maps", args.maps]
+        if args.partner is not None:
+            parts += ["--partner", args.partner]
         command = "ocplus " + shlex.join(parts)
-    summary = train(config, command=command, progress=not args.quiet, teacher=teacher)
+    summary = train(config, command=command, progress=not args.quiet, teacher=teacher,
+                    partner=partner)
     emit({k: summary[k] for k in (
         "policy", "timesteps", "stopped_by_wall_budget", "episodes",
         "dishes_per_episode_last50", "wall_time_s", "steps_per_s")}, args)

@@ -18,7 +18,7 @@ from .vec_env import KitchenVecEnv
 
 EPISODE_FIELDS = (
     "timesteps", "wall_s", "episode", "kitchen", "preset", "rules", "map", "seed", "steps",
-    "game_reward", "train_return", "dishes", "shaping_coef",
+    "game_reward", "train_return", "dishes", "shaping_coef", "partner",
 )
 
 

@@ -21,6 +21,7 @@ import json
 import platform
 import sys
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -37,6 +38,26 @@ from .weights import WeightsPolicy, pickled_trusted, refuse_pickled, save_weight
 
 
 ALGOS = ("sb3", "lean")
+#: the controllers ``--partner`` may name (scripted: cheap enough to act at every step)
+PARTNERS = ("greedy", "random", "stay")
+
+
+def parse_partner(text: str) -> tuple[str, float]:
+    """``"greedy:0.5"`` -> ``("greedy", 0.5)``: the partner and the share of the kitchens
+    where it plays the last cook. Refuses anything else, naming the form it takes."""
+    usage = (f"write AGENT:SHARE, the agent one of {', '.join(PARTNERS)} and SHARE the "
+             "fraction of the kitchens (0 < SHARE <= 1) where it plays the last cook, "
+             "e.g. greedy:0.5")
+    name, sep, share = text.partition(":")
+    if not sep or name not in PARTNERS:
+        raise ConfigError(f"--partner {text!r}: {usage}")
+    try:
+        value = float(share)
+    except ValueError:
+        value = float("nan")
+    if not 0.0 < value <= 1.0:  # also refuses nan
+        raise ConfigError(f"--partner {text!r}: the share must be in (0, 1]; {usage}")
+    return name, value
 
 
 @dataclass(frozen=True)
@@ -107,6 +128,10 @@ class TrainConfig:
     #: torch device of the SB3 trainer: "cpu", "cuda", "cuda:N" or "auto" (cuda when
     #: torch sees one); the lean loop runs on the CPU
     device: str = "cpu"
+    #: ``AGENT:SHARE`` (e.g. ``greedy:0.5``): in that share of the kitchens (the first
+    #: ``round(SHARE * n_kitchens)``) the agent plays the last cook, whose steps are not
+    #: samples; in the rest the policy plays every cook (the caller passes the factory)
+    partner: str | None = None
 
     def __post_init__(self) -> None:
         if self.obs == "auto":
@@ -116,7 +141,7 @@ class TrainConfig:
         if self.engine == "auto":
             from ..sim.fast.batch import numba_available
 
-            batch = numba_available() and self.obs != "tasks"
+            batch = numba_available() and self.obs != "tasks" and self.partner is None
             object.__setattr__(self, "engine", "batch" if batch else "loop")
 
     def validate(self) -> None:
@@ -152,6 +177,8 @@ class TrainConfig:
             raise refuse_pickled(self.resume)
         if self.bc is not None:
             self.imitation().validate()
+        if self.partner is not None:
+            self._validate_partner()
         if self.resume is not None and (self.init or self.bc or self.curriculum
                                         or self.map_stages > 1 or self.algo != "sb3"):
             raise ConfigError("resume continues a plain sb3 run: drop init, bc, the curricula "
@@ -175,6 +202,32 @@ class TrainConfig:
         if self.precision != "fp32" and self.algo != "lean":
             raise ConfigError(f"precision {self.precision!r} needs algo 'lean' (the SB3 "
                               "trainer computes in float32): add --algo lean")
+
+    def partner_kitchens(self) -> int:
+        """The kitchens where the partner plays the last cook (0 without ``partner``)."""
+        return 0 if self.partner is None else round(parse_partner(self.partner)[1]
+                                                        * self.n_kitchens)
+
+    def _validate_partner(self) -> None:
+        """``partner`` goes with PPO on the loop engine with 2 cooks or more, not with the
+        paths it does not reach (cloning, resuming, the lean loop)."""
+        if self.partner_kitchens() < 1:
+            raise ConfigError(f"--partner {self.partner!r} with {self.n_kitchens} kitchens "
+                              "gives the partner no kitchen: raise the share or --n-kitchens")
+        if self.n_agents is not None and self.n_agents < 2:
+            raise ConfigError("--partner plays the last cook beside the learner's: it needs "
+                              f"--n-agents 2 or more, got {self.n_agents}")
+        if self.engine != "loop":
+            raise ConfigError("--partner acts on the simulator's state: it needs --engine loop "
+                              f"(or auto), not {self.engine!r}")
+        for flag, used, how in (
+                ("--bc", self.bc is not None, "clone without a partner first, then run PPO "
+                 "from the clone: --init OUT/bc_policy.npz --partner ..."),
+                ("--resume-from", self.resume is not None, "start a partner run afresh, "
+                 "e.g. --init OUT/policy.npz"),
+                ("--algo lean", self.algo != "sb3", "a partner run uses --algo sb3")):
+            if used:
+                raise ConfigError(f"--partner does not go with {flag}: {how}")
 
     def imitation(self) -> Imitation:
         """The behaviour-cloning settings of this run (meaningful when ``bc`` is set)."""
@@ -211,10 +264,15 @@ def _lr_schedule(initial: float):
     return schedule
 
 
-def build(config: TrainConfig) -> tuple[Any, Any, list[Rules], Rules]:
+def build(config: TrainConfig, partner: Callable[[int], Any] | None = None,
+          ) -> tuple[Any, Any, list[Rules], Rules]:
     """The PPO model and its vec env for ``config`` (no training yet): ``(model, venv,
-    curriculum stages, target rules)``. Also used by experiments/bench_train.py."""
+    curriculum stages, target rules)``; ``partner`` (``seed -> Controller``) with
+    ``config.partner``. Also used by experiments/bench_train.py."""
     config.validate()
+    if config.partner is not None and partner is None:
+        raise ConfigError(f"partner={config.partner!r} needs the partner's factory "
+                          "(train(..., partner=))")
     pool = _pool(config)
     target = pool[0] if pool else _rules(config, config.preset, with_map=True)
     stages = [_rules(config, p, with_map=config.map is not None) for p in config.curriculum]
@@ -242,6 +300,7 @@ def build(config: TrainConfig) -> tuple[Any, Any, list[Rules], Rules]:
         obs=config.obs, obs_radius=config.obs_radius, shaping=config.shaping,
         team_reward=config.team_reward, reward_scale=config.reward_scale, engine=config.engine,
         threads=config.torch_threads, draw=bool(pool),
+        partner=partner, partner_kitchens=config.partner_kitchens(),
     )
     venv.rule_labels = {id(r): spec for r, spec in zip(stages, config.curriculum)}
     venv.rule_labels[id(target)] = config.preset
@@ -259,13 +318,15 @@ def build(config: TrainConfig) -> tuple[Any, Any, list[Rules], Rules]:
 
 
 def train(config: TrainConfig, *, command: str | None = None, progress: bool = True,
-          teacher: Teacher | None = None) -> dict:
+          teacher: Teacher | None = None, partner: Callable[[int], Any] | None = None) -> dict:
     """Run one training; return the summary that is also written to ``OUT/train.json``.
     With ``config.bc``, ``teacher`` (``seed -> Controller``) is behaviour-cloned first
-    (``OUT/bc_policy.zip`` keeps the imitation-only policy), then PPO continues."""
+    (``OUT/bc_policy.zip`` keeps the imitation-only policy), then PPO continues. With
+    ``config.partner``, ``partner`` (``seed -> Controller``) plays the last cook of its
+    share of the kitchens."""
     if config.bc is not None and teacher is None:
         raise ConfigError(f"bc={config.bc!r} needs the teacher's factory (train(..., teacher=))")
-    model, venv, stages, target = build(config)
+    model, venv, stages, target = build(config, partner)
     import torch
 
     from .callbacks import TrainingMonitor
@@ -288,6 +349,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         "preset": config.preset, "map": config.maps or target.layout.name,
         "n_agents": target.n_agents, "act": "sample",
         **({"maps": config.maps, "kitchens": len(venv.rule_list)} if config.maps else {}),
+        **({"partner": config.partner} if config.partner else {}),
     }
     t0 = time.perf_counter()
 
@@ -440,4 +502,4 @@ def _cpus() -> int:
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 0
 
 
-__all__ = ["ALGOS", "TrainConfig", "build", "train"]
+__all__ = ["ALGOS", "PARTNERS", "TrainConfig", "build", "parse_partner", "train"]

@@ -2,7 +2,8 @@
 
 ``KitchenVecEnv`` runs ``n_kitchens`` simulator instances with ``n_agents`` agents each
 and exposes ``n_kitchens * n_agents`` slots (slot ``j * n_agents + a`` is agent ``a`` of
-kitchen ``j``). One PPO policy acts for every slot, so every agent is driven by the same
+kitchen ``j``; with a partner, below, the slots list each kitchen's learner cooks in
+turn). One PPO policy acts for every slot, so every agent is driven by the same
 network from its own observation, and every agent's experience trains it.
 
 Two engines step the kitchens, with the same results bit for bit. ``engine="loop"``
@@ -18,13 +19,19 @@ both engines, so the same actions give the same observations and rewards: see
 ``tests/rl/fast/test_features_batch.py``). Finished episodes are queued in
 :attr:`KitchenVecEnv.finished` for the logging callback.
 
+A partner (``partner``: a factory ``seed -> Controller``, e.g. the greedy cook, passed in by
+the caller) drives the last cook of the first ``partner_kitchens`` kitchens (loop engine):
+it acts on the kitchen's state before each step, as in an evaluation with ``--partner``,
+and its cook has no slot, so its steps are never the learner's samples. The other cooks of
+those kitchens, and every cook of the rest, are the policy's slots.
+
 Imports stable-baselines3 at module level: import it only where the ``rl`` extra is
 known to be installed (:mod:`ocplus_plan.rl.train` does so lazily).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -51,6 +58,8 @@ class KitchenVecEnv(VecEnv):
     shaping), so the agent that chops shares the delivery. ``reward_scale`` multiplies
     everything the learner sees (the logged game reward is unscaled). ``threads``: the
     batched engine's threads (it splits 256 kitchens or more over them; None: every core).
+    ``partner`` (``seed -> Controller``) drives the last cook of kitchens
+    ``0..partner_kitchens-1`` (loop engine); those cooks have no slot.
     """
 
     def __init__(
@@ -67,6 +76,8 @@ class KitchenVecEnv(VecEnv):
         engine: str = "loop",
         threads: int | None = None,
         draw: bool = False,
+        partner: Callable[[int], Any] | None = None,
+        partner_kitchens: int = 0,
     ) -> None:
         rule_list = [rules] if isinstance(rules, Rules) else list(rules)
         if not rule_list:
@@ -86,6 +97,7 @@ class KitchenVecEnv(VecEnv):
                 )
         self.n_agents = n_agents.pop()
         self.n_kitchens = n_kitchens
+        self._partner_slots(partner, partner_kitchens, engine, seed)
         self.rule_list = rule_list
         self._obs_kind, self._obs_radius = obs, obs_radius
         self._encoders: dict[int, Any] = {}  # id(rules) -> encoder (Rules holds arrays)
@@ -111,12 +123,34 @@ class KitchenVecEnv(VecEnv):
         self.states: list[State] = []
         self._game_return = [0.0] * n_kitchens
         self._train_return = np.zeros((n_kitchens, self.n_agents))
-        self._actions = np.zeros(n_kitchens * self.n_agents, dtype=np.int64)
+        self._actions = np.zeros(self._n_slots, dtype=np.int64)
         obs_space = spaces.Box(-1.0, 1.0, shape=(self.obs_size,), dtype=np.float32)
         if obs != "features":
             obs_space = spaces.Box(-np.inf, np.inf, shape=(self.obs_size,), dtype=np.float32)
         self.render_mode = None  # nothing to render (SB3 warns when the attribute is missing)
-        super().__init__(n_kitchens * self.n_agents, obs_space, spaces.Discrete(5))
+        super().__init__(self._n_slots, obs_space, spaces.Discrete(5))
+
+    def _partner_slots(self, partner: Callable[[int], Any] | None, kitchens: int, engine: str,
+                       seed: int) -> None:
+        """Kitchen ``j``'s first slot (``_lo[j]``) and its learner cooks (``_cooks[j]``):
+        every cook but the last where a partner plays it."""
+        if isinstance(kitchens, bool) or not isinstance(kitchens, int) \
+                or not 0 <= kitchens <= self.n_kitchens:
+            raise ConfigError(f"partner_kitchens must be 0..{self.n_kitchens}, got {kitchens!r}")
+        if kitchens and partner is None:
+            raise ConfigError("partner_kitchens needs the partner's factory (partner=)")
+        if kitchens and self.n_agents < 2:
+            raise ConfigError("a partner plays the last cook beside the learner's: the "
+                              f"kitchens need at least 2 cooks, they have {self.n_agents}")
+        if kitchens and engine != "loop":
+            raise ConfigError("a partner acts on the simulator's state: it needs the loop "
+                              f"engine, not {engine!r}")
+        self.partner_kitchens = kitchens
+        self.partners = [partner(seed + j) for j in range(kitchens)] if kitchens else []
+        self._cooks = [self.n_agents - (j < kitchens) for j in range(self.n_kitchens)]
+        self._lo = np.concatenate([[0], np.cumsum(self._cooks)[:-1]]).astype(int).tolist()
+        self._n_slots = int(sum(self._cooks))
+        self.partner_name = self.partners[0].name if self.partners else ""
 
     # ------------------------------------------------------------ kitchens
     def _encoder(self, rules: Rules) -> Any:
@@ -141,6 +175,8 @@ class KitchenVecEnv(VecEnv):
         seed = next_seed(self._seed_rngs[kitchen])
         state = new_state(self._pick(kitchen), seed)
         self.shapers[kitchen].reset(state)
+        if kitchen < self.partner_kitchens:
+            self.partners[kitchen].reset(state, [self.n_agents - 1])
         self._game_return[kitchen] = 0.0
         self._train_return[kitchen] = 0.0
         return state
@@ -153,8 +189,9 @@ class KitchenVecEnv(VecEnv):
         return rules[kitchen % len(rules)]
 
     def _encode(self, kitchen: int) -> np.ndarray:
+        """The observations of kitchen ``kitchen``'s learner cooks."""
         state = self.states[kitchen]
-        return self._encoder(state.rules).encode_all(state)
+        return self._encoder(state.rules).encode_all(state)[: self._cooks[kitchen]]
 
     def _batch_engine(self, engine: str, shaping: Shaping, seed: int,
                       threads: int | None) -> Any:
@@ -204,15 +241,20 @@ class KitchenVecEnv(VecEnv):
         infos: list[dict[str, Any]] = [{} for _ in range(self.num_envs)]
         coef = self.shaping_coef
         for j, state in enumerate(self.states):
-            lo = j * n
-            result = transition(state, self._actions[lo : lo + n].tolist())
+            lo, m = self._lo[j], self._cooks[j]
+            joint = self._actions[lo : lo + m].tolist()
+            if m < n:
+                joint += [int(a) for a in self.partners[j].act(state)]
+            result = transition(state, joint)
+            if m < n:
+                self.partners[j].observe(state, result.events)
             true, shaped = self.shapers[j].step(state, result.events, result.rewards)
             if self.team_reward:
                 team = sum(true)
                 r = [team + coef * s for s in shaped]
             else:
                 r = [t + coef * s for t, s in zip(true, shaped)]
-            rewards[lo : lo + n] = r
+            rewards[lo : lo + m] = r[:m]
             self._train_return[j] += r
             self._game_return[j] += sum(result.rewards)
             if result.terminated or result.truncated:
@@ -228,15 +270,16 @@ class KitchenVecEnv(VecEnv):
                     "train_return": float(self._train_return[j].mean()),
                     "dishes": state.stats["dishes_served"],
                     "shaping_coef": coef,
+                    "partner": self.partner_name if m < n else "",
                 })
-                for a in range(n):
+                for a in range(m):
                     infos[lo + a]["terminal_observation"] = final[a]
                     infos[lo + a]["episode"] = {
                         "r": float(self._train_return[j, a]), "l": state.t,
                     }
                     dones[lo + a] = True
                 self.states[j] = self._new_episode(j)
-            obs[lo : lo + n] = self._encode(j)
+            obs[lo : lo + m] = self._encode(j)
         return obs, rewards * self.reward_scale, dones, infos
 
     def _step_batch(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
