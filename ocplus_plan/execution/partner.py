@@ -79,63 +79,31 @@ def _with_partners(planner: PlanFunction, state: State, agents: tuple[int, ...],
                     tuple(range(state.n_agents)), reason)
     if not joint.ok:
         return joint
-    steps = ours_first(joint.steps, agents, {a: state.agent_hand[a] for a in agents})
+    steps = ours_first(joint.steps, agents)
     if not steps:
         return PlanOutcome("waiting", [], joint.planning_time,
                            "every cook planned: our first step waits for a partner's")
     return replace(joint, steps=steps)
 
 
-def ours_first(steps: list[PlanStep], agents: tuple[int, ...],
-               hands: Mapping[int, int] | None = None) -> list[PlanStep]:
-    """The steps of ``agents`` that do not wait for any step of another cook: a step that
-    touches a cell or item a partner's earlier step touches
-    (:func:`~.plans.causal_dependencies`) is cut, and so is one that waits for a step cut.
-    A cut step cuts the rest of its cook's piece of work (up to where the plan leaves the
-    cook's hand empty again); the cook's later pieces that wait for nothing cut go on (the
-    steak and the tomato a partner passed over are taken on while the plate it was to bring
-    is cut). A cut step taken with something in the hand (``hands``: the item each cook
-    holds now, none if not given) stops its cook: it cannot start other work holding it."""
+def ours_first(steps: list[PlanStep], agents: tuple[int, ...]) -> list[PlanStep]:
+    """The steps of ``agents`` that come before (and do not wait for) any step of another
+    cook: a step that touches a cell or item a partner's earlier step touches
+    (:func:`~.plans.causal_dependencies`) is cut with the rest of its cook's steps, and so is
+    one that waits for a step cut."""
     order = sorted(steps, key=lambda s: (s.start or 0.0, s.index))
     deps = causal_dependencies(order)
-    held = {a: (hands or {}).get(a, -1) for a in agents}
     cut: set[int] = set()
-    untouchable: set[tuple[str, int]] = set()  # cells and items of our cut steps
     stopped: set[int] = set()
-    skipping: set[int] = set()  # cooks whose piece of work is being cut
     kept = []
     for s in order:
-        a = s.agent
-        before = held.get(a, -1)
-        if a in agents:
-            held[a] = _hand_after(before, s)
-        touched = {("c", s.target), *(("i", i) for i in s.items)}
-        if a not in agents or a in stopped or a in skipping or deps[s.index] & cut \
-                or touched & untouchable:
+        if s.agent not in agents or s.agent in stopped or deps[s.index] & cut:
             cut.add(s.index)
-            if a in agents:
-                untouchable |= touched
-            if a in agents and a not in skipping:
-                (skipping if before < 0 else stopped).add(a)
-            if a in skipping and held[a] < 0:
-                skipping.discard(a)  # the piece ends with an empty hand
+            if s.agent in agents:
+                stopped.add(s.agent)
             continue
         kept.append(s)
     return kept
-
-
-def _hand_after(held: int, step: PlanStep) -> int:
-    """What a cook holds after ``step`` (-1: nothing), holding ``held`` before: a pick-up
-    takes the step's first item; a put-down, a delivery or a throw empties the hand; a
-    plating step keeps a held plate (food scooped onto it) and empties a hand whose food
-    goes onto a plate lying there."""
-    if step.kind == "pickup":
-        return step.items[0] if step.items else held
-    if step.kind in ("putdown", "deliver", "trash"):
-        return -1
-    if step.kind == "plate":
-        return held if held >= 0 and step.items and held == step.items[-1] else -1
-    return held
 
 
 def predicted_state(state: State, predictions: Mapping[int, Prediction],

@@ -324,43 +324,6 @@ def test_our_steps_stop_at_the_first_that_waits_for_a_partners():
     assert ours_first(steps[:1] + steps[4:], (0,)) == []  # its first step waits
 
 
-def test_our_later_work_that_waits_for_nothing_cut_goes_on():
-    # the partner (1) is to bring the plate to the counter between the halves; ours (0)
-    # would take it there, scoop the chopped tomato from its board and leave it on the
-    # counter, then fetch the lettuce and chop it on its other board: the plate's piece
-    # waits for the partner and is cut whole, the lettuce's goes on
-    counter, plate_home, board, lettuce_crate, board2, spot = 7, 14, 9, 3, 11, 8
-    tomato, plate, lettuce = 0, 1, 2
-    steps = [PlanStep(0, 1, "pickup", plate_home, (plate,)),
-             PlanStep(1, 1, "putdown", counter, (plate,)),
-             PlanStep(2, 0, "pickup", counter, (plate,)),
-             PlanStep(3, 0, "plate", board, (tomato, plate)),
-             PlanStep(4, 0, "putdown", spot, (plate,)),
-             PlanStep(5, 0, "pickup", lettuce_crate, (lettuce,)),
-             PlanStep(6, 0, "putdown", board2, (lettuce,)),
-             PlanStep(7, 0, "chop", board2, (lettuce,))]
-    assert [s.index for s in ours_first(steps, (0,))] == [5, 6, 7]
-    # a later step that touches what a cut step touches is cut too (the tomato's board)
-    steps2 = steps[:6] + [PlanStep(6, 0, "putdown", board, (lettuce,)),
-                          PlanStep(7, 0, "chop", board, (lettuce,))]
-    assert [s.index for s in ours_first(steps2, (0,))] == [5]
-
-
-def test_a_cook_that_waits_with_something_in_hand_stops():
-    # ours already holds the tomato: its plating waits for the partner's plate, and it
-    # cannot fetch the lettuce with the tomato in its hand
-    counter, plate_home, lettuce_crate, board2 = 7, 14, 3, 11
-    tomato, plate, lettuce = 0, 1, 2
-    steps = [PlanStep(0, 1, "pickup", plate_home, (plate,)),
-             PlanStep(1, 1, "putdown", counter, (plate,)),
-             PlanStep(2, 0, "plate", counter, (tomato, plate)),
-             PlanStep(3, 0, "pickup", lettuce_crate, (lettuce,)),
-             PlanStep(4, 0, "putdown", board2, (lettuce,))]
-    assert ours_first(steps, (0,), {0: tomato}) == []
-    # with empty hands (the tomato already on a plate elsewhere) the lettuce goes on
-    assert [s.index for s in ours_first(steps, (0,), {0: -1})] == [3, 4]
-
-
 def test_a_crate_whose_only_way_in_a_partner_holds_still_compiles():
     # the partner stands in the crate's only way in: a wall in the problem, the crate
     # out of everyone's reach (the items from it have no home the plan could use)
