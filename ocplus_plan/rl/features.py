@@ -110,7 +110,7 @@ class FeatureEncoder:
         self.geo = geo = geometry_for(rules)
         n_cells = geo.rows * geo.cols
         #: per layout: the cells an agent can interact with (not floor, not block)
-        self._interact = [
+        self.interact = [
             tuple(c for c in range(n_cells) if terrain[c] not in _FLOORISH)
             for terrain in geo.terrains
         ]
@@ -153,7 +153,7 @@ class FeatureEncoder:
         names += ["time", "layout", "switch_in", "cooking_progress", "cooked_burn_risk"]
         return names
 
-    def _reach(
+    def reach(
         self, layout: int, pos: int, others: tuple[int, ...] = ()
     ) -> list[tuple[int, int]]:
         """Per interaction cell of ``layout``: (path cost incl. bump, first action), or
@@ -165,7 +165,7 @@ class FeatureEncoder:
         if hit is not None:
             return hit
         if others:
-            free = self._reach(layout, pos)
+            free = self.reach(layout, pos)
             out = [b if b[1] >= 0 else f for b, f in zip(self._bfs(layout, pos, others), free)]
         else:
             out = self._bfs(layout, pos, ())
@@ -177,7 +177,7 @@ class FeatureEncoder:
         nbrs = geo.neighbors
         dist, _parent, first, _order = walks(nbrs, geo.walkables[layout], [pos], others)
         out = []
-        for c in self._interact[layout]:
+        for c in self.interact[layout]:
             best, act = _NO_PATH, -1
             for v in nbrs[c]:
                 # v is the standing cell (reached: walkable and not another agent's)
@@ -251,14 +251,14 @@ class FeatureEncoder:
         terrain = geo.terrains[layout]
         pos = state.agent_pos[agent]
         others = tuple(sorted(p for b, p in enumerate(state.agent_pos) if b != agent))
-        reach = self._reach(layout, pos, others)
+        reach = self.reach(layout, pos, others)
         cell_item, kinds, istate = state.cell_item, geo.item_kind, state.item_state
         n_t = len(TARGETS)
         best_cost = [_NO_PATH] * n_t
         best_act = [-1] * n_t
         best_cell = [-1] * n_t
         wanted = {int(k) for order in state.orders for k in order.recipe}
-        for idx, c in enumerate(self._interact[layout]):
+        for idx, c in enumerate(self.interact[layout]):
             cost, act = reach[idx]
             if act < 0:
                 continue

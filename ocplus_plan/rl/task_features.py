@@ -68,7 +68,7 @@ class TaskEncoder:
     def __init__(self, rules: Rules) -> None:
         self._features = FeatureEncoder(rules)
         geo = self._features.geo
-        self._index = [{c: i for i, c in enumerate(cells)} for cells in self._features._interact]
+        self._index = [{c: i for i, c in enumerate(cells)} for cells in self._features.interact]
         self._heat = rules.tables.station_of(int(Item.STEAK))
         self._stations = [
             ([c for c, code in enumerate(t) if code == _BOARD],
@@ -88,7 +88,7 @@ class TaskEncoder:
     def _reach(self, state: State, agent: int) -> list[tuple[int, int]]:
         pos = state.agent_pos
         others = tuple(sorted(p for b, p in enumerate(pos) if b != agent))
-        return self._features._reach(state.layout_index, pos[agent], others)
+        return self._features.reach(state.layout_index, pos[agent], others)
 
     def _tasks(self, state: State, agent: int, unmet: Counter, missing: Counter) -> list[float]:
         kinds, layout = state.geo.item_kind, state.layout_index

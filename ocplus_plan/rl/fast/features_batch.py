@@ -31,7 +31,7 @@ def feature_tables(rules: Rules, shaping: Shaping) -> fk.FeatureTables:
     """The kernels' tables for one rule set and shaping."""
     geo = geometry_for(rules)
     i64 = np.int64
-    interact_cells = FeatureEncoder(rules)._interact
+    interact_cells = FeatureEncoder(rules).interact
     interact = np.full((len(interact_cells), max(map(len, interact_cells))), -1, i64)
     for lay, cells in enumerate(interact_cells):
         interact[lay, : len(cells)] = cells
