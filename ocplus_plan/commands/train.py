@@ -194,14 +194,13 @@ def run(args: argparse.Namespace) -> int:
             raise ConfigError("--partner trains beside a scripted cook on the loop engine, "
                               "not --engine jax")
         return _run_jax(args)
-    for flag, value in (("--order-curriculum", args.order_curriculum),
-                        ("--restart-after", args.restart_after)):
+    for flag, value, hint in (
+            ("--order-curriculum", args.order_curriculum, "; the other engines take --curriculum"),
+            ("--restart-after", args.restart_after, "")):
         if value is not None:
             from ..errors import ConfigError
 
-            raise ConfigError(f"{flag} is an option of --engine jax; the other engines "
-                              "take --curriculum" if flag == "--order-curriculum" else
-                              f"{flag} is an option of --engine jax")
+            raise ConfigError(f"{flag} is an option of --engine jax{hint}")
     from ..rl.train import TrainConfig, train
 
     config = TrainConfig(
