@@ -13,7 +13,8 @@ the planner's branching):
 * every counter that holds an item now (its item must have a location);
 * every *hand-over* counter: one that touches floor cells of two or more regions
   that are disconnected from each other (``easy_divided`` needs one to pass a
-  tomato through its wall);
+  tomato through its wall); in the relaxed kitchen (below), which is one room, the
+  counters that are hand-overs in some real layout;
 * per region, ``extra_counters`` (default 2) free counters, chosen as those whose
   spot is closest in total to the region's stations, so that an agent can set a
   plate or an ingredient down near where the work happens.
@@ -26,11 +27,15 @@ station and counter choice) is computed once per geometry and layout and cached.
 
 The *relaxed kitchen* (:func:`relaxed_state`) of a map whose layout switches has every
 cell that is floor in some layout as floor: a plan exists there when no single layout
-lets the cooks reach every station (MapC). Its ``stations`` moves cost the walk's
-expected steps over the real switches (a walk may wait for the switch that opens its
-way; mean over the phases of the switch schedule), not the relaxed floor's distance,
-so a plan there hands items over a counter rather than carrying them across a way that
-is closed half of the time.
+lets the cooks reach every station (MapC). Its ``stations`` moves cost the steps the
+walk takes over the real switches if it starts now (:func:`phase_walks`: from the
+current layout and the steps to its next switch, waiting for the switch that opens its
+way), not the relaxed floor's distance, so a plan there hands items over a counter
+rather than carrying them across a way that is closed now. The relaxed state keeps the
+real layout index and next switch (both of its layouts are the same floor); when the
+next switch is overdue (a cook holds it up, or a copy of the state ran past it with the
+layout frozen, as a chained plan's does) the phase is not known and a move costs
+:func:`expected_walks`, the mean over the phases.
 """
 
 from __future__ import annotations
@@ -153,6 +158,10 @@ def build_spots(state: State, granularity: str = "stations", extra_counters: int
             f: tuple(interaction_spots(geo.neighbors, union, f))
             for f in info.floor_around}, info.stations, info.handovers, info.extras)
     chosen = set(info.stations) | set(info.handovers)
+    real = real_geometry(geo)
+    if real is not None:  # the relaxed kitchen is one room: keep the real layouts' hand-overs
+        for layout in range(len(real.walkables)):
+            chosen.update(layout_info(real, layout, extra_counters).handovers)
     for r in agent_regions:
         chosen.update(info.extras.get(r, ()))
     for f, item in enumerate(state.cell_item):
@@ -178,11 +187,15 @@ def build_spots(state: State, granularity: str = "stations", extra_counters: int
         spot_set.update(state.agent_pos)
         spots = tuple(sorted(spot_set))
         links_list = []
-        real = real_geometry(geo)
+        due = state.next_switch - state.t
         for s in spots:
             # (a cook the problem leaves out may stand where the problem has a wall)
-            ds = info.dist.get(s, {}) if real is None else \
-                expected_walks(real, state.rules.map_switch_step, s)
+            if real is None:
+                ds = info.dist.get(s, {})
+            elif due > 0:
+                ds = phase_walks(real, state.rules.map_switch_step, s, li, due)
+            else:
+                ds = expected_walks(real, state.rules.map_switch_step, s)
             for t in targets:
                 if t != s and t in ds:
                     links_list.append((s, t, ds[t]))
@@ -236,8 +249,30 @@ def relaxed_state(state: State) -> State:
         return state
     relaxed = state.copy()
     relaxed.geo = base
-    relaxed.layout_index = 0
     return relaxed
+
+
+def _arrivals(fronts: list[int]) -> dict[int, int]:
+    """Cell -> the first step at which a list of reachability fronts holds it."""
+    out: dict[int, int] = {}
+    seen = 0
+    for t, front in enumerate(fronts):
+        new = front & ~seen
+        seen |= front
+        while new:
+            low = new & -new
+            out[low.bit_length() - 1] = t
+            new ^= low
+    return out
+
+
+@lru_cache(maxsize=4096)
+def phase_walks(geo: Geometry, period: int, start: int, layout: int, due: int) -> dict[int, int]:
+    """Cell -> steps of the earliest walk from ``start`` to it on the switching map ``geo``
+    when ``layout`` is in force and its next switch is ``due`` steps away, then one every
+    ``period`` steps (waiting for switches allowed; cells no walk reaches are left out)."""
+    walks = switching_walks(geo, period)
+    return _arrivals(walks.fronts(start, layout, max(1, min(due, walks.period))))
 
 
 @lru_cache(maxsize=4096)
@@ -250,16 +285,9 @@ def expected_walks(geo: Geometry, period: int, start: int) -> dict[int, int]:
     total: dict[int, int] = {}
     reached: dict[int, int] = {}  # in how many phases
     for layout, due in phases:
-        seen = 0
-        for t, front in enumerate(walks.fronts(start, layout, due)):
-            new = front & ~seen
-            seen |= front
-            while new:
-                low = new & -new
-                cell = low.bit_length() - 1
-                total[cell] = total.get(cell, 0) + t
-                reached[cell] = reached.get(cell, 0) + 1
-                new ^= low
+        for cell, t in _arrivals(walks.fronts(start, layout, due)).items():
+            total[cell] = total.get(cell, 0) + t
+            reached[cell] = reached.get(cell, 0) + 1
     return {c: round(total[c] / len(phases)) for c in total if reached[c] == len(phases)}
 
 
