@@ -46,6 +46,8 @@ def without_idle_work(steps: list[tuple[PlanStep, str, int]],
         steps = [entry for entry in steps if id(entry) not in idle]
 
 
+#: passes of the stays' coordinate descent (:func:`_best_stations`)
+STATION_PASSES = 2
 #: at most this many dishes are put in every order (their permutations are each scheduled)
 MAX_DISHES_REORDERED = 3
 
@@ -249,7 +251,7 @@ def _best_stations(steps: list[tuple[PlanStep, str, int]], state: State,
     if all(len(cells) < 2 - counters for cells in by_kind.values()):
         return steps
 
-    def cost(plan: list[tuple[PlanStep, str, int]]) -> tuple[int, int, int] | None:
+    def cost(plan: list[tuple[PlanStep, str, int]]) -> tuple[int, int, int, int] | None:
         out = _Scheduler(plan, state, agents, walks, lookahead).run()
         return None if out is None else out[1]
 
@@ -257,19 +259,27 @@ def _best_stations(steps: list[tuple[PlanStep, str, int]], state: State,
     # one board) may schedule once a stay moves to another station: any schedule beats none
     best = cost(steps)
     stays = station_stays(steps, state, counters)
-    for stay in stays:
-        if stay.first < 0 or (stay.kind == _COUNTER) != counters:
-            continue
-        home = stay.station
-        for cell in by_kind.get(home if counters else stay.kind, []):
-            if cell == home or not _free_over(stays, cell, stay):
+    # a second pass: a move late in the plan can make the plan schedulable (or free a cook)
+    # only then, and an earlier stay's move pays after it (hard, 2 cooks, seed 4, step 120:
+    # the plate and a lettuce queued on one hand-over counter left a cook idle 27 steps)
+    for _ in range(STATION_PASSES):
+        moved = False
+        for stay in stays:
+            if stay.first < 0 or (stay.kind == _COUNTER) != counters:
                 continue
-            trial = _relabel(steps, stay, cell)
-            if counters and not _cells_agree(trial, state):
-                continue
-            c = cost(trial)
-            if c is not None and (best is None or c < best):
-                best, steps, stay.station = c, trial, cell
+            home = stay.station
+            for cell in by_kind.get(stay.station if counters else stay.kind, []):
+                if cell == stay.station or not _free_over(stays, cell, stay):
+                    continue
+                trial = _relabel(steps, stay, cell)
+                if counters and not _cells_agree(trial, state):
+                    continue
+                c = cost(trial)
+                if c is not None and (best is None or c < best):
+                    best, steps, stay.station = c, trial, cell
+            moved = moved or stay.station != home
+        if not moved:
+            break
     return steps
 
 
@@ -478,7 +488,7 @@ def _best_plating(steps: list[tuple[PlanStep, str, int]], state: State,
     def settle(plan: list[tuple[PlanStep, str, int]]) -> list[tuple[PlanStep, str, int]]:
         return _best_stations(plan, state, agents, walks, lookahead) if swap_stations else plan
 
-    def cost(plan: list[tuple[PlanStep, str, int]]) -> tuple[int, int, int] | None:
+    def cost(plan: list[tuple[PlanStep, str, int]]) -> tuple[int, int, int, int] | None:
         out = _Scheduler(plan, state, agents, walks, lookahead).run()
         return None if out is None else out[1]
 
