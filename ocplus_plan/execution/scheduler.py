@@ -158,15 +158,12 @@ class _Partial:
         out.placed = list(self.placed)
         return out
 
-    def cost(self) -> tuple[int, int, int, int]:
+    def cost(self) -> tuple[int, int, int]:
         """What the lookahead minimises: burnt steaks first, then the makespan, then how
-        early the dishes go out (the sum of the deliveries' starts), then how early all the
-        work is done (the sum of every step's start): work a cook can do while it would
-        wait (for a layout switch, a hand-over) is done then rather than later."""
+        early the dishes go out (the sum of the deliveries' starts)."""
         makespan = max(self.free_at.values(), default=0)
         served = sum(start for start, _, step, _ in self.placed if step.kind == "deliver")
-        flow = sum(start for start, _, _, _ in self.placed)
-        return self.late, makespan, served, flow
+        return self.late, makespan, served
 
 
 class _Scheduler:
@@ -303,7 +300,7 @@ class _Scheduler:
         self.place(q, *choice)
         return q
 
-    def run(self) -> tuple[list[PlanStep], tuple[int, int, int, int]] | None:
+    def run(self) -> tuple[list[PlanStep], tuple[int, int, int]] | None:
         """The scheduled steps and the schedule's cost; None when it gets stuck."""
         p = _Partial(self.agents, self.state)
         p.waiting_pin = {s.pinned for s in self.segs if s.pinned is not None}
