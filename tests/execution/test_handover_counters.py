@@ -4,6 +4,7 @@ counter that both cooks reach (execution/plan_variants.py: counter_choices, _bes
 from __future__ import annotations
 
 import warnings
+from dataclasses import replace
 
 from ocplus_plan.execution.plans import PlanStep
 from ocplus_plan.execution.schedule import KEEP, RELEASE, TAKE, counter_choices, schedule
@@ -75,3 +76,38 @@ def test_two_hand_overs_through_one_counter_go_through_two():
     # one cook hands nothing over: its counters stay as planned
     alone = [(s.kind, s.target) for s in schedule(plan, state, (0,)) if s.kind != "chop"]
     assert alone.count(("putdown", counter)) == 2
+
+
+def test_at_equal_makespan_the_counter_where_the_work_starts_earliest():
+    """Cook 0 chops the lettuce above while the tomato comes up through counter (2,4). Every
+    counter of row 2 ends the schedule at the same step; the tomato's stay goes to (2,1),
+    above its crate's spot, where it is put down at once (the sum of the steps' starts is
+    the last tie-break of a hand-over counter's choice)."""
+    state = _state()
+    f = state.geo.flat
+    tomato, lettuce = state.cell_item[f(4, 1)], state.cell_item[f(0, 1)]
+    counter, chops = f(2, 4), state.rules.chop_steps
+    plan = [
+        (PlanStep(0, 0, "pickup", f(0, 1), (lettuce,)), TAKE, 1),
+        (PlanStep(1, 0, "putdown", f(0, 2), (lettuce,)), RELEASE, 1),
+        (PlanStep(2, 0, "chop", f(0, 2), (lettuce,)), KEEP, chops),
+        (PlanStep(3, 1, "pickup", f(4, 1), (tomato,)), TAKE, 1),
+        (PlanStep(4, 1, "putdown", counter, (tomato,)), RELEASE, 1),
+        (PlanStep(5, 0, "pickup", f(0, 2), (lettuce,)), TAKE, 1),
+        (PlanStep(6, 0, "putdown", f(0, 3), (lettuce,)), RELEASE, 1),
+        (PlanStep(7, 0, "pickup", counter, (tomato,)), TAKE, 1),
+        (PlanStep(8, 0, "putdown", f(0, 2), (tomato,)), RELEASE, 1),
+        (PlanStep(9, 0, "chop", f(0, 2), (tomato,)), KEEP, chops),
+    ]
+
+    def end(out):
+        return max(s.start + (chops if s.kind == "chop" else 1) for s in out)
+
+    moved = schedule(plan, state, (0, 1), carry_to_plates=False)
+    put = next(s for s in moved if s.kind == "putdown" and s.items == (tomato,))
+    assert (put.target, put.start) == (f(2, 1), 4)
+    for c in (2, 3, 4):  # the plan through any other counter of row 2 ends no sooner
+        other = [(s if s.target != counter else replace(s, target=f(2, c)), e, b)
+                 for s, e, b in plan]
+        assert end(schedule(other, state, (0, 1), carry_to_plates=False,
+                            swap_stations=False)) >= end(moved)
