@@ -232,22 +232,6 @@ def _free_over(stays: Sequence[Stay], cell: int, stay: Stay) -> bool:
                for o in stays)
 
 
-def _scheduled_cost(plan: list[tuple[PlanStep, str, int]], state: State,
-                    agents: tuple[int, ...], walks: _Walks, lookahead: int,
-                    early_work: bool = False) -> tuple[int, ...] | None:
-    """The plain rule's schedule cost of ``plan`` (None: it cannot be scheduled).
-
-    ``early_work``: then the sum of every step's start, as the last tie-break: where the
-    items wait (a hand-over counter, the plating variant), the schedule in which a cook
-    does the work it can while another waits (for a switch, a hand-over) wins. Kept out
-    of board choices, dish orders and the lookahead, where it cost easy with two cooks
-    dishes (seeds 2 and 4: 12 against 15, with a stall and a deadlock replan)."""
-    out = _Scheduler(plan, state, agents, walks, lookahead).run()
-    if out is None:
-        return None
-    return (*out[1], round(sum(s.start for s in out[0]))) if early_work else out[1]
-
-
 def _best_stations(steps: list[tuple[PlanStep, str, int]], state: State,
                    agents: tuple[int, ...], walks: _Walks, lookahead: int = 0,
                    counters: bool = False) -> list[tuple[PlanStep, str, int]]:
@@ -267,8 +251,9 @@ def _best_stations(steps: list[tuple[PlanStep, str, int]], state: State,
     if all(len(cells) < 2 - counters for cells in by_kind.values()):
         return steps
 
-    def cost(plan: list[tuple[PlanStep, str, int]]) -> tuple[int, ...] | None:
-        return _scheduled_cost(plan, state, agents, walks, lookahead, early_work=counters)
+    def cost(plan: list[tuple[PlanStep, str, int]]) -> tuple[int, int, int, int] | None:
+        out = _Scheduler(plan, state, agents, walks, lookahead).run()
+        return None if out is None else out[1]
 
     # a plan the list scheduler cannot schedule as it is (two cooks' segments interleave on
     # one board) may schedule once a stay moves to another station: any schedule beats none
@@ -503,8 +488,9 @@ def _best_plating(steps: list[tuple[PlanStep, str, int]], state: State,
     def settle(plan: list[tuple[PlanStep, str, int]]) -> list[tuple[PlanStep, str, int]]:
         return _best_stations(plan, state, agents, walks, lookahead) if swap_stations else plan
 
-    def cost(plan: list[tuple[PlanStep, str, int]]) -> tuple[int, ...] | None:
-        return _scheduled_cost(plan, state, agents, walks, lookahead, early_work=True)
+    def cost(plan: list[tuple[PlanStep, str, int]]) -> tuple[int, int, int, int] | None:
+        out = _Scheduler(plan, state, agents, walks, lookahead).run()
+        return None if out is None else out[1]
 
     steps = settle(steps)
     best = cost(steps)  # None: not schedulable as it is; any variant that is wins

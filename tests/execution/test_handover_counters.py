@@ -78,12 +78,21 @@ def test_two_hand_overs_through_one_counter_go_through_two():
     assert alone.count(("putdown", counter)) == 2
 
 
+def _switching_state():
+    """ROOMS on a switching map: only the unreachable corner (0,5) switches."""
+    spec = dict(ROOMS, is_dynamic_map=True, map_switch_step=50,
+                switch_map=[[-1 if (r, c) == (0, 5) else v for c, v in enumerate(row)]
+                            for r, row in enumerate(ROOMS["game_map"])])
+    return new_state(make_rules("easy", map=spec, n_agents=2, recipes=["tomato"],
+                                dynamic=True), 0)
+
+
 def test_at_equal_makespan_the_counter_where_the_work_starts_earliest():
     """Cook 0 chops the lettuce above while the tomato comes up through counter (2,4). Every
-    counter of row 2 ends the schedule at the same step; the tomato's stay goes to (2,1),
-    above its crate's spot, where it is put down at once (the sum of the steps' starts is
-    the last tie-break of a hand-over counter's choice)."""
-    state = _state()
+    counter of row 2 ends the schedule at the same step; on a switching map the tomato's
+    stay goes to (2,1), above its crate's spot, where it is put down at once (the sum of the
+    steps' starts is the schedule cost's last term there); on a static one it is not."""
+    state = _switching_state()
     f = state.geo.flat
     tomato, lettuce = state.cell_item[f(4, 1)], state.cell_item[f(0, 1)]
     counter, chops = f(2, 4), state.rules.chop_steps
@@ -111,3 +120,6 @@ def test_at_equal_makespan_the_counter_where_the_work_starts_earliest():
                  for s, e, b in plan]
         assert end(schedule(other, state, (0, 1), carry_to_plates=False,
                             swap_stations=False)) >= end(moved)
+    static = schedule(plan, _state(), (0, 1), carry_to_plates=False)
+    assert end(static) == end(moved)
+    assert next(s for s in static if s.kind == "putdown" and s.items == (tomato,)).start > 4
