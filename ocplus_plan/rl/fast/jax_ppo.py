@@ -70,10 +70,11 @@ class PPOConfig(NamedTuple):
     #: fresh weights drawn with a new key, fresh Adam, its own learning-rate decay over the
     #: updates left, fresh kitchens; 0: never
     restart_after: float = 0.2
-    #: the critic learns the returns of the reward without the shaping, and the shaping
-    #: enters the advantages alone (its lambda-discounted sum, :func:`_advantages`): a
-    #: critic that has learned ``V = ... - phi`` cannot cancel it there
-    shaping_in_advantage: bool = False
+    #: the advantages add this weight of the shaping's own GAE, without a baseline
+    #: (:func:`_advantages`): a critic that has learned the shaped returns
+    #: (``V = ... - phi``) cancels the potential in GAE, and a learner not serving yet
+    #: then has no signal left; 0: none
+    shaping_bonus: float = 0.5
 
 
 def init_params(key: Any, n_in: int, hidden: int, n_actions: int = 5,
@@ -139,16 +140,16 @@ def _gae(config: PPOConfig, values: Any, rewards: Any, dones: Any, last: Any,
 def _advantages(config: PPOConfig, values: Any, reward: Any, shaped: Any, dones: Any,
                 last: Any) -> tuple[Any, Any]:
     """(advantages, returns) of a rollout whose reward is ``reward + shaped`` (times
-    ``reward_scale``): by GAE over the sum, or, with ``shaping_in_advantage``, the
-    critic's returns are those of ``reward`` alone and the advantages add the shaping's
-    GAE without a baseline."""
+    ``reward_scale``): GAE over the sum, the critic's targets its returns; the advantages
+    add ``shaping_bonus`` times the shaping's GAE with a value of 0, the lambda-discounted
+    rise of the potential ahead, which no critic cancels."""
     scale = config.reward_scale
-    if not config.shaping_in_advantage:
-        return _gae(config, values, (reward + shaped) * scale, dones, last)
-    adv, ret = _gae(config, values, reward * scale, dones, last)
+    adv, ret = _gae(config, values, (reward + shaped) * scale, dones, last)
+    if not config.shaping_bonus:
+        return adv, ret
     bonus, _ = _gae(config, jnp.zeros_like(values), shaped * scale, dones,
                     jnp.zeros_like(last))
-    return adv + bonus, ret
+    return adv + config.shaping_bonus * bonus, ret
 
 
 def _loss(config: PPOConfig, params: Any, batch: tuple) -> Any:
