@@ -23,6 +23,8 @@ of the trainer's fixes, to show what each is worth, or try an option:
 * ``subtasks``: the subtask payment paid all along (not annealed);
 * ``no-restart``: a learner that serves nothing is never started again
   (``PPOConfig.restart_after`` 0);
+* ``no-bonus``: no baseline-free shaping term in the advantages
+  (``PPOConfig.shaping_bonus`` 0: the trainer before it);
 * ``before``: the trainer as it was: one network, the rules' reward, kitchens in step,
   uniform orders, a constant learning rate.
 """
@@ -47,6 +49,7 @@ VARIANTS = {"full": {}, "shared": {"critic": False},
             "subtasks": {"subtask_reward": True},
             "subtask-start": {"subtask_anneal": 0.5},
             "no-restart": {"restart_after": 0.0},
+            "no-bonus": {"shaping_bonus": 0.0},
             "before": {"critic": False, "shaping": 0.0, "subtask_reward": True,
                        "desync": False, "lr_final": 1.0, "order_curriculum": 0.0}}
 

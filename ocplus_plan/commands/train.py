@@ -128,6 +128,11 @@ def _jax_options(g: argparse._ArgumentGroup) -> None:
                    help="--engine jax: a learner that has served no order within this "
                         "fraction of the updates is started again with fresh weights "
                         "(default 0.2; 0: never)")
+    g.add_argument("--shaping-bonus", type=_types.number("--shaping-bonus", 0.0, 10.0,
+                                                         lo_open=False),
+                   default=None, metavar="WEIGHT",
+                   help="--engine jax: add this weight of the potential shaping's own "
+                        "advantage, which the critic cannot cancel (default 0.5; 0: none)")
 
 
 def _add_imitation_args(p: argparse.ArgumentParser) -> None:
@@ -178,6 +183,8 @@ def _run_jax(args: argparse.Namespace) -> int:
         config = config._replace(order_curriculum=args.order_curriculum)
     if args.restart_after is not None:
         config = config._replace(restart_after=args.restart_after)
+    if args.shaping_bonus is not None:
+        config = config._replace(shaping_bonus=args.shaping_bonus)
     command = "ocplus " + shlex.join(sys.argv[1:]) if sys.argv[1:2] == ["train"] else None
     summary = train_to_folder(env, config, args.out, args.seed, command,
                               stream=None if args.quiet else sys.stderr)
@@ -196,7 +203,8 @@ def run(args: argparse.Namespace) -> int:
         return _run_jax(args)
     for flag, value, hint in (
             ("--order-curriculum", args.order_curriculum, "; the other engines take --curriculum"),
-            ("--restart-after", args.restart_after, "")):
+            ("--restart-after", args.restart_after, ""),
+            ("--shaping-bonus", args.shaping_bonus, "")):
         if value is not None:
             from ..errors import ConfigError
 

@@ -70,6 +70,11 @@ class PPOConfig(NamedTuple):
     #: fresh weights drawn with a new key, fresh Adam, its own learning-rate decay over the
     #: updates left, fresh kitchens; 0: never
     restart_after: float = 0.2
+    #: the advantages add this weight of the shaping's own GAE, without a baseline
+    #: (:func:`_advantages`): a critic that has learned the shaped returns
+    #: (``V = ... - phi``) cancels the potential in GAE, and a learner not serving yet
+    #: then has no signal left; 0: none
+    shaping_bonus: float = 0.5
 
 
 def init_params(key: Any, n_in: int, hidden: int, n_actions: int = 5,
@@ -130,6 +135,22 @@ def _gae(config: PPOConfig, values: Any, rewards: Any, dones: Any, last: Any,
     _, adv = jax.lax.scan(back, (jnp.zeros_like(last), last), (values, rewards, dones),
                           reverse=True)
     return adv, adv + values
+
+
+def _advantages(config: PPOConfig, values: Any, reward: Any, shaped: Any, dones: Any,
+                last: Any) -> tuple[Any, Any]:
+    """(advantages, returns) of a rollout whose reward is ``reward + shaped`` (times
+    ``reward_scale``): GAE over the sum, the critic's targets its returns; the advantages
+    add ``shaping_bonus`` times the shaping's GAE with a value of 0, the lambda-discounted
+    rise of the potential ahead, which no critic cancels."""
+    scale = config.reward_scale
+    adv, ret = _gae(config, values, (reward + shaped) * scale, dones, last)
+    if not config.shaping_bonus:
+        return adv, ret
+    bonus, _ = _gae(config, jnp.zeros_like(values), shaped * scale, dones,
+                    jnp.zeros_like(last))
+    return adv + config.shaping_bonus * bonus, ret
+
 
 def _loss(config: PPOConfig, params: Any, batch: tuple) -> Any:
     """Clipped PPO loss of one minibatch, advantages normalised within it."""
@@ -278,9 +299,9 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         game = rew[env.agents[0]]
         subtask = info["shaped_reward"][env.agents[0]]
         shaped = shape(before, state, dones["__all__"]) if config.shaping else 0.0 * game
-        r = game - (1.0 - keep) * subtask + config.shaping * shaped
+        r = game - (1.0 - keep) * subtask
         entropy = -(jnp.exp(logp_all) * logp_all).sum(-1).mean()
-        step = (x, act, logp, value, r * config.reward_scale, dones["__all__"],
+        step = (x, act, logp, value, r, config.shaping * shaped, dones["__all__"],
                 info["dishes"][:, 0], (game, subtask, shaped, entropy, served, drawn))
         return (params, state, obs, key, (probs, keep)), step
 
@@ -292,12 +313,12 @@ def make_chunks(env: Any, config: PPOConfig, chunk: int) -> tuple[Any, Any]:
         keep = subtask_weight(config, opt[2] // (config.n_epochs * config.n_minibatches))
         (params, state, obs, key, _), traj = jax.lax.scan(
             rollout, (params, state, obs, key, (probs, keep)), None, length=t_len)
-        x, act, logp, value, r, done, dishes, (game, subtask, shaped, entropy, served,
-                                               drawn) = traj
+        x, act, logp, value, r, f, done, dishes, (game, subtask, shaped, entropy,
+                                                  served, drawn) = traj
         rates = jax_orders.update_rates(rates, served.sum(0), drawn.sum(0))
         u, start, idle_from, restarts, k_init = life
         _, last = forward(params, actor_inputs(obs))
-        adv, ret = _gae(config, value, r, done.astype(jnp.float32), last)
+        adv, ret = _advantages(config, value, r, f, done.astype(jnp.float32), last)
         flat = [a.reshape(t_len * e * n, *a.shape[3:]) for a in (x, act, logp, adv, ret)]
         params, opt, key = _epochs(config, params, opt, key, flat, start)
         ended = done.sum()
