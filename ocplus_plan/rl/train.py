@@ -341,8 +341,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
                                ["tensorboard"] if config.tensorboard else []))
     if config.init:
         _start_from(model, venv, config)
-    if config.resume:
-        _resume(model, venv, config)
+    start_steps = _resume(model, venv, config) if config.resume else 0
 
     meta_base = {
         "obs": config.obs, "obs_radius": config.obs_radius, "obs_size": venv.obs_size,
@@ -398,14 +397,16 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
         "config": {k: (list(v) if isinstance(v, tuple) else v)
                    for k, v in asdict(config).items()},
         "timesteps": model.num_timesteps,
+        **({"resumed_from_timesteps": start_steps} if config.resume else {}),
         "stopped_by_wall_budget": monitor.out_of_time,
         "episodes": monitor.episodes,
         "dishes_per_episode_last50": (
             round(sum(monitor.recent) / len(monitor.recent), 3) if monitor.recent else None
         ),
         "wall_time_s": round(wall, 1),
-        "steps_per_s": round(model.num_timesteps / (wall - (imitation or {}).get(
-            "wall_time_s", 0.0)), 1),
+        # this run's own steps (a resumed run's earlier ones are not its speed)
+        "steps_per_s": round((model.num_timesteps - start_steps)
+                             / (wall - (imitation or {}).get("wall_time_s", 0.0)), 1),
         "imitation": imitation,
         "policy": str(out / "policy.npz"),
         # where the lean loop's time went (rl/lean.py); SB3 does not split its own
@@ -476,8 +477,9 @@ def _start_from(model: Any, venv: Any, config: TrainConfig) -> None:
         raise ConfigError(f"--init {config.init}: network shapes differ ({exc})") from exc
 
 
-def _resume(model: Any, venv: Any, config: TrainConfig) -> None:
-    """Load ``config.resume``'s weights, Adam state and step count into ``model``."""
+def _resume(model: Any, venv: Any, config: TrainConfig) -> int:
+    """Load ``config.resume``'s weights, Adam state and step count into ``model``; returns
+    the step count."""
     from stable_baselines3.common.save_util import load_from_zip_file
 
     meta = load_policy(config.resume).meta
@@ -494,6 +496,7 @@ def _resume(model: Any, venv: Any, config: TrainConfig) -> None:
     if model.num_timesteps >= config.steps:
         raise ConfigError(f"--resume-from {config.resume}: it has {model.num_timesteps} steps "
                           f"already; raise --timesteps above that")
+    return model.num_timesteps
 
 
 def _cpus() -> int:
