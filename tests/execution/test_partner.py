@@ -13,6 +13,7 @@ from ocplus_plan.execution.partner import (
     answer_taken,
     brings,
     check_queues,
+    delivering,
     hand_off,
     onto_our_plate,
     ours_first,
@@ -392,3 +393,43 @@ def test_a_partner_carrying_an_item_onto_our_plate_is_expected_not_replanned():
     board = state.geo.flat(0, 2)
     queues = {0: deque([Task(PlanStep(0, 0, "plate", board, (tomato,)), frozenset())])}
     assert not onto_our_plate(state, queues, 1, tomato, plate_cell)
+
+
+def _partner_serving():
+    """The partner (cook 1) stands at the window with a plate of chopped tomato (the open
+    order); our cook 0 stands left."""
+    state = _state(KITCHEN)
+    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
+    tomato = next(i for i, k in enumerate(state.geo.item_kind) if k == 3)
+    state.cell_item[state.item_loc[plate]] = state.cell_item[state.item_loc[tomato]] = -1
+    state.item_where[plate], state.item_loc[plate] = int(Where.HAND), 1
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.PLATE), plate
+    state.item_state[tomato] = int(ItemState.CHOPPED)
+    state.agent_hand[1] = plate
+    state.agent_pos[0], state.agent_pos[1] = state.geo.flat(1, 1), state.geo.flat(1, 3)
+    return state, plate, tomato
+
+
+def test_a_dish_the_partner_serves_next_is_served_in_the_state_planned_from():
+    # hard, seed 1, steps 97-112: the partner carried a finished dish to the window and our
+    # plans kept using its plate: a `taken` replan every step until it was served
+    state, plate, tomato = _partner_serving()
+    window = state.geo.flat(1, 4)
+    assert delivering(state, {1: Prediction(1, window)}) == {plate, tomato}
+    assert not delivering(state, {1: Prediction(1, state.geo.flat(0, 2))})  # not to the window
+    served = [o.order_id for o in state.orders]
+    problem = predicted_state(state, {1: Prediction(1, window)})
+    # the simulator's delivery: its order gone (the next one drawn), the plate and the
+    # tomato back home, the partner's hand empty
+    assert served[0] not in [o.order_id for o in problem.orders]
+    assert problem.agent_hand[1] == -1 and problem.stats["dishes_served"] == 1
+    assert problem.item_where[plate] in (int(Where.CELL), int(Where.WAITING))
+    assert problem.item_where[tomato] in (int(Where.CELL), int(Where.WAITING))
+    assert problem.item_state[tomato] == int(ItemState.FRESH)
+    assert state.agent_hand[1] == plate and [o.order_id for o in state.orders] == served
+    # a plan made from that state takes the plate from its home: expected, not replanned
+    home = state.geo.item_home[plate]
+    queues = {0: deque([Task(PlanStep(0, 0, "pickup", home, (plate,)), frozenset())])}
+    assert check_queues(state, queues, set(), {1: Prediction(1, window)}, set()) == (False, 0)
+    assert check_queues(state, queues, set(), {1: Prediction(1, state.geo.flat(0, 2))},
+                        set())[0]
