@@ -301,10 +301,23 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
     no longer fit, repairs made). The first queued step that uses each item is checked
     once: a partner holding the item is answered by :func:`answer_taken`; an item a
     pickup or a chop expects at its target that is elsewhere (and in none of our cooks'
-    hands) means somebody moved it: the plan no longer fits."""
+    hands) means somebody moved it: the plan no longer fits, and so does an ingredient a
+    plating step takes at its station lying elsewhere. A plating step whose ingredient lies
+    on its plate already is done (dropped, a repair)."""
     repairs, seen = 0, delivering(state, predictions)  # served next step: the plan
     # was made from the state the delivery leaves (the plate and its contents at home)
     for task in sorted((t for q in queues.values() for t in q), key=lambda t: t.step.index):
+        if task.step.kind == "plate" and _plated(state, task.step.items):
+            # the ingredient lies on the step's plate already (a partner put it there):
+            # the step is done, and the plan goes on without it
+            for q in queues.values():
+                if any(t is task for t in q):
+                    keep = [t for t in q if t is not task]
+                    q.clear()
+                    q.extend(keep)
+            done_steps.add(task.step.index)
+            repairs += 1
+            continue
         for i in task.step.items:
             # once per step, item and place: an item the partner put down and takes up
             # again later (it chopped it, then carries it on) is checked again
@@ -327,7 +340,23 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
                 if not substitute(state, queues, i):
                     return True, repairs
                 repairs += 1
+            elif task.step.kind == "plate" and where in (_CELL, _PLATE) \
+                    and state.geo.item_kind[i] != _PLATE_KIND \
+                    and not _lies_at(state, i, task.step.target):
+                # an ingredient the step takes onto a plate at its station, somewhere else
+                # (a partner carried it on): the step would wait for it for ever
+                warned.add(key)
+                return True, repairs
     return False, repairs
+
+
+def _plated(state: State, items: tuple[int, ...]) -> bool:
+    """Do the ingredients of a plating step (``items``: a plate and what goes on it) lie on
+    that plate already?"""
+    plates = [i for i in items if state.geo.item_kind[i] == _PLATE_KIND]
+    food = [i for i in items if state.geo.item_kind[i] != _PLATE_KIND]
+    return len(plates) == 1 and bool(food) and all(
+        state.item_where[i] == _PLATE and state.item_loc[i] == plates[0] for i in food)
 
 
 def vacate(state: State, queues: Mapping[int, deque[Task]], predictions: Mapping[int, Prediction],

@@ -433,3 +433,42 @@ def test_a_dish_the_partner_serves_next_is_served_in_the_state_planned_from():
     assert check_queues(state, queues, set(), {1: Prediction(1, window)}, set()) == (False, 0)
     assert check_queues(state, queues, set(), {1: Prediction(1, state.geo.flat(0, 2))},
                         set())[0]
+
+
+def _chopped_tomato_and_plate():
+    state = _state(KITCHEN)
+    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
+    tomato = next(i for i, k in enumerate(state.geo.item_kind) if k == 3)
+    state.cell_item[state.item_loc[tomato]] = -1
+    state.item_state[tomato] = int(ItemState.CHOPPED)
+    return state, plate, tomato
+
+
+def test_a_plating_step_the_partner_did_already_is_dropped_as_done():
+    # medium beside greedy, seed 4, steps 121-140: the partner put the chopped vegetable on
+    # the plate our cook then held; our step to take it off the board onto that plate
+    # waited 20 steps in front of the empty board
+    state, plate, tomato = _chopped_tomato_and_plate()
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.PLATE), plate
+    plate_cell, board = state.item_loc[plate], state.geo.flat(0, 2)
+    steps = [PlanStep(0, 0, "plate", board, (tomato, plate)),
+             PlanStep(1, 0, "pickup", plate_cell, (plate,))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    done: set[int] = set()
+    assert check_queues(state, queues, done, {}, set()) == (False, 1)
+    assert [t.step.index for t in queues[0]] == [1] and done == {0}
+
+
+def test_a_plating_step_whose_ingredient_was_carried_elsewhere_is_replanned():
+    state, plate, tomato = _chopped_tomato_and_plate()
+    counter, board = state.geo.flat(0, 1), state.geo.flat(0, 2)
+    state.cell_item[counter] = tomato
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.CELL), counter
+    steps = [PlanStep(0, 0, "plate", board, (tomato, plate))]
+    assert check_queues(state, {0: deque(Task(s, frozenset()) for s in steps)}, set(), {},
+                        set())[0]
+    # where the step expects it, the plan fits
+    state.cell_item[counter], state.cell_item[board] = -1, tomato
+    state.item_loc[tomato] = board
+    assert check_queues(state, {0: deque(Task(s, frozenset()) for s in steps)}, set(), {},
+                        set()) == (False, 0)
