@@ -23,8 +23,10 @@ from collections import deque
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, replace
 
-from ..sim.codes import Cell, ItemState, Where
+from ..sim.codes import Cell, Item, ItemState, Where
+from ..sim.orders import matching_order, plate_recipe
 from ..sim.queries import Bump, bump_effect, distances, interaction_spots
+from ..sim.step import apply_bump
 from ..sim.state import Geometry, State
 from .plans import PlanFunction, PlanOutcome, PlanStep, causal_dependencies
 from .proven import PROVEN_STATUSES
@@ -32,6 +34,7 @@ from .tasks import Task
 
 _HAND, _CELL, _PLATE = int(Where.HAND), int(Where.CELL), int(Where.PLATE)
 _WAITING = int(Where.WAITING)
+_PLATE_KIND = int(Item.PLATE)
 _FRESH, _CHOPPED = int(ItemState.FRESH), int(ItemState.CHOPPED)
 #: steps of a predicted walk reserved in the executive's paths
 PREDICT_STEPS = 8
@@ -127,11 +130,32 @@ def predicted_state(state: State, predictions: Mapping[int, Prediction],
             out.item_where[held], out.item_loc[held] = _CELL, pred.target
         elif effect == Bump.ONTO_PLATE:
             out.item_where[held], out.item_loc[held] = _PLATE, out.cell_item[pred.target]
+        elif held in delivering(out, {cook: pred}):
+            # the dish is served: its order is gone (the next is drawn as the simulator
+            # would) and the plate and its contents go home, as the simulator sends them
+            apply_bump(out, cook, pred.target)
+            continue
         else:
             continue
         out.agent_hand[cook] = -1
     if still and walls:
         out.geo = blocked_geometry(state.geo, frozenset(still))
+    return out
+
+
+def delivering(state: State, predictions: Mapping[int, Prediction]) -> set[int]:
+    """The plates (and what lies on them) that partners serve with their predicted next
+    bump: a plate in a partner's hand that an open order takes, carried to the window."""
+    out: set[int] = set()
+    for cook, pred in predictions.items():
+        held = state.agent_hand[cook]
+        if held < 0 or pred.target is None or \
+                bump_effect(state, held, pred.target) != Bump.DELIVER or \
+                state.geo.item_kind[held] != _PLATE_KIND or \
+                matching_order(state, plate_recipe(state, held)) < 0:
+            continue
+        out.add(held)
+        out.update(state.plate_contents(held))
     return out
 
 
@@ -277,9 +301,23 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
     no longer fit, repairs made). The first queued step that uses each item is checked
     once: a partner holding the item is answered by :func:`answer_taken`; an item a
     pickup or a chop expects at its target that is elsewhere (and in none of our cooks'
-    hands) means somebody moved it: the plan no longer fits."""
-    repairs, seen = 0, set()
+    hands) means somebody moved it: the plan no longer fits, and so does an ingredient a
+    plating step takes at its station lying elsewhere. A plating step whose ingredient lies
+    on its plate already is done (dropped, a repair)."""
+    repairs, seen = 0, delivering(state, predictions)  # served next step: the plan
+    # was made from the state the delivery leaves (the plate and its contents at home)
     for task in sorted((t for q in queues.values() for t in q), key=lambda t: t.step.index):
+        if task.step.kind == "plate" and _plated(state, task.step.items):
+            # the ingredient lies on the step's plate already (a partner put it there):
+            # the step is done, and the plan goes on without it
+            for q in queues.values():
+                if any(t is task for t in q):
+                    keep = [t for t in q if t is not task]
+                    q.clear()
+                    q.extend(keep)
+            done_steps.add(task.step.index)
+            repairs += 1
+            continue
         for i in task.step.items:
             # once per step, item and place: an item the partner put down and takes up
             # again later (it chopped it, then carries it on) is checked again
@@ -302,7 +340,23 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
                 if not substitute(state, queues, i):
                     return True, repairs
                 repairs += 1
+            elif task.step.kind == "plate" and where in (_CELL, _PLATE) \
+                    and state.geo.item_kind[i] != _PLATE_KIND \
+                    and not _lies_at(state, i, task.step.target):
+                # an ingredient the step takes onto a plate at its station, somewhere else
+                # (a partner carried it on): the step would wait for it for ever
+                warned.add(key)
+                return True, repairs
     return False, repairs
+
+
+def _plated(state: State, items: tuple[int, ...]) -> bool:
+    """Do the ingredients of a plating step (``items``: a plate and what goes on it) lie on
+    that plate already?"""
+    plates = [i for i in items if state.geo.item_kind[i] == _PLATE_KIND]
+    food = [i for i in items if state.geo.item_kind[i] != _PLATE_KIND]
+    return len(plates) == 1 and bool(food) and all(
+        state.item_where[i] == _PLATE and state.item_loc[i] == plates[0] for i in food)
 
 
 def vacate(state: State, queues: Mapping[int, deque[Task]], predictions: Mapping[int, Prediction],
@@ -460,6 +514,6 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
 
 
 __all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "brings",
-           "blocked_geometry", "check_queues", "expected_by_plan", "hand_off", "onto_our_plate",
-           "ours_first", "partner_holding", "plan_around", "predicted_state", "repair_taken",
-           "reserved_walks", "shut_out", "substitute", "vacate"]
+           "blocked_geometry", "check_queues", "delivering", "expected_by_plan", "hand_off",
+           "onto_our_plate", "ours_first", "partner_holding", "plan_around", "predicted_state",
+           "repair_taken", "reserved_walks", "shut_out", "substitute", "vacate"]

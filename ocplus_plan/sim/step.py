@@ -127,6 +127,15 @@ def _resolve_moves(state: State, targets: list[int], events: list[Event]) -> Non
 
 
 # ---------------------------------------------------------------- interactions
+def apply_bump(state: State, a: int, cell: int) -> list[Event]:
+    """Cook ``a`` bumps the non-walkable ``cell`` as a step's interaction would (no move, no
+    tick, no switch): what a model of the cook uses to apply its predicted next bump to a
+    copy of the state with the simulator's own rules. The events it made."""
+    events: list[Event] = []
+    _interact(state, a, cell, [0.0] * state.n_agents, events)
+    return events
+
+
 def _interact(state: State, a: int, cell: int, rewards: list[float], events: list[Event]) -> None:
     """Agent ``a`` bumps the non-walkable ``cell``: do what :func:`bump_effect` says."""
     held = state.agent_hand[a]
@@ -284,4 +293,4 @@ def _deliver(
     events.append(Event("order_new", -1, None, -1, state.orders[-1].order_id))
 
 
-__all__ = ["StepResult", "transition"]
+__all__ = ["StepResult", "apply_bump", "transition"]

@@ -13,6 +13,7 @@ from ocplus_plan.execution.partner import (
     answer_taken,
     brings,
     check_queues,
+    delivering,
     hand_off,
     onto_our_plate,
     ours_first,
@@ -392,3 +393,82 @@ def test_a_partner_carrying_an_item_onto_our_plate_is_expected_not_replanned():
     board = state.geo.flat(0, 2)
     queues = {0: deque([Task(PlanStep(0, 0, "plate", board, (tomato,)), frozenset())])}
     assert not onto_our_plate(state, queues, 1, tomato, plate_cell)
+
+
+def _partner_serving():
+    """The partner (cook 1) stands at the window with a plate of chopped tomato (the open
+    order); our cook 0 stands left."""
+    state = _state(KITCHEN)
+    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
+    tomato = next(i for i, k in enumerate(state.geo.item_kind) if k == 3)
+    state.cell_item[state.item_loc[plate]] = state.cell_item[state.item_loc[tomato]] = -1
+    state.item_where[plate], state.item_loc[plate] = int(Where.HAND), 1
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.PLATE), plate
+    state.item_state[tomato] = int(ItemState.CHOPPED)
+    state.agent_hand[1] = plate
+    state.agent_pos[0], state.agent_pos[1] = state.geo.flat(1, 1), state.geo.flat(1, 3)
+    return state, plate, tomato
+
+
+def test_a_dish_the_partner_serves_next_is_served_in_the_state_planned_from():
+    # hard, seed 1, steps 97-112: the partner carried a finished dish to the window and our
+    # plans kept using its plate: a `taken` replan every step until it was served
+    state, plate, tomato = _partner_serving()
+    window = state.geo.flat(1, 4)
+    assert delivering(state, {1: Prediction(1, window)}) == {plate, tomato}
+    assert not delivering(state, {1: Prediction(1, state.geo.flat(0, 2))})  # not to the window
+    served = [o.order_id for o in state.orders]
+    problem = predicted_state(state, {1: Prediction(1, window)})
+    # the simulator's delivery: its order gone (the next one drawn), the plate and the
+    # tomato back home, the partner's hand empty
+    assert served[0] not in [o.order_id for o in problem.orders]
+    assert problem.agent_hand[1] == -1 and problem.stats["dishes_served"] == 1
+    assert problem.item_where[plate] in (int(Where.CELL), int(Where.WAITING))
+    assert problem.item_where[tomato] in (int(Where.CELL), int(Where.WAITING))
+    assert problem.item_state[tomato] == int(ItemState.FRESH)
+    assert state.agent_hand[1] == plate and [o.order_id for o in state.orders] == served
+    # a plan made from that state takes the plate from its home: expected, not replanned
+    home = state.geo.item_home[plate]
+    queues = {0: deque([Task(PlanStep(0, 0, "pickup", home, (plate,)), frozenset())])}
+    assert check_queues(state, queues, set(), {1: Prediction(1, window)}, set()) == (False, 0)
+    assert check_queues(state, queues, set(), {1: Prediction(1, state.geo.flat(0, 2))},
+                        set())[0]
+
+
+def _chopped_tomato_and_plate():
+    state = _state(KITCHEN)
+    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
+    tomato = next(i for i, k in enumerate(state.geo.item_kind) if k == 3)
+    state.cell_item[state.item_loc[tomato]] = -1
+    state.item_state[tomato] = int(ItemState.CHOPPED)
+    return state, plate, tomato
+
+
+def test_a_plating_step_the_partner_did_already_is_dropped_as_done():
+    # medium beside greedy, seed 4, steps 121-140: the partner put the chopped vegetable on
+    # the plate our cook then held; our step to take it off the board onto that plate
+    # waited 20 steps in front of the empty board
+    state, plate, tomato = _chopped_tomato_and_plate()
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.PLATE), plate
+    plate_cell, board = state.item_loc[plate], state.geo.flat(0, 2)
+    steps = [PlanStep(0, 0, "plate", board, (tomato, plate)),
+             PlanStep(1, 0, "pickup", plate_cell, (plate,))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    done: set[int] = set()
+    assert check_queues(state, queues, done, {}, set()) == (False, 1)
+    assert [t.step.index for t in queues[0]] == [1] and done == {0}
+
+
+def test_a_plating_step_whose_ingredient_was_carried_elsewhere_is_replanned():
+    state, plate, tomato = _chopped_tomato_and_plate()
+    counter, board = state.geo.flat(0, 1), state.geo.flat(0, 2)
+    state.cell_item[counter] = tomato
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.CELL), counter
+    steps = [PlanStep(0, 0, "plate", board, (tomato, plate))]
+    assert check_queues(state, {0: deque(Task(s, frozenset()) for s in steps)}, set(), {},
+                        set())[0]
+    # where the step expects it, the plan fits
+    state.cell_item[counter], state.cell_item[board] = -1, tomato
+    state.item_loc[tomato] = board
+    assert check_queues(state, {0: deque(Task(s, frozenset()) for s in steps)}, set(), {},
+                        set()) == (False, 0)

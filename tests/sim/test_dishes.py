@@ -21,6 +21,7 @@ from ocplus_plan.sim.dishes import Dish, dish_of, dish_to_dict, parse_recipes
 from ocplus_plan.sim.maps import load_map
 from ocplus_plan.sim.observe_text import rules_text
 from ocplus_plan.sim.presets import PRESETS
+from ocplus_plan.sim.step import apply_bump
 from ocplus_plan.sim.processes import PROCESSES
 
 from .helpers import give, item_of, on_plate, run, set_pos
@@ -61,6 +62,26 @@ def test_serving_a_dish_pays_its_reward():
     assert "delivery" in [e.kind for e in events]
     assert rewards[0] == [pytest.approx(30.0 + rules.rewards.step_penalty)]
     assert "A served order earns its dish's reward (tomato 30)" in rules_text(rules)
+
+
+def test_a_bump_applied_alone_serves_the_dish_as_a_step_does():
+    # apply_bump: one cook's interaction with the simulator's rules (a partner model
+    # applies a predicted delivery to a copy of the state with it)
+    rules = make_rules("easy", map=g_map([{"ingredients": [{"tomato": "chopped"}]}]))
+    state = new_state(rules, 0)
+    plate, tomato = item_of(state, Item.PLATE), item_of(state, Item.TOMATO)
+    give(state, 0, plate)
+    on_plate(state, tomato, plate)
+    state.item_state[tomato] = int(ItemState.CHOPPED)
+    set_pos(state, 0, (1, 5))
+    alone, stepped = state.copy(), state.copy()
+    events = apply_bump(alone, 0, state.geo.flat(1, 6))
+    run(stepped, R)
+    assert "delivery" in [e.kind for e in events]
+    for name in ("agent_hand", "cell_item", "item_state", "item_where", "item_loc"):
+        assert getattr(alone, name) == getattr(stepped, name)
+    assert [o.recipe for o in alone.orders] == [o.recipe for o in stepped.orders]
+    assert alone.t == state.t and state.agent_hand[0] == plate  # no tick; the copy only
 
 
 def test_the_presets_pools_are_dishes_of_the_default_reward_and_read_back_the_same():
