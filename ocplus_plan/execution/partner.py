@@ -112,8 +112,9 @@ def ours_first(steps: list[PlanStep], agents: tuple[int, ...]) -> list[PlanStep]
 def predicted_state(state: State, predictions: Mapping[int, Prediction],
                     walls: bool = True) -> State:
     """A copy of ``state`` in which every partner's held item is where its predicted bump
-    puts it (put down on a counter, a board or a pan, or onto a plate lying there); other
-    bumps (serving, throwing away) leave the item in its hand. A partner predicted to stay
+    puts it (put down on a counter, a board or a pan, or onto a plate lying there), and a
+    dish an open order takes is served as the simulator serves it (:func:`delivering`);
+    other bumps (throwing away) leave the item in its hand. A partner predicted to stay
     with empty hands is a wall where it stands (:func:`blocked_geometry`): the plan does
     not count on passing it or on working from its cell."""
     out = state.copy()
