@@ -303,14 +303,17 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
     once: a partner holding the item is answered by :func:`answer_taken`; an item a
     pickup or a chop expects at its target that is elsewhere (and in none of our cooks'
     hands) means somebody moved it: the plan no longer fits, and so does an ingredient a
-    plating step takes at its station lying elsewhere. A plating step whose ingredient lies
-    on its plate already is done (dropped, a repair)."""
+    plating step takes at its station lying elsewhere. A plating step, the first to use its
+    items, whose ingredient lies on its plate already is done (dropped, a repair)."""
     repairs, seen = 0, delivering(state, predictions)  # served next step: the plan
     # was made from the state the delivery leaves (the plate and its contents at home)
     for task in sorted((t for q in queues.values() for t in q), key=lambda t: t.step.index):
-        if task.step.kind == "plate" and _plated(state, task.step.items):
+        if task.step.kind == "plate" and seen.isdisjoint(task.step.items) \
+                and _plated(state, task.step.items):
             # the ingredient lies on the step's plate already (a partner put it there):
-            # the step is done, and the plan goes on without it
+            # the step is done, and the plan goes on without it. Only where no earlier
+            # queued step uses those items: a served plate and its contents come back,
+            # and a later dish's plating step may name the same items again
             for q in queues.values():
                 if any(t is task for t in q):
                     keep = [t for t in q if t is not task]

@@ -459,6 +459,22 @@ def test_a_plating_step_the_partner_did_already_is_dropped_as_done():
     assert [t.step.index for t in queues[0]] == [1] and done == {0}
 
 
+def test_a_plating_step_of_a_later_dish_with_the_same_items_is_kept():
+    # multiroom beside an idle partner, seed 2, step 131: the steak lay on the plate our cook
+    # was about to serve; the plan's next dish plates the steak and plate again (served
+    # items come back) and that later step was dropped as done: the cook stood idle
+    state, plate, tomato = _chopped_tomato_and_plate()
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.PLATE), plate
+    plate_cell, board, window = state.item_loc[plate], state.geo.flat(0, 2), state.geo.flat(1, 4)
+    steps = [PlanStep(0, 0, "pickup", plate_cell, (plate,)),
+             PlanStep(1, 0, "deliver", window, (plate, tomato)),
+             PlanStep(2, 0, "plate", board, (tomato, plate))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    done: set[int] = set()
+    assert check_queues(state, queues, done, {}, set()) == (False, 0)
+    assert [t.step.index for t in queues[0]] == [0, 1, 2] and not done
+
+
 def test_a_plating_step_whose_ingredient_was_carried_elsewhere_is_replanned():
     state, plate, tomato = _chopped_tomato_and_plate()
     counter, board = state.geo.flat(0, 1), state.geo.flat(0, 2)
