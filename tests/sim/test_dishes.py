@@ -49,15 +49,21 @@ def test_a_kitchen_files_recipes_are_its_menu_with_their_rewards():
                                     (Item.STEAK, ItemState.COOKED)), Item.PLATE, 260.0)
 
 
-def test_serving_a_dish_pays_its_reward():
-    rules = make_rules("easy", map=g_map([{"ingredients": [{"tomato": "chopped"}],
-                                           "reward": 30}]))
+def _serving_tomato(rules):
+    """Cook 0 at (1, 5), beside the window, holding a plate of chopped tomato."""
     state = new_state(rules, 0)
     plate, tomato = item_of(state, Item.PLATE), item_of(state, Item.TOMATO)
     give(state, 0, plate)
     on_plate(state, tomato, plate)
     state.item_state[tomato] = int(ItemState.CHOPPED)
     set_pos(state, 0, (1, 5))
+    return state
+
+
+def test_serving_a_dish_pays_its_reward():
+    rules = make_rules("easy", map=g_map([{"ingredients": [{"tomato": "chopped"}],
+                                           "reward": 30}]))
+    state = _serving_tomato(rules)
     events, rewards = run(state, R)
     assert "delivery" in [e.kind for e in events]
     assert rewards[0] == [pytest.approx(30.0 + rules.rewards.step_penalty)]
@@ -68,12 +74,7 @@ def test_a_bump_applied_alone_serves_the_dish_as_a_step_does():
     # apply_bump: one cook's interaction with the simulator's rules (a partner model
     # applies a predicted delivery to a copy of the state with it)
     rules = make_rules("easy", map=g_map([{"ingredients": [{"tomato": "chopped"}]}]))
-    state = new_state(rules, 0)
-    plate, tomato = item_of(state, Item.PLATE), item_of(state, Item.TOMATO)
-    give(state, 0, plate)
-    on_plate(state, tomato, plate)
-    state.item_state[tomato] = int(ItemState.CHOPPED)
-    set_pos(state, 0, (1, 5))
+    state = _serving_tomato(rules)
     alone, stepped = state.copy(), state.copy()
     events = apply_bump(alone, 0, state.geo.flat(1, 6))
     run(stepped, R)
@@ -81,7 +82,7 @@ def test_a_bump_applied_alone_serves_the_dish_as_a_step_does():
     for name in ("agent_hand", "cell_item", "item_state", "item_where", "item_loc"):
         assert getattr(alone, name) == getattr(stepped, name)
     assert [o.recipe for o in alone.orders] == [o.recipe for o in stepped.orders]
-    assert alone.t == state.t and state.agent_hand[0] == plate  # no tick; the copy only
+    assert alone.t == state.t and state.agent_hand[0] == item_of(state, Item.PLATE)  # no tick
 
 
 def test_the_presets_pools_are_dishes_of_the_default_reward_and_read_back_the_same():
