@@ -404,9 +404,7 @@ def train(config: TrainConfig, *, command: str | None = None, progress: bool = T
             round(sum(monitor.recent) / len(monitor.recent), 3) if monitor.recent else None
         ),
         "wall_time_s": round(wall, 1),
-        # this run's own steps (a resumed run's earlier ones are not its speed)
-        "steps_per_s": round((model.num_timesteps - start_steps)
-                             / (wall - (imitation or {}).get("wall_time_s", 0.0)), 1),
+        "steps_per_s": own_speed(model.num_timesteps, start_steps, wall, imitation),
         "imitation": imitation,
         "policy": str(out / "policy.npz"),
         # where the lean loop's time went (rl/lean.py); SB3 does not split its own
@@ -499,10 +497,16 @@ def _resume(model: Any, venv: Any, config: TrainConfig) -> int:
     return model.num_timesteps
 
 
+def own_speed(timesteps: int, start: int, wall: float, imitation: dict | None) -> float:
+    """Agent-steps a second of PPO: the steps this run made (a resumed run's earlier ones
+    are not its speed) over its wall time less the imitation warm start's."""
+    return round((timesteps - start) / (wall - (imitation or {}).get("wall_time_s", 0.0)), 1)
+
+
 def _cpus() -> int:
     import os
 
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 0
 
 
-__all__ = ["ALGOS", "PARTNERS", "TrainConfig", "build", "parse_partner", "train"]
+__all__ = ["ALGOS", "PARTNERS", "TrainConfig", "build", "own_speed", "parse_partner", "train"]

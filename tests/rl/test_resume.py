@@ -41,8 +41,6 @@ def test_resume_restores_weights_optimiser_state_and_step_count(tmp_path: Path, 
     summary = train(config, command="t", progress=False)
     assert summary["timesteps"] == 512  # 256 more, not 512 from 0
     assert summary["resumed_from_timesteps"] == 256
-    # the speed counts the 256 steps this run made, not the 512 the model has
-    assert 128 < summary["steps_per_s"] * summary["wall_time_s"] < 384
     steps = [int(p.stem.split("_")[1]) for p in (tmp_path / "b" / "checkpoints").glob("step_*")]
     assert steps and min(steps) > 256  # the checkpoints go on from the resumed step
     with pytest.raises(ConfigError, match="raise --timesteps"):
@@ -66,3 +64,11 @@ def test_tensorboard_writes_event_files(tmp_path: Path):
                       **TINY), command="t", progress=False)
     assert list((tmp_path / "tb").glob("events.out.tfevents.*"))
     assert json.loads((tmp_path / "r" / "train.json").read_text())["timesteps"] >= 256
+
+
+def test_a_resumed_runs_speed_counts_its_own_steps_and_time():
+    from ocplus_plan.rl.train import own_speed
+
+    assert own_speed(512, 256, 2.0, None) == 128.0  # 256 steps of its own in 2 s
+    assert own_speed(512, 0, 2.0, None) == 256.0
+    assert own_speed(512, 0, 3.0, {"wall_time_s": 1.0}) == 256.0  # less the clone's time
