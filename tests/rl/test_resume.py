@@ -38,9 +38,16 @@ def test_resume_restores_weights_optimiser_state_and_step_count(tmp_path: Path, 
     for a, b in zip(model.policy.optimizer.state_dict()["state"].values(),
                     reference.policy.optimizer.state_dict()["state"].values()):
         assert torch.equal(a["exp_avg"], b["exp_avg"]) and a["exp_avg"].abs().sum() > 0
+    import ocplus_plan.rl.train as train_module
+
+    speeds = []
+    monkeypatch.setattr(train_module, "own_speed",
+                        lambda *a: speeds.append(a[:2]) or 1.0)
     summary = train(config, command="t", progress=False)
     assert summary["timesteps"] == 512  # 256 more, not 512 from 0
     assert summary["resumed_from_timesteps"] == 256
+    # the speed counts the 256 steps this run made, not the 512 the model has
+    assert speeds == [(512, 256)] and summary["steps_per_s"] == 1.0
     steps = [int(p.stem.split("_")[1]) for p in (tmp_path / "b" / "checkpoints").glob("step_*")]
     assert steps and min(steps) > 256  # the checkpoints go on from the resumed step
     with pytest.raises(ConfigError, match="raise --timesteps"):
