@@ -16,8 +16,8 @@ episode, then the targets with their numbers):
 - ``presets``: easy, medium, hard with 1 and 2 cooks: the default planner and greedy.
   Target: the planner at or above greedy on all six (hard with 2 cooks at least 3.0).
 - ``zero``: ``--zero-kitchens`` test kitchens per family, 2 cooks, seed ``--first-seed``
-  only: greedy and the default planner. Target: no kitchen where the planner serves 0 and
-  greedy 2 or more.
+  only: greedy and the default planner (``--zero-agents``: any planner configurations).
+  Target: no kitchen where a planner configuration serves 0 and greedy 2 or more.
 
 Every episode records its stalls (``execution/stall.py``: stretches of 30 steps or more
 with no progress toward any open order, for any agent); the target is none in a planner
@@ -43,7 +43,7 @@ import statistics
 import sys
 import time
 import warnings
-from collections import defaultdict
+from collections import Counter, defaultdict
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
@@ -123,8 +123,8 @@ def cells(args: argparse.Namespace) -> list[tuple[str, str, int, int, str, str |
         for f in FAMILIES:
             for i in range(args.zero_kitchens):
                 k = f"gen:{f}:test:{i}:medium"
-                out += [("zero", k, 2, args.first_seed, "greedy", None),
-                        ("zero", k, 2, args.first_seed, PLANNER, None)]
+                out += [("zero", k, 2, args.first_seed, "greedy", None)]
+                out += [("zero", k, 2, args.first_seed, a, None) for a in args.zero_agents]
     return out
 
 
@@ -177,10 +177,12 @@ def targets(rows: list[dict]) -> list[dict]:
                     "below_greedy": below, "hard_2": hard2,
                     "reached": not below and hard2 is not None and hard2 >= 3.0
                     and len(means) == 6})
-    zero = [r["kitchen"] for r in cell.values() if r["group"] == "zero" and r["agent"] == PLANNER
-            and r["dishes"] == 0 and cell.get(("zero", r["kitchen"], 2, r["seed"], "greedy", None),
-                                              {"dishes": 0})["dishes"] >= 2]
-    n_zero = sum(1 for r in cell.values() if r["group"] == "zero" and r["agent"] == PLANNER)
+    zero = [f"{r['agent']} {r['kitchen']}" for r in cell.values() if r["group"] == "zero"
+            and r["agent"].startswith("planner:") and r["dishes"] == 0
+            and cell.get(("zero", r["kitchen"], 2, r["seed"], "greedy", None),
+                         {"dishes": 0})["dishes"] >= 2]
+    n_zero = Counter(r["agent"] for r in cell.values() if r["group"] == "zero"
+                     and r["agent"].startswith("planner:"))
     if n_zero:
         out.append({"target": "no kitchen with planner 0 and greedy >= 2", "kitchens": n_zero,
                     "planner_0_greedy_2": zero, "reached": not zero})
@@ -224,6 +226,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--gen-per-family", type=int, default=2)
     p.add_argument("--gen-first", type=int, default=0)
     p.add_argument("--zero-kitchens", type=int, default=20, help="kitchens per family (zero)")
+    p.add_argument("--zero-agents", nargs="+", default=[PLANNER], metavar="planner:SPEC",
+                   help="the planner configurations of zero (default: the default planner)")
     p.add_argument("--learned", default="ppo",
                    help="the learned agent of learned-partner (ppo: the shipped generalist)")
     p.add_argument("--timeout", type=float, default=10.0, help="CPU seconds per planner call")
