@@ -1,6 +1,7 @@
 """Beside a partner on a switching kitchen: a greedy cook passes over what the cook it does
 not drive finishes sooner than its own walk over the switch (``agents/greedy.py``,
-``_pass_sooner``)."""
+``_pass_sooner``), and a planning cook beside a greedy partner keeps its part of every cook's
+plan when that ends sooner than its own (``execution.partner.sooner_jointly``)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,8 @@ import pytest
 from ocplus_plan.agents import Episode, with_partner
 from ocplus_plan.agents.greedy import GreedyAgent
 from ocplus_plan.agents.planner import make_planner_agent
+from ocplus_plan.execution.partner import Prediction, plan_around
+from ocplus_plan.execution.plans import PlanOutcome, PlanStep
 from ocplus_plan.sim import make_rules, new_state, transition
 from ocplus_plan.sim.codes import Action
 
@@ -88,3 +91,50 @@ def test_a_planning_cook_takes_what_a_greedy_partner_passes_across():
     agent = make_planner_agent("", 0)
     Episode(state, with_partner(agent, GreedyAgent(0), 2)).run()
     assert state.stats["dishes_served"] >= 1, agent.info()
+
+
+# sooner_jointly, with planners that answer as scripted: which plan our cook keeps
+def _own(end: float) -> PlanOutcome:
+    return PlanOutcome("solved", [PlanStep(0, 0, "pickup", 1, (0,), start=0.0, duration=end)],
+                       relaxed=True)
+
+
+def _joint(ours_waits: bool) -> PlanOutcome:
+    """The partner (cook 1) passes item 5 over counter 20, our cook (0) takes it there; unless
+    ``ours_waits``, our cook first fetches item 6 from cell 30 (nothing the partner touches)."""
+    steps = [PlanStep(0, 1, "pickup", 10, (5,), 0.0, 2.0),
+             PlanStep(1, 1, "putdown", 20, (5,), 2.0, 2.0),
+             PlanStep(2, 0, "pickup", 20, (5,), 4.0, 1.0)]
+    if not ours_waits:
+        steps.append(PlanStep(3, 0, "pickup", 30, (6,), 0.0, 3.0))
+    return PlanOutcome("solved", steps, relaxed=True)
+
+
+def _planner(own: PlanOutcome, joint: PlanOutcome, asked: list):
+    def plan(state, agents, reason):
+        asked.append(tuple(agents))
+        return joint if len(agents) > 1 else own
+    return plan
+
+
+@pytest.mark.parametrize(("own_end", "ours_waits", "kept"), [
+    (30.0, False, [3]),  # every cook's plan ends sooner: our step before the hand-over
+    (4.0, False, [0]),  # it ends no sooner: our own plan
+    (30.0, True, [0]),  # our first step waits for the partner's: our own plan
+])
+def test_every_cooks_plan_is_kept_up_to_the_partners_step_when_it_ends_sooner(
+        own_end, ours_waits, kept):
+    state, asked = _kitchen(30), []
+    predictions = {1: Prediction(1, None, by_policy=True)}
+    out = plan_around(_planner(_own(own_end), _joint(ours_waits), asked), state, (0,),
+                      "initial", predictions)
+    assert [s.index for s in out.steps] == kept
+    assert asked == [(0,), (0, 1)]
+
+
+def test_a_partner_not_predicted_by_its_policy_gets_no_plan_of_every_cook():
+    """A guessed partner (idle, learned) may never make the hand-over: our own plan only."""
+    state, asked = _kitchen(30), []
+    out = plan_around(_planner(_own(30.0), _joint(False), asked), state, (0,), "initial",
+                      {1: Prediction(1, None)})
+    assert [s.index for s in out.steps] == [0] and asked == [(0,)]
