@@ -127,8 +127,6 @@ def cells(args: argparse.Namespace) -> list[tuple[str, str, int, int, str, str |
                 k = f"gen:{f}:test:{i}:medium"
                 out += [("zero", k, 2, args.first_seed, "greedy", None),
                         ("zero", k, 2, args.first_seed, PLANNER, None)]
-    if args.kitchens:
-        out = [c for c in out if c[1] in args.kitchens]
     return out
 
 
@@ -251,7 +249,8 @@ def main(argv: list[str] | None = None) -> int:
     out = args.out.open("a") if args.out else None
     rows = []
     for group, kitchen, cooks, seed, agent, partner in cells(args):
-        if (group, kitchen, cooks, seed, agent, partner) in done:
+        if (group, kitchen, cooks, seed, agent, partner) in done or \
+                (args.kitchens and kitchen not in args.kitchens):
             continue
         row = run_one(group, kitchen, cooks, seed, agent, partner, args)
         rows.append(row)
