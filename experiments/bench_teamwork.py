@@ -30,6 +30,8 @@ Examples::
 
     nice -n 10 .venv/bin/python experiments/bench_teamwork.py --groups greedy-partner \\
         --seeds 1 --out experiments/results/teamwork/run.jsonl --resume
+    nice -n 10 .venv/bin/python experiments/bench_teamwork.py --groups greedy-partner \\
+        --kitchens hard --out experiments/results/teamwork/hard.jsonl
     .venv/bin/python experiments/bench_teamwork.py --table experiments/results/teamwork/run.jsonl
 """
 
@@ -223,6 +225,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--steps", type=int, default=200)
     p.add_argument("--gen", nargs="*", default=None, metavar="FAMILY:INDEX",
                    help="generated test kitchens (default: --gen-per-family of every family)")
+    p.add_argument("--kitchens", nargs="+", default=None, metavar="KITCHEN",
+                   help="only these kitchens (hard, gen:corridor:test:0:medium, ...)")
     p.add_argument("--gen-per-family", type=int, default=2)
     p.add_argument("--gen-first", type=int, default=0)
     p.add_argument("--zero-kitchens", type=int, default=20, help="kitchens per family (zero)")
@@ -249,7 +253,8 @@ def main(argv: list[str] | None = None) -> int:
     out = args.out.open("a") if args.out else None
     rows = []
     for group, kitchen, cooks, seed, agent, partner in cells(args):
-        if (group, kitchen, cooks, seed, agent, partner) in done:
+        if (group, kitchen, cooks, seed, agent, partner) in done or \
+                (args.kitchens and kitchen not in args.kitchens):
             continue
         row = run_one(group, kitchen, cooks, seed, agent, partner, args)
         rows.append(row)

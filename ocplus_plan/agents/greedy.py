@@ -15,7 +15,10 @@ Relays and rescues count only on the cooks this controller drives. A hand-over g
 it drives when one can finish the job, else to a cook it does not drive (a partner on the
 other side of a split kitchen: a "pass"), but only while fewer than ``_PASSES`` items it
 passed still lie untaken where it put them: beside a partner that never takes them (an idle
-cook) the counters do not fill up.
+cook) the counters do not fill up. On a switching kitchen a lone cook whose destination lies
+behind a switch also passes to such a cook that reaches it now, when the partner's way over a
+counter ends sooner than its own wait and walk (``_pass_sooner``); a passed item, like a
+relayed one, is left alone a while for the taker.
 Movement: breadth-first paths on the current layout with the other agents' cells
 and the cells already claimed this step as obstacles (so the controller itself
 never causes a swap or a contested move); an agent whose way is blocked steps
@@ -37,6 +40,7 @@ from ..sim.queries import (
     Bump,
     bump_effect,
     direction,
+    distances,
     interaction_spots,
     is_plateable,
     ticks_until_burnt,
@@ -210,6 +214,11 @@ class GreedyAgent(Controller):
             if spot is not None:
                 return spot, "relay"
         best = self._nearest(v, a, dests)
+        if best is not None and partners:
+            # a partner finishes the job sooner than this cook's walk over the switches
+            spot = self._pass_sooner(v, a, dests, best, claimed, partners)
+            if spot is not None:
+                return spot, "pass"
         if best is not None:
             if label == "to_board":
                 budget[("board", 0)] -= 1
@@ -231,6 +240,43 @@ class GreedyAgent(Controller):
         spot = self._nearest(v, a, [f for f in v.free_counters()
                                     if f not in claimed and v.near_pan(f)])
         return None if spot is None else (spot, "put_down")
+
+    def _pass_sooner(self, v: KitchenView, a: int, dests: list[int], best: int,
+                     claimed: set[int], partners: list[int]) -> int | None:
+        """A free counter to pass the item to a partner (a cook this controller does not
+        drive) through, when ``a`` reaches no destination in the current layout (its walk to
+        ``best`` waits for a switch), a partner does, and the partner's way there over the
+        counter ends sooner than ``a``'s own walk. None otherwise (always on a kitchen that
+        does not switch: there ``a`` either reaches a destination now or passes anyway)."""
+        if not v.dynamic or any(v.reach_in(v.dist[a], d) < float("inf") for d in dests):
+            return None
+        own = v.reach(a, best)
+        spots = [f for f in v.free_counters() if f not in claimed
+                 and v.reach_in(v.dist[a], f) < float("inf")]
+        options = []
+        for b in partners:
+            if v.s.agent_hand[b] >= 0 or not any(v.reach_in(v.dist[b], d) < float("inf")
+                                                 for d in dests):
+                continue
+            for f in spots:
+                give, take = v.reach_in(v.dist[a], f), v.reach_in(v.dist[b], f)
+                if take == float("inf"):
+                    continue
+                onward = self._onward(v, f, dests)
+                done = max(give + 1, take) + 1 + onward  # put down, then taken on
+                if done < own:
+                    options.append((give, done, f))
+        return min(options)[2] if options else None
+
+    @staticmethod
+    def _onward(v: KitchenView, counter: int, dests: list[int]) -> float:
+        """Steps from the floor in front of ``counter`` to the nearest of ``dests`` (in the
+        current layout)."""
+        starts = [n for n in v.nbrs[counter] if n >= 0 and v.walk[n]]
+        if not starts:
+            return float("inf")
+        d = distances(v.nbrs, v.walk, starts)
+        return min(v.reach_in(d, f) for f in dests)
 
     def _handover(self, v: KitchenView, a: int, dests: list[int], claimed: set[int],
                   mates: list[int]) -> int | None:
@@ -420,7 +466,7 @@ class GreedyAgent(Controller):
                 self.waited[a] = self.stuck[a] = 0
                 if label in ("handover", "relay", "pass"):
                     self.counts[label + ("es" if label == "pass" else "s")] += 1
-                if label == "relay":
+                if label in ("relay", "pass"):  # left there a while for the taker
                     self.hands_off[s.agent_hand[a]] = (a, s.t + 2 * _STUCK + 8)
                 continue
             others = frozenset(p for b, p in enumerate(s.agent_pos) if b != a) | reserved

@@ -65,7 +65,7 @@ class PartnerModel:
         for c in self.cooks:
             goal = goals.get(c)
             if goal is None or (not self.by_policy and self.still[c] >= self.patience):
-                out[c] = Prediction(c, None)
+                out[c] = Prediction(c, None, by_policy=self.by_policy)
                 continue
             # the walk the policy takes: around the other cooks, which it treats as walls (a
             # walk through our cook is one the partner never takes: it goes round); with no
@@ -76,7 +76,8 @@ class PartnerModel:
             step, path = self.shadow.step_towards(view, pos, goal[0], others)
             if step is None:
                 step, path = self.shadow.step_towards(view, pos, goal[0], frozenset())
-            out[c] = Prediction(c, goal[0], tuple(path) if step is not None else ())
+            out[c] = Prediction(c, goal[0], tuple(path) if step is not None else (),
+                                self.by_policy)
         return out
 
 

@@ -48,6 +48,8 @@ class Prediction:
     cook: int
     target: int | None
     path: tuple[int, ...] = ()
+    #: predicted by running the partner's own policy (a known agent), not guessed
+    by_policy: bool = False
 
 
 #: state -> one prediction per cook the executive does not drive
@@ -67,7 +69,34 @@ def plan_around(planner: PlanFunction, state: State, agents: tuple[int, ...], re
         outcome = planner(predicted_state(state, predictions, walls=False), agents, reason)
     if outcome.status in PROVEN_STATUSES and predictions:
         return _with_partners(planner, state, agents, reason, predictions)
+    if outcome.ok and outcome.relaxed and predictions and \
+            all(p.by_policy for p in predictions.values()):
+        return sooner_jointly(planner, state, agents, reason, predictions, outcome)
     return outcome
+
+
+def sooner_jointly(planner: PlanFunction, state: State, agents: tuple[int, ...], reason: str,
+                   predictions: Mapping[int, Prediction], own: PlanOutcome) -> PlanOutcome:
+    """Our cooks' plan waits for layout switches (planned relaxed: ``own``) beside partners
+    predicted by their own policy: plan every cook too and, when that plan ends sooner, keep
+    our steps up to the first that waits for a partner's (:func:`ours_first`), as on a split
+    kitchen. The partners' steps in it are hand-overs their policy makes: a greedy partner
+    takes on an item left on a counter it reaches and passes over what our cook finishes
+    sooner (``agents/greedy.py``, ``_pass_sooner``). ``own`` when the plan of every cook
+    fails, ends no sooner, or leaves our cooks nothing to do before a partner's step."""
+    joint = planner(predicted_state(state, predictions, walls=False),
+                    tuple(range(state.n_agents)), reason)
+    if not joint.ok or _plan_end(joint) >= _plan_end(own):
+        return own
+    steps = ours_first(joint.steps, agents)
+    if not steps:
+        return own
+    return replace(joint, steps=steps, planning_time=own.planning_time + joint.planning_time)
+
+
+def _plan_end(outcome: PlanOutcome) -> float:
+    """When the last step of a scheduled plan ends (steps from when it was made)."""
+    return max(((s.start or 0.0) + (s.duration or 0.0) for s in outcome.steps), default=0.0)
 
 
 def _with_partners(planner: PlanFunction, state: State, agents: tuple[int, ...], reason: str,
@@ -520,4 +549,4 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
 __all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "brings",
            "blocked_geometry", "check_queues", "delivering", "expected_by_plan", "hand_off",
            "onto_our_plate", "ours_first", "partner_holding", "plan_around", "predicted_state",
-           "repair_taken", "reserved_walks", "shut_out", "substitute", "vacate"]
+           "repair_taken", "reserved_walks", "shut_out", "sooner_jointly", "substitute", "vacate"]
