@@ -196,7 +196,7 @@ class GreedyAgent(Controller):
                       and v.plate_wants(p, k)]
             plates.sort(key=lambda p: (p not in v.plate_missing
                                        or not v.plate_missing[p][k], -len(v.plate_contents[p])))
-            dests = [s.item_loc[p] for p in plates]
+            dests = [s.item_loc[p] for p in self._last_of_kind(v, a, item, plates)]
             label = "to_plate"
         if label in _EXCLUSIVE:
             dests = [d for d in dests if d not in claimed]
@@ -277,6 +277,19 @@ class GreedyAgent(Controller):
             return float("inf")
         d = distances(v.nbrs, v.walk, starts)
         return min(v.reach_in(d, f) for f in dests)
+
+    @staticmethod
+    def _last_of_kind(v: KitchenView, a: int, item: int, plates: list[int]) -> list[int]:
+        """The plates ``item`` may go onto: only those holding food already when it is the
+        last of its kind off the plates (on an empty plate it would leave every plate that
+        waits for its kind unfinishable: a kitchen with one steak, a plate with the lettuce
+        and the onion, the steak put on the other plate)."""
+        s, k = v.s, v.kind[item]
+        if any(v.kind[i] == k and i != item and s.item_where[i] != Where.PLATE
+               for i in range(s.n_items)):
+            return plates
+        return [p for p in plates if v.plate_contents[p]
+                and v.reach(a, s.item_loc[p]) < float("inf")] or plates
 
     def _handover(self, v: KitchenView, a: int, dests: list[int], claimed: set[int],
                   mates: list[int]) -> int | None:

@@ -274,7 +274,7 @@ class Executive:
     def _decide(self, state: State, reasons: list[str]) -> str | None:
         if self.last_plan_t is None:
             return "initial" if state.t >= self.next_retry else None
-        if state.t < self.next_retry and "layout_switch" not in self.unhandled:
+        if state.t < self.next_retry and not {"layout_switch", "stall"} & set(self.unhandled):
             return None
         empty = not any(self.queues.values()) and bool(state.orders)
         kind = self.policy.kind

@@ -20,7 +20,7 @@ will bump next and the walk it takes there. The executive uses it three ways:
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Collection, Iterator, Mapping
 from dataclasses import dataclass, replace
 
 from ..sim.codes import Cell, Item, ItemState, Where
@@ -111,31 +111,60 @@ def _with_partners(planner: PlanFunction, state: State, agents: tuple[int, ...],
                     tuple(range(state.n_agents)), reason)
     if not joint.ok:
         return joint
-    steps = ours_first(joint.steps, agents)
+    steps = ours_first(joint.steps, agents, meeting_counters(state))
     if not steps:
         return PlanOutcome("waiting", [], joint.planning_time,
                            "every cook planned: our first step waits for a partner's")
     return replace(joint, steps=steps)
 
 
-def ours_first(steps: list[PlanStep], agents: tuple[int, ...]) -> list[PlanStep]:
-    """The steps of ``agents`` that come before (and do not wait for) any step of another
-    cook: a step that touches a cell or item a partner's earlier step touches
-    (:func:`~.plans.causal_dependencies`) is cut with the rest of its cook's steps, and so is
-    one that waits for a step cut."""
+def ours_first(steps: list[PlanStep], agents: tuple[int, ...],
+               meet: Collection[int] = ()) -> list[PlanStep]:
+    """The steps of ``agents`` that do not wait for any step of another cook. A step that
+    touches a cell or item a partner's earlier step touches
+    (:func:`~.plans.causal_dependencies`) is cut, and so is a later step of ours that touches
+    a cell or item a cut step of ours touches, or waits for a cut step; the others are kept,
+    in their order (the steak carried to the pan while the lettuce waits for the partner's
+    hand-over). A kept pickup whose item's next step of ours is cut ends its cook's steps:
+    where that step works one of ``meet`` (free plain counters: the plan meets the partner
+    there, say to plate the steak on the plate the partner brings), the cook puts the item
+    down there and stops; elsewhere it stops before the pickup (it would stand holding the
+    item)."""
     order = sorted(steps, key=lambda s: (s.start or 0.0, s.index))
     deps = causal_dependencies(order)
     cut: set[int] = set()
-    stopped: set[int] = set()
-    kept = []
+    held: dict[int, set[tuple[str, int]]] = {a: set() for a in agents}
     for s in order:
-        if s.agent not in agents or s.agent in stopped or deps[s.index] & cut:
+        mine = _touched(s)
+        if s.agent not in agents or deps[s.index] & cut or mine & held[s.agent]:
             cut.add(s.index)
             if s.agent in agents:
-                stopped.add(s.agent)
+                held[s.agent] |= mine
+    ours = [s for s in order if s.agent in agents]
+    stopped: set[int] = set()
+    out: list[PlanStep] = []
+    spare = max((s.index for s in steps), default=0)
+    for k, s in enumerate(ours):
+        if s.index in cut or s.agent in stopped:
             continue
-        kept.append(s)
-    return kept
+        nxt = next((x for x in ours[k + 1:] if x.agent == s.agent
+                    and set(x.items) & set(s.items)), None)
+        if s.kind == "pickup" and nxt is not None and nxt.index in cut:
+            stopped.add(s.agent)
+            if nxt.target in meet:  # the hand-over the plan meant: put it down there
+                spare += 1
+                out += [s, PlanStep(spare, s.agent, "putdown", nxt.target, s.items, nxt.start)]
+            continue
+        out.append(s)
+    return out
+
+
+def _touched(s: PlanStep) -> set[tuple[str, int]]:
+    """The cells and items a step touches (as :func:`~.plans.causal_dependencies` reads them)."""
+    out = {("c", s.target), *(("i", i) for i in s.items)}
+    if s.via is not None:
+        out.add(("c", s.via))
+    return out
 
 
 def predicted_state(state: State, predictions: Mapping[int, Prediction],
@@ -451,6 +480,14 @@ def shut_out(state: State, spots: list[int], predictions: Mapping[int, Predictio
     return bool(spots) and all(n in still for n in spots)
 
 
+def meeting_counters(state: State) -> set[int]:
+    """The free plain counters of the current layout (where a plan of every cook may meet a
+    partner: :func:`ours_first`)."""
+    counter = int(Cell.COUNTER)
+    return {c for c, code in enumerate(state.geo.terrains[state.layout_index])
+            if code == counter and state.cell_item[c] < 0}
+
+
 def _free_counters(state: State, reach: list[int]) -> Iterator[tuple[int, list[int], int]]:
     """(counter, the floor cells it is worked from, steps to the nearest of them) of every
     free plain counter that a cook with walking distances ``reach`` works, in cell order."""
@@ -548,5 +585,6 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
 
 __all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "brings",
            "blocked_geometry", "check_queues", "delivering", "expected_by_plan", "hand_off",
-           "onto_our_plate", "ours_first", "partner_holding", "plan_around", "predicted_state",
-           "repair_taken", "reserved_walks", "shut_out", "sooner_jointly", "substitute", "vacate"]
+           "meeting_counters", "onto_our_plate", "ours_first", "partner_holding", "plan_around",
+           "predicted_state", "repair_taken", "reserved_walks", "shut_out", "sooner_jointly",
+           "substitute", "vacate"]

@@ -166,3 +166,46 @@ def test_where_a_cook_carries_things_is_what_the_bump_there_does():
                     (preset, state.t, a, label, state.geo.rc(cell))
                 checked.add(label)
     assert {"to_board", "to_pan", "to_plate", "deliver", "to_sink", "put_down"} <= checked, checked
+
+
+# one lettuce crate, one or two steak crates, a board, the trash, the window; a plate far
+# from the pan (1,0) and one beside it (0,5); the cook stands at the pan (1,6) with a
+# cooked steak
+PLATES = [[1, 6, 12, 1, 1, 5, 1],
+          [5, 0, 0, 0, 0, 0, 9],
+          [1, 4, 10, 7, 1, 1, 1]]
+
+
+def _steak_in_hand(steak_crates: int):
+    from ocplus_plan.sim.codes import Item, ItemState
+
+    from ..sim.helpers import give, item_of, on_plate, set_pos
+
+    grid = [list(r) for r in PLATES]
+    if steak_crates == 2:
+        grid[2][4] = 10
+    m = {"name": "plates", "max_n_agent": 1, "game_map": grid, "agent_spawn_points": [[1, 3]]}
+    state = new_state(make_rules("medium", map=m, n_agents=1, recipes=["lettuce+steak"]), 0)
+    far = next(p for p in range(state.n_items) if state.item_loc[p] == state.geo.flat(1, 0))
+    lettuce, steak = item_of(state, Item.LETTUCE), item_of(state, Item.STEAK)
+    state.item_state[lettuce] = int(ItemState.CHOPPED)
+    on_plate(state, lettuce, far)
+    state.item_state[steak] = int(ItemState.COOKED)
+    give(state, 0, steak)
+    set_pos(state, 0, (1, 5))
+    return state
+
+
+@pytest.mark.parametrize(("steak_crates", "plate"), [(1, (1, 0)), (2, (0, 5))])
+def test_the_last_of_its_kind_goes_onto_a_plate_that_holds_food(steak_crates, plate):
+    """With one steak in the kitchen, the cooked steak goes onto the far plate holding the
+    lettuce, not the empty one beside the pan (that would leave the lettuce's plate
+    unfinishable for good); with a second steak it goes onto the nearest plate, as before."""
+    from ocplus_plan.agents.greedy_view import KitchenView
+
+    state = _steak_in_hand(steak_crates)
+    cook = GreedyAgent(0)
+    cook.reset(state)
+    view = KitchenView(state)
+    assert cook._carry(view, 0, set(), cook._budgets(view)) == (state.geo.flat(*plate),
+                                                               "to_plate")

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from collections import deque
 
+import pytest
+
 from ocplus_plan.agents import StayAgent
 from ocplus_plan.agents.greedy import GreedyAgent
 from ocplus_plan.agents.partner_model import PartnerModel
@@ -323,6 +325,29 @@ def test_our_steps_stop_at_the_first_that_waits_for_a_partners():
              PlanStep(4, 0, "pickup", counter, (0,)), PlanStep(5, 0, "putdown", board, (0,))]
     assert [s.index for s in ours_first(steps, (0,))] == [1, 3]
     assert ours_first(steps[:1] + steps[4:], (0,)) == []  # its first step waits
+
+
+def test_our_steps_that_wait_for_no_partner_step_are_kept_after_one_that_does():
+    # ours (0) waits for the lettuce the partner (1) leaves on the counter, but the steak
+    # from our crate to the pan waits for nobody: it is done meanwhile
+    crate, counter, board, steak_crate, pan = 5, 7, 9, 11, 13
+    steps = [PlanStep(0, 1, "pickup", crate, (0,)), PlanStep(1, 1, "putdown", counter, (0,)),
+             PlanStep(2, 0, "pickup", counter, (0,)), PlanStep(3, 0, "putdown", board, (0,)),
+             PlanStep(4, 0, "pickup", steak_crate, (2,)), PlanStep(5, 0, "putdown", pan, (2,)),
+             PlanStep(6, 0, "chop", board, (0,))]
+    assert [s.index for s in ours_first(steps, (0,))] == [4, 5]
+
+
+@pytest.mark.parametrize(("meet", "kept"), [((), []), ((7,), [0, "putdown@7"])])
+def test_a_pickup_whose_next_step_waits_for_the_partner_ends_where_they_meet(meet, kept):
+    # ours (0) takes the cooked steak off the pan to plate it on the plate the partner (1)
+    # brings to the counter 7: on a free plain counter it puts the steak down there (the
+    # partner takes it on), elsewhere it leaves the steak where it is
+    pan, counter, shelf = 13, 7, 3
+    steps = [PlanStep(0, 0, "pickup", pan, (2,)), PlanStep(1, 1, "pickup", shelf, (1,)),
+             PlanStep(2, 1, "putdown", counter, (1,)), PlanStep(3, 0, "plate", counter, (2, 1))]
+    out = ours_first(steps, (0,), meet)
+    assert [s.index if s.index < 4 else f"{s.kind}@{s.target}" for s in out] == kept
 
 
 def test_a_crate_whose_only_way_in_a_partner_holds_still_compiles():

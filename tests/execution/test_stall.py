@@ -77,6 +77,20 @@ def test_the_executive_changes_strategy_in_a_stall():
     assert first == 0 and last >= 2 * STALL_PATIENCE
 
 
+def test_a_stall_changes_strategy_at_once_while_failed_calls_back_off():
+    # after one empty plan every call fails, and the retries back off (5, 10, 15 steps):
+    # the stall's change of strategy does not wait for the next retry
+    asked: list[tuple[int, str]] = []
+
+    def first_only(state, agents, reason=""):
+        asked.append((state.t, reason))
+        return PlanOutcome("solved" if len(asked) == 1 else "timeout", [], 0.0)
+
+    state = _lane(horizon=STALL_PATIENCE + 3)
+    run_episode(state, [(Executive(first_only), [0])])
+    assert (STALL_PATIENCE, "stall_all") in asked, asked
+
+
 def test_result_rows_record_stalls_for_any_agent(tmp_path):
     from ocplus_plan.eval.results import read_results
     from ocplus_plan.eval.runner import EvalConfig, run_eval
