@@ -88,7 +88,7 @@ def sooner_jointly(planner: PlanFunction, state: State, agents: tuple[int, ...],
                     tuple(range(state.n_agents)), reason)
     if not joint.ok or _plan_end(joint) >= _plan_end(own):
         return own
-    steps = ours_first(joint.steps, agents)
+    steps = ours_first(joint.steps, agents, prefix=True)
     if not steps:
         return own
     return replace(joint, steps=steps, planning_time=own.planning_time + joint.planning_time)
@@ -119,7 +119,7 @@ def _with_partners(planner: PlanFunction, state: State, agents: tuple[int, ...],
 
 
 def ours_first(steps: list[PlanStep], agents: tuple[int, ...],
-               meet: Collection[int] = ()) -> list[PlanStep]:
+               meet: Collection[int] = (), prefix: bool = False) -> list[PlanStep]:
     """The steps of ``agents`` that do not wait for any step of another cook. A step that
     touches a cell or item a partner's earlier step touches
     (:func:`~.plans.causal_dependencies`) is cut, and so is a later step of ours that touches
@@ -129,18 +129,22 @@ def ours_first(steps: list[PlanStep], agents: tuple[int, ...],
     where that step works one of ``meet`` (free plain counters: the plan meets the partner
     there, say to plate the steak on the plate the partner brings), the cook puts the item
     down there and stops; elsewhere it stops before the pickup (it would stand holding the
-    item)."""
+    item). With ``prefix``, a cook's steps end at its first step that is cut (each cook
+    keeps only what comes before it waits for a partner)."""
     order = sorted(steps, key=lambda s: (s.start or 0.0, s.index))
     deps = causal_dependencies(order)
     cut: set[int] = set()
     held: dict[int, set[tuple[str, int]]] = {a: set() for a in agents}
     for s in order:
         mine = _touched(s)
-        if s.agent not in agents or deps[s.index] & cut or mine & held[s.agent]:
+        if s.agent not in agents or deps[s.index] & cut or mine & held[s.agent] \
+                or (prefix and held[s.agent]):
             cut.add(s.index)
             if s.agent in agents:
                 held[s.agent] |= mine
     ours = [s for s in order if s.agent in agents]
+    if prefix:
+        return [s for s in ours if s.index not in cut]
     stopped: set[int] = set()
     out: list[PlanStep] = []
     spare = max((s.index for s in steps), default=0)

@@ -336,6 +336,10 @@ def test_our_steps_that_wait_for_no_partner_step_are_kept_after_one_that_does():
              PlanStep(4, 0, "pickup", steak_crate, (2,)), PlanStep(5, 0, "putdown", pan, (2,)),
              PlanStep(6, 0, "chop", board, (0,))]
     assert [s.index for s in ours_first(steps, (0,))] == [4, 5]
+    # with prefix (the plan of every cook beside a partner run by its own policy) our cook
+    # keeps nothing: its first step already waits for the partner's
+    assert ours_first(steps, (0,), prefix=True) == []
+    assert [s.index for s in ours_first(steps[4:], (0,), prefix=True)] == [4, 5, 6]
 
 
 @pytest.mark.parametrize(("meet", "kept"), [((), []), ((7,), [0, "putdown@7"])])
