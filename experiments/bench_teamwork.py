@@ -76,13 +76,18 @@ def gen_kitchens(spec: list[str] | None, per_family: int = 2, first: int = 0) ->
     return [f"gen:{f}:test:{i}:medium" for f in FAMILIES for i in range(first, first + per_family)]
 
 
+def kitchen_rules(kitchen: str, cooks: int, steps: int):
+    """The rules of a preset (``hard``) or a generated kitchen (``gen:...:medium``, the
+    switching family with its layout switches on)."""
+    preset, map_name = (kitchen, None) if not kitchen.startswith("gen:") else ("medium", kitchen)
+    extra = {} if map_name is None else {"dynamic": kitchen.split(":")[1] in DYNAMIC}
+    return make_rules(preset, map=map_name, n_agents=cooks, horizon=steps, **extra)
+
+
 def run_one(group: str, kitchen: str, cooks: int, seed: int, agent: str, partner: str | None,
             args: argparse.Namespace) -> dict:
     """One episode: its dishes, stalls and the planner's counts."""
-    preset, map_name = (kitchen, None) if not kitchen.startswith("gen:") else ("medium", kitchen)
-    extra = {} if map_name is None else {"dynamic": kitchen.split(":")[1] in DYNAMIC}
-    rules = make_rules(preset, map=map_name, n_agents=cooks, horizon=args.steps, **extra)
-    state = new_state(rules, seed)
+    state = new_state(kitchen_rules(kitchen, cooks, args.steps), seed)
     if agent.startswith("planner:"):
         controller = make_planner_agent(agent.partition(":")[2], seed, timeout=args.timeout)
     else:

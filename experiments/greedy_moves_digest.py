@@ -18,18 +18,14 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from experiments.bench_teamwork import gen_kitchens  # noqa: E402
-from experiments.bench_unseen import DYNAMIC  # noqa: E402
+from experiments.bench_teamwork import gen_kitchens, kitchen_rules  # noqa: E402
 from ocplus_plan.agents import Episode, make_controller  # noqa: E402
-from ocplus_plan.sim import make_rules, new_state  # noqa: E402
+from ocplus_plan.sim import new_state  # noqa: E402
 
 
 def digest(kitchen: str, cooks: int, seed: int, steps: int) -> tuple[str, int]:
     """(SHA-256 of the joint actions, dishes) of one greedy episode."""
-    preset, map_name = (kitchen, None) if not kitchen.startswith("gen:") else ("medium", kitchen)
-    extra = {} if map_name is None else {"dynamic": kitchen.split(":")[1] in DYNAMIC}
-    state = new_state(make_rules(preset, map=map_name, n_agents=cooks, horizon=steps, **extra),
-                      seed)
+    state = new_state(kitchen_rules(kitchen, cooks, steps), seed)
     ctl = make_controller("greedy", seed)
     h = hashlib.sha256()
     Episode(state, ctl).run(on_step=lambda ep, res: h.update(repr(ep.joint).encode()))

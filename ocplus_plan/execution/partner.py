@@ -28,7 +28,7 @@ from ..sim.orders import matching_order, plate_recipe
 from ..sim.queries import Bump, bump_effect, distances, interaction_spots
 from ..sim.step import apply_bump
 from ..sim.state import Geometry, State
-from .plans import PlanFunction, PlanOutcome, PlanStep, causal_dependencies
+from .plans import PlanFunction, PlanOutcome, PlanStep, causal_dependencies, touched
 from .proven import PROVEN_STATUSES
 from .tasks import Task
 
@@ -136,7 +136,7 @@ def ours_first(steps: list[PlanStep], agents: tuple[int, ...],
     cut: set[int] = set()
     held: dict[int, set[tuple[str, int]]] = {a: set() for a in agents}
     for s in order:
-        mine = _touched(s)
+        mine = touched(s)
         if s.agent not in agents or deps[s.index] & cut or mine & held[s.agent] \
                 or (prefix and held[s.agent]):
             cut.add(s.index)
@@ -160,14 +160,6 @@ def ours_first(steps: list[PlanStep], agents: tuple[int, ...],
                 out += [s, PlanStep(spare, s.agent, "putdown", nxt.target, s.items, nxt.start)]
             continue
         out.append(s)
-    return out
-
-
-def _touched(s: PlanStep) -> set[tuple[str, int]]:
-    """The cells and items a step touches (as :func:`~.plans.causal_dependencies` reads them)."""
-    out = {("c", s.target), *(("i", i) for i in s.items)}
-    if s.via is not None:
-        out.add(("c", s.via))
     return out
 
 
@@ -496,10 +488,8 @@ def _free_counters(state: State, reach: list[int]) -> Iterator[tuple[int, list[i
     """(counter, the floor cells it is worked from, steps to the nearest of them) of every
     free plain counter that a cook with walking distances ``reach`` works, in cell order."""
     geo = state.geo
-    walk, counter = geo.walkables[state.layout_index], int(Cell.COUNTER)
-    for c, code in enumerate(geo.terrains[state.layout_index]):
-        if code != counter or state.cell_item[c] >= 0:
-            continue
+    walk = geo.walkables[state.layout_index]
+    for c in sorted(meeting_counters(state)):
         spots = interaction_spots(geo.neighbors, walk, c)
         d = min((reach[n] for n in spots if reach[n] >= 0), default=-1)
         if d >= 0:

@@ -87,6 +87,17 @@ class Policy:
         return f"periodic({self.period})" if self.kind == "periodic" else self.kind
 
 
+def touched(s: PlanStep, only_spot: Mapping[int, int] | None = None) -> set[tuple[str, int]]:
+    """The cells (``("c", cell)``) and items (``("i", item)``) a step touches, and with
+    ``only_spot`` the single floor cell its station is worked from (``("s", cell)``)."""
+    out = {("c", s.target), *(("i", i) for i in s.items)}
+    if s.via is not None:
+        out.add(("c", s.via))
+    elif only_spot and s.target in only_spot:
+        out.add(("s", only_spot[s.target]))
+    return out
+
+
 def causal_dependencies(steps: Sequence[PlanStep],
                         only_spot: Mapping[int, int] | None = None) -> dict[int, frozenset[int]]:
     """For each step, the latest earlier step of every *other* agent that touches the same
@@ -95,23 +106,14 @@ def causal_dependencies(steps: Sequence[PlanStep],
     from the same single cell touch that cell too (one cook stands there at a time: a cook
     chopping at a board holds the only way to the counter beside it)."""
     deps: dict[int, frozenset[int]] = {}
-    spot = only_spot or {}
-    def touched(s: PlanStep) -> set[tuple[str, int]]:
-        out = {("c", s.target), *(("i", i) for i in s.items)}
-        if s.via is not None:
-            out.add(("c", s.via))
-        elif s.target in spot:
-            out.add(("s", spot[s.target]))
-        return out
-
     for k, s in enumerate(steps):
-        mine = touched(s)
+        mine = touched(s, only_spot)
         need: dict[int, int] = {}
         for prev in steps[:k]:
-            if prev.agent != s.agent and mine & touched(prev):
+            if prev.agent != s.agent and mine & touched(prev, only_spot):
                 need[prev.agent] = prev.index
         deps[s.index] = frozenset(need.values())
     return deps
 
 
-__all__ = ["STEP_KINDS", "PlanFunction", "PlanOutcome", "PlanStep", "Policy", "causal_dependencies"]
+__all__ = ["STEP_KINDS", "PlanFunction", "PlanOutcome", "PlanStep", "Policy", "causal_dependencies", "touched"]
