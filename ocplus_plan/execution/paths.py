@@ -342,8 +342,7 @@ def plan_paths(
             break
         j = unsafe[0]
         req = next(r for r in order if r.agent == j)
-        ahead = {r.start for r in order[:order.index(req)]}
-        pockets = _pockets(geo, walk_at(0), req.start, used[j], ahead)
+        pockets = _pockets(geo, walk_at(0), req.start, used[j])
         rest = [r for r in order if r.agent != j]
         first = PathRequest(j, req.start, pockets) if pockets else req
         order = [first, *rest]
@@ -384,12 +383,8 @@ def _plan_in_order(
     return out, unsafe, used
 
 
-def _pockets(geo: Geometry, walk: Sequence[bool], start: int, avoid: set[int],
-             ahead: set[int] = frozenset()) -> frozenset[int]:
-    """Walkable cells off the cells in ``avoid``, reachable from ``start`` without passing
-    the cells in ``ahead`` (where the agents it gives way to stand: a pocket behind one of
-    them is no way out of its path, and heading there pushes that agent back)."""
-    walk = [w and c not in ahead for c, w in enumerate(walk)]
+def _pockets(geo: Geometry, walk: Sequence[bool], start: int, avoid: set[int]) -> frozenset[int]:
+    """Walkable cells reachable from ``start`` that are off the cells in ``avoid``."""
     dist = distances(geo.neighbors, walk, [start])
     return frozenset(c for c, d in enumerate(dist) if d >= 0 and c not in avoid and c != start)
 

@@ -104,26 +104,6 @@ def test_head_on_in_corridor_with_pocket_lets_one_pass():
     assert s.agent_pos == [geo.flat(1, 5), geo.flat(1, 1)] or out[1].reached is False
 
 
-# a one-lane corridor ending at (1, 5), its only side pocket (2, 1) at the other end
-DEAD_END = [[1, 3, 1, 6, 1, 5, 1], [7, 0, 0, 0, 0, 0, 1], [1, 0, 1, 1, 1, 1, 1],
-            [1, 1, 1, 1, 1, 1, 1]]
-
-
-def test_no_pocket_behind_the_cook_given_way_to():
-    """A cook that cannot keep out of a higher-priority cook's way is not sent to a pocket
-    behind that cook (heading there pushes the other cook back, away from both goals): it
-    goes for its own goal first, and the other cook follows."""
-    s = kitchen(DEAD_END, [[1, 2], [1, 3]])
-    geo = s.geo
-    a = PathRequest(0, geo.flat(1, 2), frozenset({geo.flat(1, 5)}))
-    b = PathRequest(1, geo.flat(1, 3), frozenset({geo.flat(1, 4)}))
-    out = plan_paths(geo, [a, b], horizon=20)
-    assert out[1].reached and out[1].path == [geo.flat(1, 3), geo.flat(1, 4)]
-    assert geo.flat(2, 1) not in out[0].path  # not pushed back into the pocket
-    assert out[0].path[:2] == [geo.flat(1, 2), geo.flat(1, 3)]
-    assert check_paths({k: v.path for k, v in out.items()}) == []
-
-
 def test_lower_priority_agent_backs_away_in_one_lane_corridor():
     s = kitchen(CORRIDOR, [[1, 2], [1, 4]])
     geo = s.geo
