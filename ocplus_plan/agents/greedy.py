@@ -22,7 +22,9 @@ relayed one, is left alone a while for the taker.
 Movement: breadth-first paths on the current layout with the other agents' cells
 and the cells already claimed this step as obstacles (so the controller itself
 never causes a swap or a contested move); an agent whose way is blocked steps
-aside at random after waiting, and an idle agent steps off a busy agent's path.
+aside at random after waiting, and an idle agent steps off a busy agent's path, and away from
+a cook it does not drive that has stood beside it for ``_WAITING`` steps (waiting, perhaps, for
+the cell it holds: the only way to a station or along a one-lane corridor).
 Nothing here re-implements a rule: where a held item can go is what
 ``sim.queries.bump_effect`` says a bump there does; plateability is ``is_plateable``.
 """
@@ -62,6 +64,7 @@ _EXCLUSIVE = frozenset({"to_board", "to_pan", "to_sink", "put_down", "handover",
 _STUCK = 4  # blocked steps (net) before a cook relays what it carries through a counter
 _MARGIN = 4  # spare steps a cook keeps between reaching a cooked steak and its burning
 _PASSES = 2  # items passed to cooks this controller does not drive that may lie untaken
+_WAITING = 3  # steps a cook it does not drive stands beside an idle cook before that one moves off
 
 
 @dataclass(frozen=True)
@@ -97,6 +100,8 @@ class GreedyAgent(Controller):
         self.pan_duty: dict[int, int] = {}
         #: item -> counter: passed to a cook this controller does not drive, not yet taken
         self.passed: dict[int, int] = {}
+        #: cook it does not drive -> (its cell, steps it has stood there)
+        self.still: dict[int, tuple[int, int]] = {}
 
     def info(self) -> dict[str, object]:
         """Task choices, hand-overs, yields and idle steps of the episode."""
@@ -467,6 +472,10 @@ class GreedyAgent(Controller):
     # ---------------------------------------------------------------- movement
     def _moves(self, v: KitchenView, goals: dict[int, tuple[int, str]]) -> list[int]:
         s = v.s
+        for b in range(s.n_agents):
+            if b not in self.agent_ids:
+                cell, n = self.still.get(b, (-1, 0))
+                self.still[b] = (cell, n + 1) if cell == s.agent_pos[b] else (s.agent_pos[b], 0)
         actions: dict[int, int] = {}
         reserved: set[int] = set()
         paths: set[int] = set()
@@ -506,11 +515,13 @@ class GreedyAgent(Controller):
             pos = s.agent_pos[a]
             actions[a] = _STAY
             reserved.add(pos)
-            if pos in paths:  # idle and in the way: step off the path, or back along it
+            waiting = [c for c, n in self.still.values() if n >= _WAITING and c in v.nbrs[pos]]
+            if pos in paths or waiting:  # idle and in the way: step off the path, or back along it
                 others = frozenset(p for b, p in enumerate(s.agent_pos) if b != a) | reserved
-                step = self._sidestep(v, a, others | paths)
+                step = self._sidestep(v, a, others | paths | {
+                    n for c in waiting for n in v.nbrs[c]})  # not to stay beside the waiting cook
                 if step is None:
-                    step = self._retreat(v, a, others, [s.agent_pos[b] for b in busy])
+                    step = self._retreat(v, a, others, [s.agent_pos[b] for b in busy] + waiting)
                 if step is not None:
                     actions[a] = direction(s.geo, pos, step)
                     reserved.add(step)

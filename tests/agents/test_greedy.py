@@ -209,3 +209,28 @@ def test_the_last_of_its_kind_goes_onto_a_plate_that_holds_food(steak_crates, pl
     view = KitchenView(state)
     assert cook._carry(view, 0, set(), cook._budgets(view)) == (state.geo.flat(*plate),
                                                                "to_plate")
+
+
+# a one-lane way along row 1; (0, 2)'s plate crate is worked from (1, 2) alone
+WAY = [[1, 1, 5, 1, 1, 1],
+       [7, 0, 0, 0, 0, 6],
+       [1, 3, 1, 1, 1, 1]]
+
+
+def test_an_idle_cook_moves_off_for_a_cook_it_does_not_drive_that_waits_beside_it():
+    """Greedy knows nothing of a partner's goal: an idle greedy cook standing on the only
+    cell in front of the plate crate, beside a partner that has stood still there for
+    ``_WAITING`` steps, moves off it, and not to another cell beside that partner."""
+    from ocplus_plan.agents.greedy import _WAITING
+    from ocplus_plan.agents.greedy_view import KitchenView
+
+    m = {"name": "t", "game_map": WAY, "max_n_agent": 2, "agent_spawn_points": [[1, 1], [1, 2]]}
+    state = new_state(make_rules("easy", map=m, n_agents=2), 0)
+    g = GreedyAgent(0)
+    g.reset(state, [1])
+    partner, idle = state.agent_pos
+    moves = [g._moves(KitchenView(state, driven=1), {})[0] for _ in range(_WAITING + 1)]
+    assert moves[:_WAITING] == [int(Action.STAY)] * _WAITING
+    assert moves[-1] == int(Action.RIGHT)  # off the crate's only cell, away from the partner
+    assert state.agent_pos == [partner, idle]
+
