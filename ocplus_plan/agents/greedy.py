@@ -18,7 +18,11 @@ passed still lie untaken where it put them: beside a partner that never takes th
 cook) the counters do not fill up. On a switching kitchen a lone cook whose destination lies
 behind a switch also passes to such a cook that reaches it now, when the partner's way over a
 counter ends sooner than its own wait and walk (``_pass_sooner``); a passed item, like a
-relayed one, is left alone a while for the taker.
+relayed one, is left alone a while for the taker. Beside a partner that has moved or changed
+what it holds lately, a cook on a switching kitchen works as it would beside a cook it drives:
+in the part of the kitchen it reaches now, handing over through counters what the partner
+finishes, instead of walking over the switches itself (two cooks that each cross the wall
+trade rooms and wait for every switch).
 Movement: breadth-first paths on the current layout with the other agents' cells
 and the cells already claimed this step as obstacles (so the controller itself
 never causes a swap or a contested move); an agent whose way is blocked steps
@@ -62,6 +66,9 @@ _EXCLUSIVE = frozenset({"to_board", "to_pan", "to_sink", "put_down", "handover",
 _STUCK = 4  # blocked steps (net) before a cook relays what it carries through a counter
 _MARGIN = 4  # spare steps a cook keeps between reaching a cooked steak and its burning
 _PASSES = 2  # items passed to cooks this controller does not drive that may lie untaken
+#: a partner that has neither moved nor changed what it holds for this many steps is not
+#: counted on as a teammate on a switching kitchen (an idle cook would never take anything)
+_IDLE_PARTNER = 30
 
 
 @dataclass(frozen=True)
@@ -97,6 +104,10 @@ class GreedyAgent(Controller):
         self.pan_duty: dict[int, int] = {}
         #: item -> counter: passed to a cook this controller does not drive, not yet taken
         self.passed: dict[int, int] = {}
+        #: cook not driven -> (cell, hand, step it last moved or changed what it held)
+        self.seen: dict[int, tuple[int, int, int]] = {
+            b: (state.agent_pos[b], state.agent_hand[b], state.t)
+            for b in range(state.n_agents) if b not in self.agent_ids}
 
     def info(self) -> dict[str, object]:
         """Task choices, hand-overs, yields and idle steps of the episode."""
@@ -110,7 +121,7 @@ class GreedyAgent(Controller):
     def goals(self, state: State) -> tuple[KitchenView, dict[int, tuple[int, str]]]:
         """Where each driven cook heads this step: cook -> (cell to bump, label); a cook
         with nothing to do has none. (A partner model runs this to predict a greedy cook.)"""
-        v = KitchenView(state, driven=len(self.agent_ids))
+        v = KitchenView(state, driven=len(self.agent_ids) + len(self._active(state)))
         goals: dict[int, tuple[int, str]] = {}  # agent -> (cell to bump, label)
         claimed: set[int] = set()
         budget = self._budgets(v)
@@ -127,6 +138,15 @@ class GreedyAgent(Controller):
         self._assign(v, [a for a in self.agent_ids if state.agent_hand[a] < 0], claimed,
                      budget, goals, partners)
         return v, goals
+
+    def _active(self, state: State) -> list[int]:
+        """The cooks this controller does not drive that moved or changed what they hold in
+        the last ``_IDLE_PARTNER`` steps: on a switching kitchen a cook beside one works as
+        beside a teammate (in reach now, handing over), not alone over the switches."""
+        for b, (pos, hand, _) in self.seen.items():
+            if (pos, hand) != (state.agent_pos[b], state.agent_hand[b]):
+                self.seen[b] = (state.agent_pos[b], state.agent_hand[b], state.t)
+        return [b for b, (_, _, t) in self.seen.items() if state.t - t < _IDLE_PARTNER]
 
     def _partners(self, v: KitchenView) -> list[int]:
         """The cooks this controller does not drive that it may pass work to now: all of them
