@@ -22,7 +22,9 @@ relayed one, is left alone a while for the taker. Beside a partner that has move
 what it holds lately, a cook on a switching kitchen works as it would beside a cook it drives:
 in the part of the kitchen it reaches now, handing over through counters what the partner
 finishes, instead of walking over the switches itself (two cooks that each cross the wall
-trade rooms and wait for every switch).
+trade rooms and wait for every switch). A cook holding a vegetable in the only way in to a
+board on which a partner's raw vegetable lies puts its own down and chops that one, instead of
+waiting there for the board to be free (nobody else can get to it).
 Movement: breadth-first paths on the current layout with the other agents' cells
 and the cells already claimed this step as obstacles (so the controller itself
 never causes a swap or a contested move); an agent whose way is blocked steps
@@ -226,6 +228,16 @@ class GreedyAgent(Controller):
             code = Cell.BOARD if label == "to_board" else v.heat
             wait = self._nearest(v, a, [f for f in v.stations(code)
                                         if f not in claimed and v.near_pan(f)])
+            if wait is not None and label == "to_board" and partners \
+                    and self._raw_on_board(v, a, wait):
+                # a partner's raw vegetable lies on the board in front of this cook, which
+                # holds the only way in: put its own down and chop that one (the partner
+                # cannot get there while this cook waits)
+                spot = self._nearest(v, a, [f for f in v.free_counters()
+                                            if f not in claimed and v.near_pan(f)])
+                if spot is not None:
+                    self.counts["drops_for_board"] += 1
+                    return spot, "put_down"
             if wait is not None:
                 return wait, "wait_station"
         if dests and self.stuck[a] >= _STUCK:
@@ -260,6 +272,16 @@ class GreedyAgent(Controller):
         spot = self._nearest(v, a, [f for f in v.free_counters()
                                     if f not in claimed and v.near_pan(f)])
         return None if spot is None else (spot, "put_down")
+
+    @staticmethod
+    def _raw_on_board(v: KitchenView, a: int, board: int) -> bool:
+        """Does ``board`` hold a vegetable still to chop while ``a`` stands on the only
+        floor cell it is worked from?"""
+        s = v.s
+        it = s.cell_item[board]
+        spots = [n for n in v.nbrs[board] if n >= 0 and v.walk[n]]
+        return (it >= 0 and v.kind[it] in _VEG and s.item_state[it] == _FRESH
+                and spots == [s.agent_pos[a]])
 
     def _pass_sooner(self, v: KitchenView, a: int, dests: list[int], best: int,
                      claimed: set[int], partners: list[int]) -> int | None:
