@@ -18,7 +18,13 @@ passed still lie untaken where it put them: beside a partner that never takes th
 cook) the counters do not fill up. On a switching kitchen a lone cook whose destination lies
 behind a switch also passes to such a cook that reaches it now, when the partner's way over a
 counter ends sooner than its own wait and walk (``_pass_sooner``); a passed item, like a
-relayed one, is left alone a while for the taker.
+relayed one, is left alone a while for the taker. Beside a partner that has moved or changed
+what it holds lately, a cook on a switching kitchen works as it would beside a cook it drives:
+in the part of the kitchen it reaches now, handing over through counters what the partner
+finishes, instead of walking over the switches itself (two cooks that each cross the wall
+trade rooms and wait for every switch). A cook holding a vegetable in the only way in to a
+board on which a partner's raw vegetable lies puts its own down and chops that one, instead of
+waiting there for the board to be free (nobody else can get to it).
 Movement: breadth-first paths on the current layout with the other agents' cells
 and the cells already claimed this step as obstacles (so the controller itself
 never causes a swap or a contested move); an agent whose way is blocked steps
@@ -65,6 +71,9 @@ _STUCK = 4  # blocked steps (net) before a cook relays what it carries through a
 _MARGIN = 4  # spare steps a cook keeps between reaching a cooked steak and its burning
 _PASSES = 2  # items passed to cooks this controller does not drive that may lie untaken
 _WAITING = 3  # steps a cook it does not drive stands beside an idle cook before that one moves off
+#: a partner that has neither moved nor changed what it holds for this many steps is not
+#: counted on as a teammate on a switching kitchen (an idle cook would never take anything)
+_IDLE_PARTNER = 30
 
 
 @dataclass(frozen=True)
@@ -100,8 +109,10 @@ class GreedyAgent(Controller):
         self.pan_duty: dict[int, int] = {}
         #: item -> counter: passed to a cook this controller does not drive, not yet taken
         self.passed: dict[int, int] = {}
-        #: cook it does not drive -> (its cell, steps it has stood there)
-        self.still: dict[int, tuple[int, int]] = {}
+        #: cook not driven -> (cell, hand, step it last moved or changed what it held)
+        self.seen: dict[int, tuple[int, int, int]] = {
+            b: (state.agent_pos[b], state.agent_hand[b], state.t)
+            for b in range(state.n_agents) if b not in self.agent_ids}
 
     def info(self) -> dict[str, object]:
         """Task choices, hand-overs, yields and idle steps of the episode."""
@@ -115,7 +126,7 @@ class GreedyAgent(Controller):
     def goals(self, state: State) -> tuple[KitchenView, dict[int, tuple[int, str]]]:
         """Where each driven cook heads this step: cook -> (cell to bump, label); a cook
         with nothing to do has none. (A partner model runs this to predict a greedy cook.)"""
-        v = KitchenView(state, driven=len(self.agent_ids))
+        v = KitchenView(state, driven=len(self.agent_ids) + len(self._active(state)))
         goals: dict[int, tuple[int, str]] = {}  # agent -> (cell to bump, label)
         claimed: set[int] = set()
         budget = self._budgets(v)
@@ -132,6 +143,15 @@ class GreedyAgent(Controller):
         self._assign(v, [a for a in self.agent_ids if state.agent_hand[a] < 0], claimed,
                      budget, goals, partners)
         return v, goals
+
+    def _active(self, state: State) -> list[int]:
+        """The cooks this controller does not drive that moved or changed what they hold in
+        the last ``_IDLE_PARTNER`` steps: on a switching kitchen a cook beside one works as
+        beside a teammate (in reach now, handing over), not alone over the switches."""
+        for b, (pos, hand, _) in self.seen.items():
+            if (pos, hand) != (state.agent_pos[b], state.agent_hand[b]):
+                self.seen[b] = (state.agent_pos[b], state.agent_hand[b], state.t)
+        return [b for b, (_, _, t) in self.seen.items() if state.t - t < _IDLE_PARTNER]
 
     def _partners(self, v: KitchenView) -> list[int]:
         """The cooks this controller does not drive that it may pass work to now: all of them
@@ -211,6 +231,16 @@ class GreedyAgent(Controller):
             code = Cell.BOARD if label == "to_board" else v.heat
             wait = self._nearest(v, a, [f for f in v.stations(code)
                                         if f not in claimed and v.near_pan(f)])
+            if wait is not None and label == "to_board" and partners \
+                    and self._raw_on_board(v, a, wait):
+                # a partner's raw vegetable lies on the board in front of this cook, which
+                # holds the only way in: put its own down and chop that one (the partner
+                # cannot get there while this cook waits)
+                spot = self._nearest(v, a, [f for f in v.free_counters()
+                                            if f not in claimed and v.near_pan(f)])
+                if spot is not None:
+                    self.counts["drops_for_board"] += 1
+                    return spot, "put_down"
             if wait is not None:
                 return wait, "wait_station"
         if dests and self.stuck[a] >= _STUCK:
@@ -245,6 +275,16 @@ class GreedyAgent(Controller):
         spot = self._nearest(v, a, [f for f in v.free_counters()
                                     if f not in claimed and v.near_pan(f)])
         return None if spot is None else (spot, "put_down")
+
+    @staticmethod
+    def _raw_on_board(v: KitchenView, a: int, board: int) -> bool:
+        """Does ``board`` hold a vegetable still to chop while ``a`` stands on the only
+        floor cell it is worked from?"""
+        s = v.s
+        it = s.cell_item[board]
+        spots = [n for n in v.nbrs[board] if n >= 0 and v.walk[n]]
+        return (it >= 0 and v.kind[it] in _VEG and s.item_state[it] == _FRESH
+                and spots == [s.agent_pos[a]])
 
     def _pass_sooner(self, v: KitchenView, a: int, dests: list[int], best: int,
                      claimed: set[int], partners: list[int]) -> int | None:
@@ -472,10 +512,6 @@ class GreedyAgent(Controller):
     # ---------------------------------------------------------------- movement
     def _moves(self, v: KitchenView, goals: dict[int, tuple[int, str]]) -> list[int]:
         s = v.s
-        for b in range(s.n_agents):
-            if b not in self.agent_ids:
-                cell, n = self.still.get(b, (-1, 0))
-                self.still[b] = (cell, n + 1) if cell == s.agent_pos[b] else (s.agent_pos[b], 0)
         actions: dict[int, int] = {}
         reserved: set[int] = set()
         paths: set[int] = set()
@@ -515,7 +551,8 @@ class GreedyAgent(Controller):
             pos = s.agent_pos[a]
             actions[a] = _STAY
             reserved.add(pos)
-            waiting = [c for c, n in self.still.values() if n >= _WAITING and c in v.nbrs[pos]]
+            waiting = [c for c, _, t in self.seen.values()  # (``seen``: as of ``goals``)
+                       if s.t - t >= _WAITING and c in v.nbrs[pos]]
             if pos in paths or waiting:  # idle and in the way: step off the path, or back along it
                 others = frozenset(p for b, p in enumerate(s.agent_pos) if b != a) | reserved
                 step = self._sidestep(v, a, others | paths | {

@@ -35,9 +35,10 @@ class KitchenView:
         # on a dynamic map a place out of reach now may be reachable after a switch: a lone
         # cook plans over the union of the layouts' floors, at a price for the wait (with
         # teammates, hand-overs through counters are faster than waiting for switches). Lone
-        # means the only cook this controller drives (``driven``, default: every cook): a
-        # cook beside others it does not drive walks over the switches itself (it passes
-        # them only what it can take nowhere, in any layout).
+        # means ``driven`` (the cooks it works with: those this controller drives and the
+        # partners it counts on; default: every cook) is 1: a cook beside others it does
+        # not count on walks over the switches itself (it passes them only what it can take
+        # nowhere, in any layout, or what they finish sooner).
         lone = (state.n_agents if driven is None else driven) == 1
         self.dynamic = state.rules.dynamic and len(geo.walkables) > 1 and lone
         self.walk_any = walkable_in_any_layout(geo) if self.dynamic else self.walk

@@ -298,7 +298,10 @@ def answer_taken(state: State, task: Task, queues: Mapping[int, deque[Task]],
         return None
     pred = predictions.get(found[0])
     target = None if pred is None else pred.target
-    if expected_by_plan(queues, found[1], target) or onto_our_plate(state, queues, *found, target):
+    if expected_by_plan(queues, found[1], target):
+        return "expected"
+    if onto_our_plate(state, queues, *found, target):
+        await_on_plate(queues, state.cell_item[target], found[1])
         return "expected"
     if repair_taken(queues, done_steps, found[1], target) or substitute(state, queues, found[1]):
         return "repaired"
@@ -316,6 +319,18 @@ def onto_our_plate(state: State, queues: Mapping[int, deque[Task]], cook: int, i
     first = min((t for q in queues.values() for t in q if item in t.step.items),
                 key=lambda t: t.step.index, default=None)
     return first is not None and plate in first.step.items
+
+
+def await_on_plate(queues: Mapping[int, deque[Task]], plate: int, item: int) -> None:
+    """The partner's bump puts ``item`` onto ``plate``, which the plan takes on as if the
+    item lay there already: our first queued step that takes the plate waits for the item
+    too (:func:`~.tasks.ready` waits while another cook holds an item of the step), or the
+    cook carries the plate off before the partner gets there and serves it without the
+    item (hard seed 0 beside greedy: a refused delivery at step 177, the third dish lost)."""
+    first = min((t for q in queues.values() for t in q if plate in t.step.items),
+                key=lambda t: t.step.index, default=None)
+    if first is not None and item not in first.step.items:
+        first.step = replace(first.step, items=(*first.step.items, item))
 
 
 def substitute(state: State, queues: Mapping[int, deque[Task]], item: int) -> bool:

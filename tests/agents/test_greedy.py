@@ -8,7 +8,7 @@ from ocplus_plan.agents import StayAgent, Team, make_controller
 from ocplus_plan.agents.greedy import GreedyAgent
 from ocplus_plan.errors import ConfigError
 from ocplus_plan.sim import available_maps, conservation_problems, make_rules, new_state, transition
-from ocplus_plan.sim.codes import Action
+from ocplus_plan.sim.codes import Action, ItemState, Where
 
 
 def _episode(rules, seed: int, controller=None):
@@ -229,8 +229,45 @@ def test_an_idle_cook_moves_off_for_a_cook_it_does_not_drive_that_waits_beside_i
     g = GreedyAgent(0)
     g.reset(state, [1])
     partner, idle = state.agent_pos
-    moves = [g._moves(KitchenView(state, driven=1), {})[0] for _ in range(_WAITING + 1)]
+    moves = []
+    for _ in range(_WAITING + 1):  # the greedy cook idle (no goal), the partner staying
+        g._active(state)  # what ``goals`` notes of the partner each step
+        moves.append(g._moves(KitchenView(state, driven=1), {})[0])
+        transition(state, [int(Action.STAY), moves[-1]])
     assert moves[:_WAITING] == [int(Action.STAY)] * _WAITING
     assert moves[-1] == int(Action.RIGHT)  # off the crate's only cell, away from the partner
-    assert state.agent_pos == [partner, idle]
+    assert state.agent_pos == [partner, idle + 1]
 
+
+# one board, worked from (1,1) alone; the tomato and lettuce crates, a plate and the window
+ONE_BOARD = [[1, 6, 1, 3, 1, 1],
+             [1, 0, 0, 0, 0, 4],
+             [1, 7, 1, 5, 1, 1]]
+
+
+def test_a_greedy_partner_at_the_only_board_chops_the_raw_vegetable_lying_there():
+    """A partner (cook 0, not driven) left a raw tomato on the only board; the greedy cook
+    (1) holds the lettuce and stands in the board's only way in. Waiting there for the board
+    to be free would wait for ever (nobody else can get to it): it puts the lettuce down
+    and chops the tomato."""
+    spec = {"name": "one-board", "game_map": ONE_BOARD,
+            "agent_spawn_points": [[1, 3], [1, 1]]}
+    state = new_state(make_rules("easy", map=spec, n_agents=2, recipes=["tomato"],
+                                 horizon=30), 0)
+    geo = state.geo
+    board, tomato_crate, lettuce_crate = geo.flat(0, 1), geo.flat(0, 3), geo.flat(1, 5)
+    tomato, lettuce = state.cell_item[tomato_crate], state.cell_item[lettuce_crate]
+    state.cell_item[tomato_crate], state.cell_item[board] = -1, tomato  # the partner's tomato
+    state.item_loc[tomato] = board
+    state.cell_item[lettuce_crate] = -1  # the greedy cook holds the lettuce
+    state.item_where[lettuce], state.item_loc[lettuce] = int(Where.HAND), 1
+    state.agent_hand[1] = lettuce
+    assert not conservation_problems(state)
+    greedy = GreedyAgent(0)
+    greedy.reset(state, [1])
+    for _ in range(10):
+        transition(state, [int(Action.STAY), *greedy.act(state)])
+    assert greedy.counts["drops_for_board"] == 1
+    assert state.item_state[tomato] == ItemState.CHOPPED
+    assert state.item_where[lettuce] == Where.CELL
+    assert not conservation_problems(state)

@@ -138,3 +138,61 @@ def test_a_partner_not_predicted_by_its_policy_gets_no_plan_of_every_cook():
     out = plan_around(_planner(_own(30.0), _joint(False), asked), state, (0,), "initial",
                       {1: Prediction(1, None)})
     assert [s.index for s in out.steps] == [0] and asked == [(0,)]
+
+
+# the same two rooms with the crate and the board swapped: the tomato crate in the right
+# room (with the plates), the board and the window in the left; the gap shut for 40 steps
+CRATE_RIGHT = [[1, 6, 1, 1, 1, 3, 1], *GAP[1:]]
+
+
+def _crate_right(partner_at: tuple[int, int]):
+    spec = {"name": "gap-crate-right", "game_map": CRATE_RIGHT,
+            "switch_map": [[0 if v == -1 else v for v in row] for row in CRATE_RIGHT],
+            "agent_spawn_points": [list(partner_at), [1, 1]], "is_dynamic_map": True,
+            "map_switch_step": 40}
+    return new_state(make_rules("easy", map=spec, n_agents=2, recipes=["tomato"],
+                                dynamic=True, horizon=60), 0)
+
+
+def _fetch_steps(state, partner_moves: bool) -> list[int]:
+    """Greedy drives the left cook (1); the partner (0) stands still, or steps to and fro
+    in its room. The steps of the shut gap (0-39) at which greedy heads for the crate."""
+    greedy = GreedyAgent(0)
+    greedy.reset(state, [1])
+    heading = []
+    for t in range(40):
+        assert state.layout_index == 0
+        _, goals = greedy.goals(state)
+        if goals.get(1, (None, ""))[1] == "fetch":
+            heading.append(t)
+        partner = (int(Action.DOWN) if t % 2 == 0 else int(Action.UP)) if partner_moves else _STAY
+        transition(state, [partner, *greedy.act(state)])
+    return heading
+
+
+def test_greedy_leaves_work_behind_the_switch_to_a_partner_that_moves():
+    """The crate is in the right room, where the partner (moving) stands. Beside it the
+    greedy cook, on the left, works as beside a teammate, in what it reaches now: it does
+    not wait for the switch to cross, fetch the tomato and cross back."""
+    assert _fetch_steps(_crate_right((2, 4)), partner_moves=True) == []
+
+
+def test_greedy_hands_over_to_a_partner_that_moves_as_to_a_teammate():
+    """The first kitchen (crate and window left, board right, the gap shut for 10 steps),
+    the partner stepping to and fro in the right room: the greedy cook fetches the tomato
+    and puts it on a middle counter for the partner before the gap opens."""
+    state = _kitchen(12)
+    greedy = GreedyAgent(0)
+    greedy.reset(state, [1])
+    for t in range(10):
+        partner = int(Action.DOWN) if t % 2 == 0 else int(Action.UP)
+        transition(state, [partner, *greedy.act(state)])
+    assert greedy.info().get("greedy_passes") == 1
+    assert sum(state.cell_item[c] >= 0 for c in _middle(state)) == 1
+
+
+def test_greedy_does_not_count_on_a_partner_that_stands_still():
+    """The partner in the right room never moves: after 30 steps the greedy cook stops
+    counting on it and heads for the tomato over the switch itself."""
+    heading = _fetch_steps(_crate_right((2, 4)), partner_moves=False)
+    assert heading and heading[0] == 30

@@ -418,10 +418,34 @@ def test_a_partner_carrying_an_item_onto_our_plate_is_expected_not_replanned():
     assert onto_our_plate(state, queues, 1, tomato, plate_cell)
     assert answer_taken(state, queues[0][1], queues, set(), preds) == "expected"
     assert len(queues[0]) == 2
+    # and our cook does not take the plate away before the partner's bump
+    assert tomato in queues[0][0].step.items
     # a plan that takes the tomato on elsewhere first does not fit
     board = state.geo.flat(0, 2)
     queues = {0: deque([Task(PlanStep(0, 0, "plate", board, (tomato,)), frozenset())])}
     assert not onto_our_plate(state, queues, 1, tomato, plate_cell)
+
+
+def test_our_cook_waits_for_the_partner_to_put_its_item_on_our_plate_before_taking_it():
+    """The plan takes the plate on with the partner's tomato on it (the state the partner's
+    bump leaves). While the partner still carries the tomato, our pickup of the plate is not
+    ready (taken at once, the plate was served without it: hard seed 0 beside greedy); once
+    the tomato lies on the plate, it is."""
+    state, tomato = _carrying_partner()
+    state.item_state[tomato] = int(ItemState.CHOPPED)
+    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
+    plate_cell, window = state.item_loc[plate], state.geo.flat(1, 4)
+    steps = [PlanStep(0, 0, "pickup", plate_cell, (plate,)),
+             PlanStep(1, 0, "deliver", window, (plate, tomato))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    state.agent_pos[0] = state.geo.flat(1, 1)  # in front of the plate
+    assert ready(state, 0, queues[0][0], set())  # the plate alone: ready
+    check_queues(state, queues, set(), {1: Prediction(1, plate_cell)}, set())
+    assert not ready(state, 0, queues[0][0], set())
+    # the partner's bump: the tomato onto the plate
+    state.agent_hand[1] = -1
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.PLATE), plate
+    assert ready(state, 0, queues[0][0], set())
 
 
 def _partner_serving():
