@@ -153,6 +153,10 @@ RUNS: dict[str, list[str]] = {
     "ppogreedy2long_2agent_s2": [*_resumed(_ppo_greedy2(2), "experiments/runs/"
                                            "ppogreedy2_2agent_s2/policy.zip", "2400"),
                                  "--checkpoint-every", "2000000"],
+    # and resumed once more, for 1,100 s of wall
+    "ppogreedy2long2_2agent_s2": [*_resumed(_ppo_greedy2(2), "experiments/runs/"
+                                            "ppogreedy2long_2agent_s2/policy.zip", "1100"),
+                                  "--checkpoint-every", "2000000"],
     "clone_1agent_s0": _run(1, 0, True),
     "clone_3agent_s0": _run(3, 0, True),
 }
