@@ -16,7 +16,8 @@ observations (plain, and with ``--bc-focus 4``), and ``ppotasks_*`` run PPO from
 ``policy.zip`` (``--resume-from``: weights, Adam's state, step count, schedules) in
 self-play, writing a checkpoint every 2M agent-steps.
 ``clonegreedy2_2agent_s2``, ``ppogreedy2_2agent_s2`` and ``ppogreedy2long_2agent_s2`` are
-that chain again (2,400 s of continued PPO) cloned from the greedy cook with its hand-over
+that chain again (2,400 s of continued PPO, then ``ppogreedy2long2_2agent_s2`` 1,100 s more)
+cloned from the greedy cook with its hand-over
 and plate rules.
 ``experiments/checkpoints/generalists/NAME.json`` records the command, wall and CPU seconds, the load, and the training summary, and
 ``NAME.episodes.csv`` the training log. The runs named in SHIPPED are exported weights-only
