@@ -15,6 +15,10 @@ observations (plain, and with ``--bc-focus 4``), and ``ppotasks_*`` run PPO from
 (``--partner greedy:0.5``); ``ppolong_2agent_s2`` goes on from ``ppotasks_2agent_s2``'s
 ``policy.zip`` (``--resume-from``: weights, Adam's state, step count, schedules) in
 self-play, writing a checkpoint every 2M agent-steps.
+``clonegreedy2_2agent_s2``, ``ppogreedy2_2agent_s2`` and ``ppogreedy2long_2agent_s2`` are
+that chain again (2,400 s of continued PPO, then ``ppogreedy2long2_2agent_s2`` 1,100 s more)
+cloned from the greedy cook with its hand-over
+and plate rules.
 ``experiments/checkpoints/generalists/NAME.json`` records the command, wall and CPU seconds, the load, and the training summary, and
 ``NAME.episodes.csv`` the training log. The runs named in SHIPPED are exported weights-only
 (rl/npz_export.py) to ``experiments/checkpoints/generalist_{n}agent/`` (``policy.npz`` +
@@ -91,6 +95,13 @@ def _ppo_tasks(seed: int) -> list[str]:
             *LOOP]
 
 
+def _ppo_greedy2(seed: int) -> list[str]:
+    """``_ppo_tasks`` from ``clonegreedy2_2agent_s{seed}``'s clone instead."""
+    out = _ppo_tasks(seed)
+    out[out.index("--init") + 1] = f"experiments/runs/clonegreedy2_2agent_s{seed}/bc_policy.npz"
+    return out
+
+
 def _resumed(args: list[str], checkpoint: str, wall: str) -> list[str]:
     """``args`` going on from ``checkpoint`` (``--resume-from``) instead of ``--init``, with
     ``wall`` seconds of wall (``--max-wall``)."""
@@ -134,6 +145,19 @@ RUNS: dict[str, list[str]] = {
     # 4,200 s of wall, a checkpoint every 2M; needs ppotasks_2agent_s2 (and its clone) first
     "ppolong_2agent_s2": [*_resumed(_ppo_tasks(2), "experiments/runs/ppotasks_2agent_s2/"
                                     "policy.zip", "4200"), "--checkpoint-every", "2000000"],
+    # the clonetasks_2agent_s2 recipe again, cloning the greedy cook with its hand-over and
+    # plate rules (the clone above predates them), then PPO from it (900 s wall), then that
+    # PPO continued in self-play (--resume-from, a checkpoint every 2M agent-steps)
+    "clonegreedy2_2agent_s2": ["--preset", PRESET, "--n-agents", "2", "--maps", maps(2),
+                               "--timesteps", "1", "--seed", "2", *CLONE_TASKS, *LOOP],
+    "ppogreedy2_2agent_s2": _ppo_greedy2(2),
+    "ppogreedy2long_2agent_s2": [*_resumed(_ppo_greedy2(2), "experiments/runs/"
+                                           "ppogreedy2_2agent_s2/policy.zip", "2400"),
+                                 "--checkpoint-every", "2000000"],
+    # and resumed once more, for 1,100 s of wall
+    "ppogreedy2long2_2agent_s2": [*_resumed(_ppo_greedy2(2), "experiments/runs/"
+                                            "ppogreedy2long_2agent_s2/policy.zip", "1100"),
+                                  "--checkpoint-every", "2000000"],
     "clone_1agent_s0": _run(1, 0, True),
     "clone_3agent_s0": _run(3, 0, True),
 }
