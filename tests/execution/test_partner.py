@@ -403,10 +403,9 @@ def test_a_greedy_partners_predicted_walk_goes_round_our_cook_as_its_policy_does
     assert state.agent_pos[0] in pred.path
 
 
-def test_a_partner_carrying_an_item_onto_our_plate_is_expected_not_replanned():
-    # the plan was made from the state the partner's bump leaves: the chopped tomato on
-    # the plate; its first step with the tomato serves the plate (a replan every step
-    # while the partner walked, medium seed 0, steps 100-108)
+def _chopped_tomato_for_our_plate():
+    """The partner carries a chopped tomato; our queue takes the plate on and serves it with
+    the tomato on it (the state the partner's bump leaves)."""
     state, tomato = _carrying_partner()
     state.item_state[tomato] = int(ItemState.CHOPPED)
     plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
@@ -414,6 +413,14 @@ def test_a_partner_carrying_an_item_onto_our_plate_is_expected_not_replanned():
     steps = [PlanStep(0, 0, "pickup", plate_cell, (plate,)),
              PlanStep(1, 0, "deliver", window, (plate, tomato))]
     queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    return state, tomato, plate, plate_cell, queues
+
+
+def test_a_partner_carrying_an_item_onto_our_plate_is_expected_not_replanned():
+    # the plan was made from the state the partner's bump leaves: the chopped tomato on
+    # the plate; its first step with the tomato serves the plate (a replan every step
+    # while the partner walked, medium seed 0, steps 100-108)
+    state, tomato, plate, plate_cell, queues = _chopped_tomato_for_our_plate()
     preds = {1: Prediction(1, plate_cell)}
     assert onto_our_plate(state, queues, 1, tomato, plate_cell)
     assert answer_taken(state, queues[0][1], queues, set(), preds) == "expected"
@@ -431,13 +438,7 @@ def test_our_cook_waits_for_the_partner_to_put_its_item_on_our_plate_before_taki
     bump leaves). While the partner still carries the tomato, our pickup of the plate is not
     ready (taken at once, the plate was served without it: hard seed 0 beside greedy); once
     the tomato lies on the plate, it is."""
-    state, tomato = _carrying_partner()
-    state.item_state[tomato] = int(ItemState.CHOPPED)
-    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
-    plate_cell, window = state.item_loc[plate], state.geo.flat(1, 4)
-    steps = [PlanStep(0, 0, "pickup", plate_cell, (plate,)),
-             PlanStep(1, 0, "deliver", window, (plate, tomato))]
-    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    state, tomato, plate, plate_cell, queues = _chopped_tomato_for_our_plate()
     state.agent_pos[0] = state.geo.flat(1, 1)  # in front of the plate
     assert ready(state, 0, queues[0][0], set())  # the plate alone: ready
     check_queues(state, queues, set(), {1: Prediction(1, plate_cell)}, set())
