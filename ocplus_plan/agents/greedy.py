@@ -232,7 +232,7 @@ class GreedyAgent(Controller):
             wait = self._nearest(v, a, [f for f in v.stations(code)
                                         if f not in claimed and v.near_pan(f)])
             if wait is not None and label == "to_board" and partners \
-                    and self._raw_on_board(v, a, wait):
+                    and v.raw_on_board(a, wait):
                 # a partner's raw vegetable lies on the board in front of this cook, which
                 # holds the only way in: put its own down and chop that one (the partner
                 # cannot get there while this cook waits)
@@ -275,16 +275,6 @@ class GreedyAgent(Controller):
         spot = self._nearest(v, a, [f for f in v.free_counters()
                                     if f not in claimed and v.near_pan(f)])
         return None if spot is None else (spot, "put_down")
-
-    @staticmethod
-    def _raw_on_board(v: KitchenView, a: int, board: int) -> bool:
-        """Does ``board`` hold a vegetable still to chop while ``a`` stands on the only
-        floor cell it is worked from?"""
-        s = v.s
-        it = s.cell_item[board]
-        spots = [n for n in v.nbrs[board] if n >= 0 and v.walk[n]]
-        return (it >= 0 and v.kind[it] in _VEG and s.item_state[it] == _FRESH
-                and spots == [s.agent_pos[a]])
 
     def _pass_sooner(self, v: KitchenView, a: int, dests: list[int], best: int,
                      claimed: set[int], partners: list[int]) -> int | None:

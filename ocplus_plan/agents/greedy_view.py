@@ -10,13 +10,14 @@ from __future__ import annotations
 
 from collections import Counter
 
-from ..sim.codes import COUNTERS, Cell, Item, ItemState
+from ..sim.codes import COUNTERS, VEGETABLES, Cell, Item, ItemState
 from ..sim.queries import (distances, interaction_spots, order_needs, plate_fits,
                            walkable_in_any_layout)
 from ..sim.state import State
 
 _COUNTER_CODES = frozenset(int(c) for c in COUNTERS)
 _PLAIN_COUNTER = int(Cell.COUNTER)
+_VEG = frozenset(int(v) for v in VEGETABLES)
 
 
 class KitchenView:
@@ -108,6 +109,15 @@ class KitchenView:
                 if s.cell_item[f] < 0 and f not in self.switch_cells:
                     (plain if code == _PLAIN_COUNTER else spawn).append(f)
         return plain + spawn
+
+    def raw_on_board(self, agent: int, board: int) -> bool:
+        """Does ``board`` hold a vegetable still to chop while ``agent`` stands on the only
+        floor cell it is worked from?"""
+        s = self.s
+        it = s.cell_item[board]
+        spots = [n for n in self.nbrs[board] if n >= 0 and self.walk[n]]
+        return (it >= 0 and self.kind[it] in _VEG and s.item_state[it] == int(ItemState.FRESH)
+                and spots == [s.agent_pos[agent]])
 
     # ---------------------------------------------------------------- plates and needs
     def contents(self, plate: int) -> Counter:
