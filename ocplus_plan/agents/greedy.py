@@ -43,7 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..sim.codes import COUNTERS, VEGETABLES, Action, Cell, Item, ItemState, Where
+from ..sim.codes import COUNTERS, Action, Cell, Item, ItemState, Where
 from ..sim.queries import (
     Bump,
     bump_effect,
@@ -57,11 +57,10 @@ from ..sim.queries import (
 )
 from ..sim.state import State
 from .base import Controller
-from .greedy_view import KitchenView
+from .greedy_view import _VEG, KitchenView
 
 _STAY = int(Action.STAY)
 _COUNTER_CODES = frozenset(int(c) for c in COUNTERS)
-_VEG = frozenset(int(v) for v in VEGETABLES)
 _STEAK, _PLATE = int(Item.STEAK), int(Item.PLATE)
 _FRESH, _COOKED = int(ItemState.FRESH), int(ItemState.COOKED)
 _BURNT, _CLEAN, _DIRTY = int(ItemState.BURNT), int(ItemState.CLEAN), int(ItemState.DIRTY)

@@ -115,7 +115,7 @@ class KitchenView:
         floor cell it is worked from?"""
         s = self.s
         it = s.cell_item[board]
-        spots = [n for n in self.nbrs[board] if n >= 0 and self.walk[n]]
+        spots = interaction_spots(self.nbrs, self.walk, board)
         return (it >= 0 and self.kind[it] in _VEG and s.item_state[it] == int(ItemState.FRESH)
                 and spots == [s.agent_pos[agent]])
 
