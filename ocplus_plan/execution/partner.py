@@ -414,10 +414,11 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
                     return True, repairs
                 repairs += 1
             elif task.step.kind == "plate" and where in (_CELL, _PLATE) \
-                    and state.geo.item_kind[i] != _PLATE_KIND \
                     and not _lies_at(state, i, task.step.target):
-                # an ingredient the step takes onto a plate at its station, somewhere else
-                # (a partner carried it on): the step would wait for it for ever
+                # an ingredient the step takes onto a plate at its station, or the plate it
+                # puts the held ingredient on, somewhere else (a partner carried it on, or
+                # put the plate it held down elsewhere than the plan had it: hard seed 2
+                # beside greedy, steps 102-122): the step would wait for it for ever
                 warned.add(key)
                 return True, repairs
     return False, repairs

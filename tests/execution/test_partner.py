@@ -529,8 +529,15 @@ def test_a_plating_step_of_a_later_dish_with_the_same_items_is_kept():
     assert [t.step.index for t in queues[0]] == [0, 1, 2] and not done
 
 
+def _held(state, cook: int, item: int) -> None:
+    state.cell_item[state.item_loc[item]] = -1
+    state.item_where[item], state.item_loc[item] = int(Where.HAND), cook
+    state.agent_hand[cook] = item
+
+
 def test_a_plating_step_whose_ingredient_was_carried_elsewhere_is_replanned():
     state, plate, tomato = _chopped_tomato_and_plate()
+    _held(state, 0, plate)  # our cook brings the plate to the ingredient
     counter, board = state.geo.flat(0, 1), state.geo.flat(0, 2)
     state.cell_item[counter] = tomato
     state.item_where[tomato], state.item_loc[tomato] = int(Where.CELL), counter
@@ -540,5 +547,23 @@ def test_a_plating_step_whose_ingredient_was_carried_elsewhere_is_replanned():
     # where the step expects it, the plan fits
     state.cell_item[counter], state.cell_item[board] = -1, tomato
     state.item_loc[tomato] = board
+    assert check_queues(state, {0: deque(Task(s, frozenset()) for s in steps)}, set(), {},
+                        set()) == (False, 0)
+
+
+def test_a_plating_step_whose_plate_was_put_down_elsewhere_is_replanned():
+    # hard beside greedy, seed 2, steps 102-122: the plan had the partner put the plate it
+    # held on the counter where our cook plates the vegetable it holds; the partner put it
+    # down elsewhere, and our cook stood 20 steps in front of the empty counter
+    state, plate, tomato = _chopped_tomato_and_plate()
+    _held(state, 0, tomato)
+    counter, meet = state.item_loc[plate], state.geo.flat(0, 1)
+    assert counter != meet
+    steps = [PlanStep(0, 0, "plate", meet, (tomato, plate))]
+    assert check_queues(state, {0: deque(Task(s, frozenset()) for s in steps)}, set(), {},
+                        set())[0]
+    # where the step expects it, the plan fits
+    state.cell_item[counter], state.cell_item[meet] = -1, plate
+    state.item_loc[plate] = meet
     assert check_queues(state, {0: deque(Task(s, frozenset()) for s in steps)}, set(), {},
                         set()) == (False, 0)
