@@ -93,6 +93,16 @@ def hub_cells(geo: Geometry) -> frozenset[int]:
     return frozenset(c for c in floor if score[c] == best)
 
 
+def one_lane(geo: Geometry, walk: Sequence[bool], cells: Iterable[int]) -> bool:
+    """Is the floor the cooks on ``cells`` stand on one path (a lane: no cell with more than
+    two floor neighbours, no loop)? There nobody can pass anybody, and a plan in which
+    cooks jump past each other (stations granularity) cannot be done."""
+    near = distances(geo.neighbors, walk, cells)
+    floor = [c for c, d in enumerate(near) if d >= 0]
+    degree = [sum(1 for n in geo.neighbors[c] if n >= 0 and walk[n]) for c in floor]
+    return len(floor) > 1 and max(degree) <= 2 and sum(degree) == 2 * (len(floor) - 1)
+
+
 def layout_schedule(state: State, anticipate: bool) -> WalkAt:
     """Walkability over relative time: the current layout, or (``anticipate``) the layout
     after the next due switch from the step it is due on (``state.next_switch``)."""
@@ -426,6 +436,7 @@ __all__ = [
     "evasion_path",
     "hub_cells",
     "layout_schedule",
+    "one_lane",
     "plan_paths",
     "space_time_astar",
 ]

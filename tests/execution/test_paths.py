@@ -14,6 +14,7 @@ from ocplus_plan.execution.paths import (
     check_paths,
     layout_connects,
     layout_schedule,
+    one_lane,
     plan_paths,
     space_time_astar,
 )
@@ -275,3 +276,24 @@ def test_a_cook_that_cannot_reach_its_goal_yet_walks_towards_it_at_once():
     assert out[1].reached and not out[0].reached
     assert out[0].path == [geo.flat(1, 1), geo.flat(1, 2), geo.flat(1, 3)]
     assert check_paths({k: v.path for k, v in out.items()}) == []
+
+
+# a U: two arms joined by the top row, a counter between the arms
+U_LANE = [[1, 3, 1, 6, 1], [1, 0, 0, 0, 1], [1, 0, 1, 0, 1], [7, 0, 1, 0, 5],
+          [1, 1, 1, 1, 1]]
+# the same U closed at the bottom: a loop
+RING = [[1, 3, 1, 6, 1], [1, 0, 0, 0, 1], [1, 0, 1, 0, 1], [7, 0, 0, 0, 5],
+        [1, 1, 1, 1, 1]]
+
+
+@pytest.mark.parametrize("grid, spawns, lane", [
+    (CORRIDOR, [[1, 1], [1, 4]], True),  # a straight lane
+    (U_LANE, [[3, 1], [3, 3]], True),  # a bent one: still nobody passes anybody
+    (POCKET, [[1, 1], [1, 4]], False),  # a side pocket to step into
+    (RING, [[3, 1], [3, 3]], False),  # a loop: the cooks go round each other
+    (CORRIDOR, [[1, 1]], True),
+])
+def test_one_lane_floors(grid, spawns, lane):
+    s = kitchen(grid, spawns)
+    cells = [s.agent_pos[a] for a in range(s.n_agents)]
+    assert one_lane(s.geo, s.geo.walkables[0], cells) is lane
