@@ -94,8 +94,14 @@ CORRIDOR = [[1, 3, 1, 1, 1, 1, 1, 6, 1],
             [1, 1, 1, 1, 1, 1, 1, 1, 1]]
 
 
-def corridor_kitchen():
-    spec = {"name": "corridor", "game_map": CORRIDOR,
+#: the same with a side pocket below (1,5): no longer one lane, so plans use stations, in
+#: which the cooks jump past each other
+CORRIDOR_POCKET = [row[:] for row in CORRIDOR]
+CORRIDOR_POCKET[2][5] = 0
+
+
+def corridor_kitchen(grid=CORRIDOR):
+    spec = {"name": "corridor", "game_map": grid,
             "agent_spawn_points": [[1, 1], [2, 1], [2, 7]]}
     return make_rules("easy", map=spec, n_agents=3, recipes=["tomato"], horizon=120)
 
@@ -115,10 +121,23 @@ def test_livelock_needs_blocked_triggers_and_no_progress():
 
 @needs_fd
 def test_corridor_livelock_is_detected_and_a_cook_gives_way():
-    state = new_state(corridor_kitchen(), 0)
+    state = new_state(corridor_kitchen(CORRIDOR_POCKET), 0)
     agent = PlannerAgent("fast-downward")
     stats = run_episode(state, agent)
     info = agent.info()
     assert info["livelocks_detected"] >= 1 and info["gave_way"] >= 1, info
     assert info["livelock_stretches"] == [], info
     assert stats["dishes_served"] >= 2, info
+
+
+@needs_fd
+def test_cooks_in_one_lane_are_planned_with_cells_and_never_livelock():
+    # three cooks who can never pass each other: every plan is made with cells, whose
+    # moves respect occupancy (with stations plans: 2 dishes, after a livelock and a
+    # cook giving way)
+    state = new_state(corridor_kitchen(), 0)
+    agent = PlannerAgent("fast-downward")
+    stats = run_episode(state, agent)
+    info = agent.info()
+    assert info["livelocks_detected"] == 0 and info["stall_stretches"] == [], info
+    assert stats["dishes_served"] >= 3, info
