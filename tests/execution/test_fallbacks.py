@@ -52,3 +52,37 @@ def test_a_planner_that_keeps_failing_hands_over_to_the_default_planner(monkeypa
     names = asked
     assert names[-1] == DEFAULT_PLANNER and "fast-downward" in names
     assert pipeline.proven.info()["default_planner_fallbacks"] >= 1
+
+
+#: one lane (row 1): two cooks who can never pass each other
+LANE = {"name": "lane", "max_n_agent": 2, "agent_spawn_points": [[1, 1], [1, 5]],
+        "game_map": [[1, 3, 1, 6, 1, 5, 1], [7, 0, 0, 0, 0, 0, 1], [1, 1, 1, 1, 1, 1, 1]]}
+
+
+def _granularities(pipeline):
+    asked = []
+    once = pipeline.solve_once
+    pipeline.solve_once = lambda s, m, n, gran: asked.append(gran) or once(s, m, n, gran)
+    return asked
+
+
+def test_cooks_in_one_lane_are_planned_with_cells_then_stations_when_that_fails(monkeypatch):
+    _timeouts(monkeypatch)
+    state = new_state(make_rules("easy", map=LANE, n_agents=2, horizon=50), 0)
+    pipeline = compile_and_solve("fast-downward")
+    asked = _granularities(pipeline)
+    assert pipeline(state, (0, 1), "initial").status == "timeout"
+    # every open order, then the oldest, with cells; then the oldest with stations
+    assert asked == ["cells", "cells", "stations"]
+    asked.clear()
+    pipeline(state, (0,), "initial")  # one driven cook: nobody of ours to pass
+    assert set(asked) == {"stations"}
+
+
+def test_cooks_on_an_open_floor_are_planned_with_stations(monkeypatch):
+    _timeouts(monkeypatch)
+    state = new_state(make_rules("easy", n_agents=2, horizon=50), 0)
+    pipeline = compile_and_solve("fast-downward")
+    asked = _granularities(pipeline)
+    pipeline(state, (0, 1), "initial")
+    assert asked and set(asked) == {"stations"}
