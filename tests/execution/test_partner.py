@@ -535,35 +535,25 @@ def _held(state, cook: int, item: int) -> None:
     state.agent_hand[cook] = item
 
 
-def test_a_plating_step_whose_ingredient_was_carried_elsewhere_is_replanned():
+@pytest.mark.parametrize("loose", ["ingredient", "plate"])
+def test_a_plating_step_whose_item_lies_elsewhere_is_replanned(loose):
+    # the ingredient a partner carried on, or the plate it put down elsewhere than the plan
+    # had it (hard beside greedy, seed 2, steps 102-122: our cook stood 20 steps in front
+    # of the empty counter where the plan had the partner put the plate)
     state, plate, tomato = _chopped_tomato_and_plate()
-    _held(state, 0, plate)  # our cook brings the plate to the ingredient
-    counter, board = state.geo.flat(0, 1), state.geo.flat(0, 2)
-    state.cell_item[counter] = tomato
-    state.item_where[tomato], state.item_loc[tomato] = int(Where.CELL), counter
-    steps = [PlanStep(0, 0, "plate", board, (tomato, plate))]
+    item, held = (tomato, plate) if loose == "ingredient" else (plate, tomato)
+    _held(state, 0, held)  # our cook brings the other one
+    # the board, or the counter where the plan meets the partner; and where it lies instead
+    station, other = ((state.geo.flat(0, 2), state.geo.flat(0, 1)) if loose == "ingredient"
+                      else (state.geo.flat(0, 1), state.geo.flat(0, 3)))
+    state.cell_item[state.item_loc[item]] = -1
+    state.cell_item[other] = item
+    state.item_where[item], state.item_loc[item] = int(Where.CELL), other
+    steps = [PlanStep(0, 0, "plate", station, (tomato, plate))]
     assert check_queues(state, {0: deque(Task(s, frozenset()) for s in steps)}, set(), {},
                         set())[0]
     # where the step expects it, the plan fits
-    state.cell_item[counter], state.cell_item[board] = -1, tomato
-    state.item_loc[tomato] = board
-    assert check_queues(state, {0: deque(Task(s, frozenset()) for s in steps)}, set(), {},
-                        set()) == (False, 0)
-
-
-def test_a_plating_step_whose_plate_was_put_down_elsewhere_is_replanned():
-    # hard beside greedy, seed 2, steps 102-122: the plan had the partner put the plate it
-    # held on the counter where our cook plates the vegetable it holds; the partner put it
-    # down elsewhere, and our cook stood 20 steps in front of the empty counter
-    state, plate, tomato = _chopped_tomato_and_plate()
-    _held(state, 0, tomato)
-    counter, meet = state.item_loc[plate], state.geo.flat(0, 1)
-    assert counter != meet
-    steps = [PlanStep(0, 0, "plate", meet, (tomato, plate))]
-    assert check_queues(state, {0: deque(Task(s, frozenset()) for s in steps)}, set(), {},
-                        set())[0]
-    # where the step expects it, the plan fits
-    state.cell_item[counter], state.cell_item[meet] = -1, plate
-    state.item_loc[plate] = meet
+    state.cell_item[other], state.cell_item[station] = -1, item
+    state.item_loc[item] = station
     assert check_queues(state, {0: deque(Task(s, frozenset()) for s in steps)}, set(), {},
                         set()) == (False, 0)
