@@ -247,7 +247,8 @@ class _Pipeline:
                 return self.solved(compiled, result.plan, state, problem_state, agents,
                                    max_orders, gran, relaxed, t0)
             outcome = PlanOutcome(result.status, [], time.perf_counter() - t0, result.reason)
-            if lane and not attempts and gran == "cells" and result.status not in PROVEN_STATUSES:
+            if lane and not attempts and gran != self.granularity \
+                    and result.status not in PROVEN_STATUSES:
                 gran, attempts = self.granularity, [(1, state)]  # no cells plan in time
         return outcome
 
