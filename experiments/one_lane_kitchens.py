@@ -1,7 +1,6 @@
 """The generated test kitchens whose floor is one lane for the cooks at their spawn cells
-(``execution.paths.one_lane``): where the executive plans every cook with cells. Static
-kitchens only (a switching kitchen is planned with stations whatever its floor). Planner-free,
-seconds.
+(``execution.paths.cooks_in_one_lane``, the planning step's own test): where the executive
+plans every cook with cells. Planner-free, seconds.
 
     .venv/bin/python experiments/one_lane_kitchens.py --per-family 20 --cooks 2
 """
@@ -14,7 +13,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from ocplus_plan.execution.paths import one_lane  # noqa: E402
+from ocplus_plan.execution.paths import cooks_in_one_lane  # noqa: E402
 from ocplus_plan.sim import make_rules, new_state  # noqa: E402
 from ocplus_plan.sim.generate import FAMILIES  # noqa: E402
 
@@ -27,8 +26,7 @@ def lanes(per_family: int, cooks: int) -> list[str]:
             kitchen = f"gen:{family}:test:{i}"
             rules = make_rules("medium", map=kitchen, n_agents=cooks)
             state = new_state(rules, 0)
-            cells = [state.agent_pos[a] for a in range(cooks)]
-            if not rules.dynamic and one_lane(state.geo, state.geo.walkables[0], cells):
+            if cooks_in_one_lane(state, range(cooks)):
                 out.append(kitchen)
     return out
 

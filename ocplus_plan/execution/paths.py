@@ -103,6 +103,14 @@ def one_lane(geo: Geometry, walk: Sequence[bool], cells: Iterable[int]) -> bool:
     return len(floor) > 1 and max(degree) <= 2 and sum(degree) == 2 * (len(floor) - 1)
 
 
+def cooks_in_one_lane(state: State, agents: Sequence[int]) -> bool:
+    """Do two or more of ``agents`` stand on one lane (:func:`one_lane`) of a static kitchen?
+    The planning step then plans them with cells."""
+    geo = state.geo
+    return len(agents) > 1 and not state.rules.dynamic and one_lane(
+        geo, geo.walkables[state.layout_index], [state.agent_pos[a] for a in agents])
+
+
 def layout_schedule(state: State, anticipate: bool) -> WalkAt:
     """Walkability over relative time: the current layout, or (``anticipate``) the layout
     after the next due switch from the step it is due on (``state.next_switch``)."""
@@ -433,6 +441,7 @@ __all__ = [
     "PathResult",
     "Reservations",
     "check_paths",
+    "cooks_in_one_lane",
     "evasion_path",
     "hub_cells",
     "layout_schedule",

@@ -15,7 +15,7 @@ from typing import Any
 
 from ..errors import ConfigError
 from ..sim.state import State
-from .paths import one_lane
+from .paths import cooks_in_one_lane
 from .plans import PlanFunction, PlanOutcome, PlanStep
 from .proven import PROVEN_STATUSES, ProvenOutcomes, problem_key, reach_key
 from .schedule import KEEP, RELEASE, TAKE, schedule
@@ -212,10 +212,8 @@ class _Pipeline:
         t0 = time.perf_counter()
         # a deadlock means the stations abstraction (agents jump past each other) failed
         # here: plan this once with cells, whose moves respect occupancy, and follow them;
-        # so does every plan for several cooks on a floor that is one lane (:func:`one_lane`)
-        geo = state.geo
-        lane = len(agents) > 1 and not state.rules.dynamic and one_lane(
-            geo, geo.walkables[state.layout_index], [state.agent_pos[a] for a in agents])
+        # so does every plan for several cooks on one lane (:func:`.paths.cooks_in_one_lane`)
+        lane = cooks_in_one_lane(state, agents)
         gran = "cells" if (reason == "deadlock" or lane) and not self.anticipate \
             else self.granularity
         # a stall that lasts (``stall_all``): every driven cook modelled, one order at a time
