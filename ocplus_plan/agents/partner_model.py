@@ -12,7 +12,10 @@ controller does not drive, the cell it bumps next and the walk it takes there
   and what it holds: a cook that has neither moved nor changed what it holds for
   ``patience`` steps is expected to stay; one that moves is expected to do what a greedy
   cook would do in its place (carry what it holds where it is useful, or fetch what the
-  open orders need).
+  open orders need). Such a guess is dropped (the cook is expected to stay) once the cook
+  has come no closer to the guessed target for ``doubt`` steps: a cook that carries an item
+  round the kitchen is not on its way to the plate the guess names, and our cook would
+  otherwise keep the way clear for it and wait for an item that never comes.
 """
 
 from __future__ import annotations
@@ -28,9 +31,11 @@ from .greedy import GreedyAgent
 class PartnerModel:
     """Predicts the cooks a controller does not drive (see the module docstring)."""
 
-    def __init__(self, known: Controller | None = None, patience: int = 3) -> None:
+    def __init__(self, known: Controller | None = None, patience: int = 3,
+                 doubt: int = 10) -> None:
         self.known = known
         self.patience = patience
+        self.doubt = doubt
         self.cooks: tuple[int, ...] = ()
 
     @property
@@ -45,6 +50,8 @@ class PartnerModel:
         self.last = {c: (state.agent_pos[c], state.agent_hand[c]) for c in self.cooks}
         self.still = dict.fromkeys(self.cooks, 0)
         self.seen_t = state.t
+        #: cook -> (guessed target, closest walk to it, steps since it came closer, step seen)
+        self.chase: dict[int, tuple[int, int, int, int]] = {}
 
     def _watch(self, state: State) -> None:
         """Count the steps each cook has stood still with the same hand."""
@@ -76,9 +83,25 @@ class PartnerModel:
             step, path = self.shadow.step_towards(view, pos, goal[0], others)
             if step is None:
                 step, path = self.shadow.step_towards(view, pos, goal[0], frozenset())
+            if not self.by_policy and self._astray(state.t, c, goal[0],
+                                                   len(path) if step is not None else 1 << 30):
+                out[c] = Prediction(c, None)
+                continue
             out[c] = Prediction(c, goal[0], tuple(path) if step is not None else (),
                                 self.by_policy)
         return out
+
+    def _astray(self, t: int, cook: int, target: int, walk: int) -> bool:
+        """Has ``cook`` come no closer to the guessed ``target`` (``walk`` steps away now)
+        for :attr:`doubt` steps? Counted once per step, whatever the number of calls."""
+        last, best, since, seen = self.chase.get(cook, (-1, 0, 0, -1))
+        if t != seen:
+            if last != target or walk < best:
+                best, since = walk, 0
+            else:
+                since += 1
+            self.chase[cook] = (target, best, since, t)
+        return self.chase[cook][2] >= self.doubt
 
 
 __all__ = ["PartnerModel"]

@@ -141,6 +141,49 @@ def test_a_partner_walking_down_the_corridor_has_its_walk_reserved():
     assert reserved_walks(state, {1: pred}, {0: None})[1] == (state.agent_pos[1], *pred.path[:8])
 
 
+# the partner takes the tomato at the crate, far from the only board
+WANDER = {"name": "wander", "max_n_agent": 2,
+          "game_map": [[1, 1, 1, 1, 1, 1, 1],
+                       [3, 0, 0, 0, 0, 0, 6],
+                       [1, 0, 0, 0, 0, 0, 1],
+                       [1, 7, 1, 1, 1, 5, 1]],
+          "agent_spawn_points": [[2, 5], [1, 1]]}
+
+
+def _wandering_partner():
+    state = _state(WANDER)
+    transition(state, [S, L])  # the partner takes the tomato
+    assert state.agent_hand[1] >= 0
+    model = PartnerModel(StayAgent())
+    model.reset(state, [0])
+    board = state.geo.flat(1, 6)
+    assert model(state)[1].target == board  # guessed: it carries the tomato to the board
+    return state, model, board
+
+
+def test_a_guess_the_partner_does_not_follow_is_dropped():
+    # it paces up and down beside the crate, never closer to the board: after ``doubt``
+    # steps it is expected to stay (our cook no longer keeps the way clear for it)
+    state, model, board = _wandering_partner()
+    for k in range(1, model.doubt + 1):
+        transition(state, [S, int(Action.DOWN) if k % 2 else int(Action.UP)])
+        pred = model(state)[1]
+        assert model(state)[1] == pred  # counted once per step, however often it is asked
+        assert pred.target == (board if k < model.doubt else None), k
+    assert reserved_walks(state, {1: pred}, {0: None}) == {1: state.agent_pos[1]}
+    # once it heads for the board the guess holds again
+    transition(state, [S, int(Action.RIGHT)])
+    transition(state, [S, int(Action.RIGHT)])
+    assert model(state)[1].target == board
+
+
+def test_a_partner_on_its_way_keeps_its_guessed_target():
+    state, model, board = _wandering_partner()
+    for _ in range(4):  # right along the row to the board: closer every step
+        transition(state, [S, int(Action.RIGHT)])
+        assert model(state)[1].target == board
+
+
 def test_a_taken_item_is_replaced_by_an_equivalent_one_in_the_plan():
     # two tomato crates: the partner takes the tomato of the left one, which the plan
     # meant to fetch; the plan fetches the right one instead and keeps every other step
