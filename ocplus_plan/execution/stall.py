@@ -14,8 +14,10 @@ Progress between two states (:class:`ProgressMeter`) is any of:
 - an item moved closer to where it goes next than it has been since the last progress:
   a raw vegetable to a board, a raw steak to a pan, a chopped or cooked ingredient an open
   order asks for to a clean plate, a clean plate holding food to the window, a dirty plate
-  to a sink. Distances are walks over the floor of every layout. Carrying an item to and
-  fro is no progress: only a new low counts.
+  to a sink. Distances are walks over the floor of every layout and, with two cooks or
+  more, across a plain counter between two floor cells (one step onto the counter, one off:
+  an item handed over from one cook to another, as on a kitchen split in halves). Carrying
+  an item to and fro is no progress: only a new low counts.
 
 :class:`StallWatch` turns that into stretches: ``stretch`` steps or more with open orders
 and no progress are a stall (recorded as ``(first, last)`` step).
@@ -23,8 +25,11 @@ and no progress are a stall (recorded as ``(first, last)`` step).
 
 from __future__ import annotations
 
+from collections import deque
+from collections.abc import Iterable, Sequence
+
 from ..sim.codes import Cell, Item, ItemState, Where
-from ..sim.queries import distances, interaction_spots, walkable_in_any_layout
+from ..sim.queries import interaction_spots, walkable_in_any_layout
 from ..sim.state import State
 
 #: steps with no progress toward any open order that make a stall
@@ -37,6 +42,26 @@ _FRESH, _CLEAN, _DIRTY = int(ItemState.FRESH), int(ItemState.CLEAN), int(ItemSta
 _COOKED, _BURNT = int(ItemState.COOKED), int(ItemState.BURNT)
 
 
+def item_distances(neighbors: Sequence[Sequence[int]], walk: Sequence[bool],
+                   bridge: Sequence[bool], sources: Iterable[int]) -> list[int]:
+    """Steps an item takes from each cell to the nearest of ``sources`` (-1: never): walks
+    over the ``walk`` floor, and across a ``bridge`` counter only from floor to floor (put
+    down on one side, taken on from the other; never from counter to counter)."""
+    dist = [-1] * len(walk)
+    todo: deque[int] = deque()
+    for c in sources:
+        if dist[c] < 0:
+            dist[c] = 0
+            todo.append(c)
+    while todo:
+        u = todo.popleft()
+        for v in neighbors[u]:
+            if v >= 0 and dist[v] < 0 and (walk[v] or (bridge[v] and walk[u])):
+                dist[v] = dist[u] + 1
+                todo.append(v)
+    return dist
+
+
 class ProgressMeter:
     """Says whether a state made progress toward the open orders since the last one."""
 
@@ -44,6 +69,9 @@ class ProgressMeter:
         geo = state.geo
         self.nbrs = geo.neighbors
         self.walk = walkable_in_any_layout(geo)
+        counter = int(Cell.COUNTER)  # a counter in every layout, with a cook to hand over to
+        self.bridge = tuple(state.n_agents >= 2 and all(t[c] == counter for t in geo.terrains)
+                            for c in range(len(self.walk)))
         terrain = geo.terrains[0]
         self._to: dict[int, list[int]] = {}
         self.tables = state.rules.tables
@@ -57,7 +85,8 @@ class ProgressMeter:
     def _walk_to(self, cells: list[int]) -> list[int]:
         spots = {s for c in cells for s in interaction_spots(self.nbrs, self.walk, c)}
         spots |= {c for c in cells if self.walk[c]}
-        return distances(self.nbrs, self.walk, spots) if spots else [-1] * len(self.nbrs)
+        return item_distances(self.nbrs, self.walk, self.bridge, spots) if spots else \
+            [-1] * len(self.nbrs)
 
     def _facts(self, state: State) -> tuple:
         """What only progress changes: dishes, item states and ticks, plate sizes."""
@@ -79,7 +108,7 @@ class ProgressMeter:
     def _distance(self, d: list[int], cell: int, extra: int) -> int:
         if extra == 0:
             return d[cell]
-        near = [d[n] for n in self.nbrs[cell] if n >= 0 and d[n] >= 0]
+        near = [d[n] for n in self.nbrs[cell] if n >= 0 and d[n] >= 0 and self.walk[n]]
         return min(near) + 1 if near else -1
 
     def _goal_map(self, state: State, item: int, needed: set[int],
@@ -110,7 +139,7 @@ class ProgressMeter:
             return None
         spots = {s for c in cells for s in ([c] if self.walk[c] else
                                             interaction_spots(self.nbrs, self.walk, c))}
-        return distances(self.nbrs, self.walk, spots)
+        return item_distances(self.nbrs, self.walk, self.bridge, spots)
 
     def update(self, state: State) -> bool:
         """Did ``state`` progress since the state of the last call (or the first one)?"""
@@ -187,4 +216,4 @@ class StallWatch:
         return {"stall_stretches": out, "longest_stall": longest}
 
 
-__all__ = ["STALL_PATIENCE", "STALL_STRETCH", "ProgressMeter", "StallWatch"]
+__all__ = ["STALL_PATIENCE", "STALL_STRETCH", "ProgressMeter", "StallWatch", "item_distances"]

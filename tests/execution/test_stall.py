@@ -37,6 +37,47 @@ def test_carrying_an_item_toward_its_station_is_progress_and_to_and_fro_is_not()
     assert meter.update(state)  # a new low
 
 
+# two halves joined by the counters of column 3: the tomato crate and cook 0 on the right,
+# the board and cook 1 on the left
+HALVES = {"name": "halves", "game_map": [[1, 6, 1, 1, 1, 1, 1],
+                                         [1, 0, 0, 1, 0, 0, 3],
+                                         [1, 0, 0, 1, 0, 0, 1],
+                                         [1, 7, 5, 1, 1, 1, 1]],
+          "agent_spawn_points": [[1, 5], [1, 2]]}
+
+
+def _halves(cooks: int):
+    rules = make_rules("easy", map=HALVES, n_agents=cooks, recipes=["tomato"], horizon=40)
+    return new_state(rules, 0)
+
+
+def test_carrying_an_item_toward_the_counter_it_is_handed_over_on_is_progress():
+    # the board is reached only through a counter between the halves: with a cook on the
+    # other side, the tomato carried to that counter, put on it and taken on from the other
+    # side comes nearer the board at each step
+    state = _halves(cooks=2)
+    meter = ProgressMeter(state)
+    transition(state, [R, S])  # take the tomato from its crate
+    assert state.agent_hand[0] >= 0
+    meter.update(state)
+    transition(state, [L, S])  # left: in front of the counter
+    assert meter.update(state)
+    transition(state, [L, S])  # put it on the counter
+    assert meter.update(state)
+    transition(state, [S, R])  # the other cook takes it on
+    assert state.agent_hand[1] >= 0
+    assert meter.update(state)
+
+
+def test_a_lone_cook_carrying_an_item_to_a_counter_it_cannot_hand_over_on_makes_no_progress():
+    state = _halves(cooks=1)
+    meter = ProgressMeter(state)
+    transition(state, [R])
+    meter.update(state)
+    transition(state, [L])
+    assert not meter.update(state)  # nobody takes it on from the other side
+
+
 def test_a_cook_standing_still_is_one_stall_of_the_whole_episode():
     state = _lane(horizon=50)
     watch = StallWatch(state)
