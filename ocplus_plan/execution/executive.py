@@ -1,11 +1,11 @@
 """The executive: run a plan in the simulator, watch the world, and replan when it disagrees.
 
-A plan arrives as a list of :class:`PlanStep` (one interaction each: "agent A bumps
-cell X to pick up / put down / chop / ... items I"); moves in the plan are not
-needed, because every step names the cell to bump and :mod:`.paths` routes the
-agents there with space-time reservations. Steps become per-agent task queues;
-a step waits for the earlier steps of other agents that touch the same cell or
-item (a plan's causal links, recovered from the sequential order).
+A plan arrives as a list of :class:`PlanStep` (one interaction each: "agent A bumps cell X
+to pick up / put down / chop / ... items I"); moves in the plan are not needed, because
+every step names the cell to bump and :mod:`.paths` routes the agents there with space-time
+reservations (a cell a partner keeps stepping into with our cook: :mod:`.livelock`). Steps
+become per-agent task queues; a step waits for the earlier steps of other agents that touch
+the same cell or item (a plan's causal links, recovered from the sequential order).
 
 Each call to :meth:`Executive.act` reads the state, settles the bumps of the
 previous step (the effect is checked on the state, so it works with or without
@@ -53,7 +53,7 @@ from .plans import (
     Policy,
     causal_dependencies,
 )
-from .livelock import LivelockWatch
+from .livelock import Contests, LivelockWatch
 from .partner import (PartnerModel, Prediction, brings, check_queues, hand_off, plan_around,
                       reserved_walks, shut_out, vacate)
 from .stall import STALL_PATIENCE, StallWatch
@@ -61,7 +61,7 @@ from .strategy import give_way, rejoining, stall_strategy
 from .tasks import BumpRecord, Task, already_done, pan_eta, ready, snapshot
 
 _PAN = int(Cell.PAN)
-_HAND = int(Where.HAND)
+_HAND, _STAY = int(Where.HAND), int(Action.STAY)
 _RAW, _CHOPPED, _CLEAN = int(ItemState.FRESH), int(ItemState.CHOPPED), int(ItemState.CLEAN)
 
 
@@ -133,12 +133,11 @@ class Executive:
         self.planning_time = 0.0
         self.act_time = 0.0
         self.steps_done = 0
-        self.failed_bumps = 0
-        self.messages_lost = 0
-        self.blocked_moves = 0
+        self.failed_bumps = self.messages_lost = self.blocked_moves = 0
         self.plan_id = 0
         self.now = state.t
         self.livelock = LivelockWatch(2 * self.block_patience)
+        self.contests = Contests()  # a cell a partner steps into as our cook does
         #: cooks giving way after a livelock: left out of the plans until that step
         self.yielding: dict[int, int] = {}
         self.gave_way = 0
@@ -550,7 +549,7 @@ class Executive:
                                horizon=self.path_horizon, walk_at=walk_at)
             for a, res in paths.items():
                 actions[a] = res.next_action(geo)
-        return {a: actions.get(a, int(Action.STAY)) for a in self.agent_ids}
+        return self.contests.settle(state, {a: actions.get(a, _STAY) for a in self.agent_ids})
 
     def _needed_by_other(self, state: State, agent: int, cell: int) -> bool:
         """Does another driven agent's ready task have ``cell`` as its only way in?"""

@@ -9,9 +9,20 @@ work goes to the others, and a cook that keeps livelocking is swapped for the ne
 
 The watch also records the stretches the benchmark checks (``stretch`` steps or more with
 a ``blocked`` trigger and no plan step finished).
+
+:class:`Contests` handles the smallest livelock, a cell two cooks step into at once: both
+stay where they are (docs/spec.md, section 5), and a partner that presses on holds our cook
+in place for good (a learned partner stepping right into the free cell our cook stepped up
+into held it 17 steps on ``gen:corridor:test:0``, seed 2). After ``patience`` such steps
+in a row our cook stays one step and the partner gets the cell.
 """
 
 from __future__ import annotations
+
+from collections.abc import Mapping
+
+from ..sim.codes import Action
+from ..sim.state import State
 
 #: steps of a stretch with blocked replans and nothing done that counts as a livelock
 LIVELOCK_STRETCH = 30
@@ -59,4 +70,35 @@ class LivelockWatch:
                 "livelock_stretches": list(self.stretches)}
 
 
-__all__ = ["LIVELOCK_STRETCH", "LivelockWatch"]
+class Contests:
+    """Moves of our cooks into a free cell that another cook stepped into at the same time
+    (see the module docstring)."""
+
+    def __init__(self, patience: int = 2) -> None:
+        self.patience = patience
+        self.tried: dict[int, tuple[int, int]] = {}  # cook -> (its cell, the cell it moved to)
+        self.count: dict[int, int] = {}  # cook -> contested moves in a row
+
+    def settle(self, state: State, actions: Mapping[int, int]) -> dict[int, int]:
+        """``actions`` (cook -> action), with STAY for a cook whose last ``patience`` moves
+        were contested; the moves are remembered for the next step's check."""
+        out = dict(actions)
+        walkable = state.geo.walkables[state.layout_index]
+        for a, action in actions.items():
+            pos, last = state.agent_pos[a], self.tried.pop(a, None)
+            contested = last is not None and last[0] == pos and last[1] not in \
+                state.agent_pos and any(n >= 0 and n != pos and n in state.agent_pos
+                                        for n in state.geo.neighbors[last[1]])
+            self.count[a] = self.count.get(a, 0) + 1 if contested else 0
+            if self.count[a] >= self.patience:
+                self.count[a] = 0
+                out[a] = int(Action.STAY)
+                continue
+            cell = state.geo.neighbors[pos][action] if action < len(state.geo.neighbors[pos]) \
+                else -1
+            if cell >= 0 and walkable[cell]:
+                self.tried[a] = (pos, cell)
+        return out
+
+
+__all__ = ["LIVELOCK_STRETCH", "Contests", "LivelockWatch"]

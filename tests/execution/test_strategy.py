@@ -6,8 +6,10 @@ from __future__ import annotations
 from collections import Counter, deque
 from types import SimpleNamespace
 
+from ocplus_plan.execution.livelock import Contests
 from ocplus_plan.execution.strategy import GIVE_WAY_SPANS, give_way, rejoining, stall_strategy
-from ocplus_plan.sim import make_rules, new_state
+from ocplus_plan.sim import make_rules, new_state, transition
+from ocplus_plan.sim.codes import Action
 
 KITCHEN = {"name": "two", "max_n_agent": 2,
            "game_map": [[1, 1, 6, 1, 1], [3, 0, 0, 0, 7], [1, 5, 1, 1, 1]],
@@ -44,3 +46,37 @@ def test_a_stall_gives_way_first_then_models_every_cook():
     assert stall_strategy(ex, state, 54) == "stall_all"
     assert ex.stall_strategies["reallocate"] == 1 and not ex.yielding
     assert not any(ex.queues.values())  # re-allocated from scratch
+
+
+# our cook below the free cell (1, 2), a partner left of it: both step into it
+CROSS = {"name": "cross", "max_n_agent": 2,
+         "game_map": [[1, 3, 6, 7, 1],
+                      [1, 0, 0, 0, 5],
+                      [1, 1, 0, 1, 1],
+                      [1, 1, 1, 1, 1]],
+         "agent_spawn_points": [[2, 2], [1, 1]]}
+
+
+def test_a_cook_whose_move_a_partner_keeps_contesting_stays_a_step_and_lets_it_through():
+    state = new_state(make_rules("easy", map=CROSS, n_agents=2, recipes=["tomato"]), 0)
+    start, cell = list(state.agent_pos), state.geo.flat(1, 2)
+    up, right, stay = int(Action.UP), int(Action.RIGHT), int(Action.STAY)
+    watch = Contests(patience=2)
+    for _ in range(2):  # a contested cell leaves both where they are (docs/spec.md, 5)
+        ours = watch.settle(state, {0: up})[0]
+        assert ours == up
+        transition(state, [ours, right])
+        assert list(state.agent_pos) == start
+    assert watch.settle(state, {0: up}) == {0: stay}  # it gives the cell up for a step
+    transition(state, [stay, right])
+    assert state.agent_pos[1] == cell
+    assert watch.settle(state, {0: up}) == {0: up}  # a new count
+
+
+def test_a_move_into_a_cell_a_partner_stands_on_is_no_contest():
+    state = new_state(make_rules("easy", map=CROSS, n_agents=2, recipes=["tomato"]), 0)
+    transition(state, [int(Action.STAY), int(Action.RIGHT)])  # the partner takes the cell
+    watch = Contests(patience=2)
+    for _ in range(4):  # waiting behind a cook that stays is the paths' business, not this
+        assert watch.settle(state, {0: int(Action.UP)}) == {0: int(Action.UP)}
+        transition(state, [int(Action.UP), int(Action.STAY)])
