@@ -130,8 +130,7 @@ class Executive:
         self.statuses: Counter[str] = Counter()
         self.failure_messages: Counter[str] = Counter()  # why planner calls failed
         self.planner_calls = 0
-        self.planning_time = 0.0
-        self.act_time = 0.0
+        self.planning_time = self.act_time = 0.0
         self.steps_done = 0
         self.failed_bumps = self.messages_lost = self.blocked_moves = 0
         self.plan_id = 0
@@ -549,7 +548,9 @@ class Executive:
                                horizon=self.path_horizon, walk_at=walk_at)
             for a, res in paths.items():
                 actions[a] = res.next_action(geo)
-        return self.contests.settle(state, {a: actions.get(a, _STAY) for a in self.agent_ids})
+        out = {a: actions.get(a, _STAY) for a in self.agent_ids}  # greedy settles its own
+        return out if getattr(self.partner_model, "by_policy", False) else \
+            self.contests.settle(state, out)
 
     def _needed_by_other(self, state: State, agent: int, cell: int) -> bool:
         """Does another driven agent's ready task have ``cell`` as its only way in?"""

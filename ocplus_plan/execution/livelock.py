@@ -14,7 +14,8 @@ a ``blocked`` trigger and no plan step finished).
 stay where they are (docs/spec.md, section 5), and a partner that presses on holds our cook
 in place for good (a learned partner stepping right into the free cell our cook stepped up
 into held it 17 steps on ``gen:corridor:test:0``, seed 2). After ``patience`` such steps
-in a row our cook stays one step and the partner gets the cell.
+in a row our cook stays one step and the partner gets the cell. Not beside a partner the
+executive predicts by its own policy (greedy): it steps aside itself.
 """
 
 from __future__ import annotations
