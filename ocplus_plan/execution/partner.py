@@ -530,17 +530,18 @@ def _lies_at(state: State, item: int, cell: int) -> bool:
 
 def hand_off(state: State, cook: int, index: int) -> list[Task]:
     """The step of a cook that gives way beside partners: put what it holds on the nearest
-    free plain counter it reaches that a partner reaches too (a partner can take it on;
-    greedy gathers onto a plate lying free, never onto one in somebody else's hand); none
-    when its hand is empty or no such counter exists."""
+    free plain counter it reaches round the other cooks (one behind a partner standing in a
+    lane is never reached) that a partner reaches too (a partner can take it on; greedy
+    gathers onto a plate lying free, never onto one in somebody else's hand); none when its
+    hand is empty or no such counter exists."""
     held = state.agent_hand[cook]
     if held < 0:
         return []
     geo = state.geo
     walk = geo.walkables[state.layout_index]
-    mine = distances(geo.neighbors, walk, [state.agent_pos[cook]])
-    theirs = distances(geo.neighbors, walk, [p for b, p in enumerate(state.agent_pos)
-                                             if b != cook])
+    others = [p for b, p in enumerate(state.agent_pos) if b != cook]
+    mine = distances(geo.neighbors, walk, [state.agent_pos[cook]], blocked=others)
+    theirs = distances(geo.neighbors, walk, others)
     best = min(((d, c) for c, spots, d in _free_counters(state, mine)
                 if any(theirs[n] >= 0 for n in spots)), default=None)
     if best is None:

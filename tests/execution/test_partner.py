@@ -600,3 +600,27 @@ def test_a_plating_step_whose_item_lies_elsewhere_is_replanned(loose):
     state.item_loc[item] = station
     assert check_queues(state, {0: deque(Task(s, frozenset()) for s in steps)}, set(), {},
                         set()) == (False, 0)
+
+
+# a room on the left, a lane to the window on the right; the partner stands in the lane's entry
+ROOM_AND_LANE = {"name": "room-and-lane", "max_n_agent": 2,
+                 "game_map": [[-1, 6, -1, -1, 1, -1],
+                              [3, 0, 0, 0, 0, 7],
+                              [-1, 0, 0, -1, -1, -1],
+                              [-1, 0, 0, -1, -1, -1],
+                              [-1, 0, 0, -1, -1, -1],
+                              [-1, 1, 5, -1, -1, -1]],
+                 "agent_spawn_points": [[1, 1], [1, 3]]}
+
+
+def test_a_hand_off_is_to_a_counter_our_cook_reaches_round_the_partner():
+    """The counter nearest in walks that ignore cooks lies behind the partner standing in the
+    lane (our cook could only reach it through the partner): the item goes on the room's
+    counter, which both cooks reach."""
+    state = _state(ROOM_AND_LANE)
+    transition(state, [L, S])  # our cook takes the tomato from its crate
+    tomato = state.agent_hand[0]
+    assert tomato >= 0
+    put = hand_off(state, 0, 7)[0]
+    assert (put.step.kind, put.step.items) == ("putdown", (tomato,))
+    assert put.step.target == state.geo.flat(5, 1)
