@@ -55,7 +55,7 @@ from .plans import (
 )
 from .livelock import Contests, LivelockWatch
 from .partner import (PartnerModel, Prediction, brings, check_queues, hand_off, plan_around,
-                      reserved_walks, shut_out, vacate)
+                      planned_in_hand, reserved_walks, shut_out, vacate)
 from .stall import STALL_PATIENCE, StallWatch
 from .strategy import give_way, rejoining, stall_strategy
 from .tasks import BumpRecord, Task, already_done, pan_eta, ready, snapshot
@@ -401,8 +401,8 @@ class Executive:
         for q in queues.values():
             for task in q:
                 task.deps = frozenset(d for d in task.deps if d in mine)
-        self.done_steps = set()
-        self.warned = set()
+        self.done_steps = set()  # (an item a partner holds now is no news to the plan)
+        self.warned = set() if state is None else planned_in_hand(state, queues, self._predict(state))
         for a in self.agent_ids:
             if self.deliver_plan(a):
                 self.queues[a] = queues[a]

@@ -424,6 +424,28 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
     return False, repairs
 
 
+def planned_in_hand(state: State, queues: Mapping[int, deque[Task]],
+                    predictions: Mapping[int, Prediction]) -> set:
+    """The answers a plan made from ``state`` holds already, as :func:`check_queues` keys
+    them: every item the plan uses lay where it lies now when the plan was made (the planner
+    counted on a partner for one in its hand, or for carrying one to where the plan takes
+    it), so the check asks again only once the item has moved. Not an item a partner holds
+    with a predicted target: the plan was made from the state that bump leaves. Beside a
+    learned partner that carries a steak about (``gen:multiroom:test:0``, seed 4) the check
+    answered ``taken`` at 67 steps, each a planner call for the same plan."""
+    keys, seen = set(), delivering(state, predictions)
+    for task in sorted((t for q in queues.values() for t in q), key=lambda t: t.step.index):
+        for i in task.step.items:
+            if i in seen:
+                continue
+            seen.add(i)
+            where, loc = state.item_where[i], state.item_loc[i]
+            pred = predictions.get(loc) if where == _HAND else None
+            if pred is None or pred.target is None:
+                keys.add(("taken", task.step.index, i, where, loc))
+    return keys
+
+
 def _plated(state: State, items: tuple[int, ...]) -> bool:
     """Do the ingredients of a plating step (``items``: a plate and what goes on it) lie on
     that plate already?"""
@@ -597,5 +619,6 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
 __all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "brings",
            "blocked_geometry", "check_queues", "delivering", "expected_by_plan", "hand_off",
            "meeting_counters", "onto_our_plate", "ours_first", "partner_holding", "plan_around",
+           "planned_in_hand",
            "predicted_state", "repair_taken", "reserved_walks", "shut_out", "sooner_jointly",
            "substitute", "vacate"]

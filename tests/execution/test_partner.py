@@ -18,6 +18,7 @@ from ocplus_plan.execution.partner import (
     delivering,
     hand_off,
     onto_our_plate,
+    planned_in_hand,
     ours_first,
     predicted_state,
     repair_taken,
@@ -624,3 +625,36 @@ def test_a_hand_off_is_to_a_counter_our_cook_reaches_round_the_partner():
     put = hand_off(state, 0, 7)[0]
     assert (put.step.kind, put.step.items) == ("putdown", (tomato,))
     assert put.step.target == state.geo.flat(5, 1)
+
+
+def test_a_plan_made_while_the_partner_holds_its_item_is_not_checked_again_for_it():
+    """The partner holds the tomato and nothing says where it takes it: a plan made from
+    that state counts on the partner for it, so the item in the partner's hand is no news,
+    and the check does not ask for the same plan again every step; once the partner has
+    put it down somewhere else, the check answers again."""
+    state, tomato = _carrying_partner()
+    board = state.geo.flat(0, 2)
+    steps = [PlanStep(0, 0, "chop", board, (tomato,))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    unknown = {1: Prediction(1, None)}
+    assert check_queues(state, queues, set(), unknown, set()) == (True, 0)
+    known = planned_in_hand(state, queues, unknown)
+    assert check_queues(state, queues, set(), unknown, set(known)) == (False, 0)
+    # with a predicted target the plan was made from the state that bump leaves: no key
+    assert planned_in_hand(state, queues, {1: Prediction(1, state.geo.flat(1, 4))}) == set()
+    transition(state, [S, int(Action.UP)])  # the partner puts it on the counter above
+    assert check_queues(state, queues, set(), unknown, set(known))[0]
+
+
+def test_a_plan_that_counts_on_a_partner_to_bring_its_plate_is_not_checked_again_for_it():
+    """The plan's plating step takes the tomato onto a plate at the board, where a partner
+    (in the joint plan) is to bring the plate: where the plate lies was known when the plan
+    was made, so only its moving is news."""
+    state = _state(KITCHEN)
+    board, plate = state.geo.flat(0, 2), state.cell_item[state.geo.flat(2, 1)]
+    steps = [PlanStep(0, 0, "plate", board, (plate,))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    unknown = {1: Prediction(1, None)}
+    known = planned_in_hand(state, queues, unknown)
+    assert check_queues(state, queues, set(), unknown, set()) == (True, 0)
+    assert check_queues(state, queues, set(), unknown, set(known)) == (False, 0)
