@@ -395,7 +395,7 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
             # once per step, item and place: an item the partner put down and takes up
             # again later (it chopped it, then carries it on) is checked again
             where, loc = state.item_where[i], state.item_loc[i]
-            key = ("taken", task.step.index, i, where, loc)
+            key = _taken_key(state, task.step.index, i, predictions)
             if i in seen:
                 continue
             seen.add(i)  # only the first queued step that uses it (checked or not)
@@ -424,14 +424,26 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
     return False, repairs
 
 
+def _taken_key(state: State, index: int, item: int,
+               predictions: Mapping[int, Prediction]) -> tuple:
+    """What :func:`check_queues` has answered about ``item`` for the step ``index``: the
+    item's place, and for one in a partner's hand whether that partner's bump is predicted
+    (a prediction that comes is news: the plan is checked against it)."""
+    where, loc = state.item_where[item], state.item_loc[item]
+    pred = predictions.get(loc) if where == _HAND else None
+    unpredicted = where == _HAND and (pred is None or pred.target is None)
+    return ("taken", index, item, where, loc) + (("unpredicted",) if unpredicted else ())
+
+
 def planned_in_hand(state: State, queues: Mapping[int, deque[Task]],
                     predictions: Mapping[int, Prediction]) -> set:
     """The answers a plan made from ``state`` holds already, as :func:`check_queues` keys
     them: every item the plan uses lay where it lies now when the plan was made (the planner
-    counted on a partner for one in its hand, or for carrying one to where the plan takes
-    it), so the check asks again only once the item has moved. Not an item a partner holds
-    with a predicted target: the plan was made from the state that bump leaves. Beside a
-    learned partner that carries a steak about (``gen:multiroom:test:0``, seed 4) the check
+    counted on a partner for one in its hand with no predicted bump, or for carrying one to
+    where the plan takes it), so the check asks again only once the item has moved or a
+    bump is predicted for the partner holding it. Not an item a partner holds with a
+    predicted bump: the plan was made from the state that bump leaves. Beside a learned
+    partner that carries a steak about (``gen:multiroom:test:0``, seed 4) the check
     answered ``taken`` at 67 steps, each a planner call for the same plan."""
     keys, seen = set(), delivering(state, predictions)
     for task in sorted((t for q in queues.values() for t in q), key=lambda t: t.step.index):
@@ -439,10 +451,9 @@ def planned_in_hand(state: State, queues: Mapping[int, deque[Task]],
             if i in seen:
                 continue
             seen.add(i)
-            where, loc = state.item_where[i], state.item_loc[i]
-            pred = predictions.get(loc) if where == _HAND else None
-            if pred is None or pred.target is None:
-                keys.add(("taken", task.step.index, i, where, loc))
+            pred = predictions.get(state.item_loc[i])
+            if state.item_where[i] != _HAND or pred is None or pred.target is None:
+                keys.add(_taken_key(state, task.step.index, i, predictions))
     return keys
 
 

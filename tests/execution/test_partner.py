@@ -658,3 +658,14 @@ def test_a_plan_that_counts_on_a_partner_to_bring_its_plate_is_not_checked_again
     known = planned_in_hand(state, queues, unknown)
     assert check_queues(state, queues, set(), unknown, set()) == (True, 0)
     assert check_queues(state, queues, set(), unknown, set(known)) == (False, 0)
+
+
+def test_a_bump_predicted_for_the_partner_holding_the_item_is_news():
+    """The plan was made while nothing said where the partner takes the tomato; once its
+    bump is predicted the plan is checked against it again."""
+    state, tomato = _carrying_partner()
+    steps = [PlanStep(0, 0, "chop", state.geo.flat(0, 2), (tomato,))]
+    queues = {0: deque(Task(s, frozenset()) for s in steps)}
+    known = planned_in_hand(state, queues, {1: Prediction(1, None)})
+    onto_counter = {1: Prediction(1, state.geo.flat(0, 1))}
+    assert check_queues(state, queues, set(), onto_counter, set(known)) == (True, 0)
