@@ -289,14 +289,14 @@ class Executive:
         if reason == "stall":
             reason = stall_strategy(self, state, self.stall_steps)
         if reason == "livelock" and not give_way(self, state):
-            # a lone cook blocked by cooks it does not drive: it drops its plan, puts what
-            # it holds where a partner can take it on (:func:`~.partner.hand_off`), steps
-            # aside and waits before it plans again (nobody of ours can give way)
+            # a lone cook blocked by cooks it does not drive drops its plan, puts what it holds
+            # where a partner takes it on (:func:`~.partner.hand_off`), steps aside and waits
             self.replans.append((state.t, reason))
             self.unhandled.clear()
             for a in self.agent_ids:
                 self.queues[a].clear()
-                self.queues[a].extend(hand_off(state, a, self.plan_id * 100_000 + 99_999))
+                self.queues[a].extend(hand_off(state, a, self.plan_id * 100_000 + 99_999,
+                                               self._predict(state)))
             self.next_retry = state.t + 2 * self.block_patience
             return
         self.planner_calls += 1

@@ -561,19 +561,24 @@ def _lies_at(state: State, item: int, cell: int) -> bool:
     return where in (_CELL, _WAITING) and loc == cell
 
 
-def hand_off(state: State, cook: int, index: int) -> list[Task]:
+def hand_off(state: State, cook: int, index: int,
+             predictions: Mapping[int, Prediction] | None = None) -> list[Task]:
     """The step of a cook that gives way beside partners: put what it holds on the nearest
-    free plain counter it reaches round the other cooks (one behind a partner standing in a
-    lane is never reached) that a partner reaches too (a partner can take it on; greedy
-    gathers onto a plate lying free, never onto one in somebody else's hand); none when its
-    hand is empty or no such counter exists."""
+    free plain counter it reaches round the partners guessed to stay (one behind a partner
+    standing in a lane is never reached; one a partner on its way stands in front of is, and
+    so is one a greedy partner stands in front of: its policy steps off for a cook waiting
+    beside it) that a partner reaches too (a partner can take it on; greedy gathers onto a plate lying
+    free, never onto one in somebody else's hand); none when its hand is empty or no such
+    counter exists."""
     held = state.agent_hand[cook]
     if held < 0:
         return []
     geo = state.geo
     walk = geo.walkables[state.layout_index]
     others = [p for b, p in enumerate(state.agent_pos) if b != cook]
-    mine = distances(geo.neighbors, walk, [state.agent_pos[cook]], blocked=others)
+    stay = [state.agent_pos[b] for b, p in (predictions or {}).items()
+            if b != cook and p.target is None and not p.by_policy]
+    mine = distances(geo.neighbors, walk, [state.agent_pos[cook]], blocked=stay)
     theirs = distances(geo.neighbors, walk, others)
     best = min(((d, c) for c, spots, d in _free_counters(state, mine)
                 if any(theirs[n] >= 0 for n in spots)), default=None)

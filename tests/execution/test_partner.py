@@ -615,16 +615,21 @@ ROOM_AND_LANE = {"name": "room-and-lane", "max_n_agent": 2,
 
 
 def test_a_hand_off_is_to_a_counter_our_cook_reaches_round_the_partner():
-    """The counter nearest in walks that ignore cooks lies behind the partner standing in the
-    lane (our cook could only reach it through the partner): the item goes on the room's
-    counter, which both cooks reach."""
+    """The counter nearest in walks that ignore cooks lies behind the partner guessed to stay
+    in the lane (our cook could only reach it through the partner): the item goes on the
+    room's counter, which both cooks reach. A partner on its way leaves the lane, and a
+    greedy one steps off for a cook waiting beside it: the counter behind it is taken."""
     state = _state(ROOM_AND_LANE)
     transition(state, [L, S])  # our cook takes the tomato from its crate
     tomato = state.agent_hand[0]
     assert tomato >= 0
-    put = hand_off(state, 0, 7)[0]
+    put = hand_off(state, 0, 7, {1: Prediction(1, None)})[0]
     assert (put.step.kind, put.step.items) == ("putdown", (tomato,))
     assert put.step.target == state.geo.flat(5, 1)
+    on_its_way = {1: Prediction(1, state.geo.flat(1, 5), (state.geo.flat(1, 4),))}
+    assert hand_off(state, 0, 7, on_its_way)[0].step.target == state.geo.flat(0, 4)
+    by_policy = {1: Prediction(1, None, (), by_policy=True)}  # greedy steps off for our cook
+    assert hand_off(state, 0, 7, by_policy)[0].step.target == state.geo.flat(0, 4)
 
 
 def test_a_plan_made_while_the_partner_holds_its_item_is_not_checked_again_for_it():
