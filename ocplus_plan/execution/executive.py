@@ -37,14 +37,8 @@ from ..sim.queries import (
     walkable_in_any_layout,
 )
 from ..sim.state import State
-from .paths import (
-    DistanceOracle,
-    PathRequest,
-    hub_cells,
-    layout_connects,
-    layout_schedule,
-    plan_paths,
-)
+from .paths import (DistanceOracle, PathRequest, hub_cells, layout_connects, layout_schedule,
+                    plan_paths)
 from .plans import (
     STEP_KINDS,
     PlanFunction,
@@ -54,8 +48,9 @@ from .plans import (
     causal_dependencies,
 )
 from .livelock import Contests, LivelockWatch
-from .partner import (PartnerModel, Prediction, brings, check_queues, hand_off, plan_around,
-                      planned_in_hand, reserved_walks, shut_out, vacate)
+from .partner import (PartnerModel, Prediction, brings, hand_off, plan_around, reserved_walks,
+                      shut_out, vacate)
+from .queue_check import check_queues, planned_in_hand
 from .stall import STALL_PATIENCE, StallWatch
 from .strategy import give_way, rejoining, stall_strategy
 from .tasks import BumpRecord, Task, already_done, pan_eta, ready, snapshot

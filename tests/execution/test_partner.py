@@ -14,11 +14,9 @@ from ocplus_plan.execution.partner import (
     Prediction,
     answer_taken,
     brings,
-    check_queues,
     delivering,
     hand_off,
     onto_our_plate,
-    planned_in_hand,
     ours_first,
     predicted_state,
     repair_taken,
@@ -27,6 +25,7 @@ from ocplus_plan.execution.partner import (
     vacate,
 )
 from ocplus_plan.execution.plans import PlanStep
+from ocplus_plan.execution.queue_check import check_queues, planned_in_hand
 from ocplus_plan.execution.tasks import Task, ready
 from ocplus_plan.sim import make_rules, new_state, transition
 from ocplus_plan.sim.codes import Action, Cell, ItemState, Where
