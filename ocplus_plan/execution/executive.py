@@ -50,7 +50,7 @@ from .plans import (
 from .livelock import Contests, LivelockWatch
 from .partner import (PartnerModel, Prediction, brings, hand_off, plan_around, reserved_walks,
                       shut_out, vacate)
-from .queue_check import check_queues, planned_in_hand
+from .queue_check import check_queues, known_when_planned
 from .stall import STALL_PATIENCE, StallWatch
 from .strategy import give_way, rejoining, stall_strategy
 from .tasks import BumpRecord, Task, already_done, pan_eta, ready, snapshot
@@ -396,8 +396,10 @@ class Executive:
         for q in queues.values():
             for task in q:
                 task.deps = frozenset(d for d in task.deps if d in mine)
-        self.done_steps = set()  # (an item a partner holds now is no news to the plan)
-        self.warned = set() if state is None else planned_in_hand(state, queues, self._predict(state))
+        self.done_steps = set()
+        # where each item lies now is what the plan was made knowing: no news to the check
+        self.warned = set() if state is None else \
+            known_when_planned(state, queues, self._predict(state))
         for a in self.agent_ids:
             if self.deliver_plan(a):
                 self.queues[a] = queues[a]

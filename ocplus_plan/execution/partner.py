@@ -458,9 +458,9 @@ def hand_off(state: State, cook: int, index: int,
     free plain counter it reaches round the partners guessed to stay (one behind a partner
     standing in a lane is never reached; one a partner on its way stands in front of is, and
     so is one a greedy partner stands in front of: its policy steps off for a cook waiting
-    beside it) that a partner reaches too (a partner can take it on; greedy gathers onto a plate lying
-    free, never onto one in somebody else's hand); none when its hand is empty or no such
-    counter exists."""
+    beside it) that a partner reaches too (a partner can take it on; greedy gathers onto a
+    plate lying free, never onto one in somebody else's hand); none when its hand is empty
+    or no such counter exists."""
     held = state.agent_hand[cook]
     if held < 0:
         return []

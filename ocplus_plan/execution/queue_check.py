@@ -87,7 +87,7 @@ def _taken_key(state: State, index: int, item: int,
     return ("taken", index, item, where, loc) + (("unpredicted",) if unpredicted else ())
 
 
-def planned_in_hand(state: State, queues: Mapping[int, deque[Task]],
+def known_when_planned(state: State, queues: Mapping[int, deque[Task]],
                     predictions: Mapping[int, Prediction]) -> set:
     """The answers a plan made from ``state`` holds already, as :func:`check_queues` keys
     them: every item the plan uses lay where it lies now when the plan was made (the planner
@@ -126,4 +126,4 @@ def _lies_at(state: State, item: int, cell: int) -> bool:
     return where in (_CELL, _WAITING) and loc == cell
 
 
-__all__ = ["check_queues", "planned_in_hand"]
+__all__ = ["check_queues", "known_when_planned"]

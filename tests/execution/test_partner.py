@@ -25,7 +25,7 @@ from ocplus_plan.execution.partner import (
     vacate,
 )
 from ocplus_plan.execution.plans import PlanStep
-from ocplus_plan.execution.queue_check import check_queues, planned_in_hand
+from ocplus_plan.execution.queue_check import check_queues, known_when_planned
 from ocplus_plan.execution.tasks import Task, ready
 from ocplus_plan.sim import make_rules, new_state, transition
 from ocplus_plan.sim.codes import Action, Cell, ItemState, Where
@@ -642,10 +642,10 @@ def test_a_plan_made_while_the_partner_holds_its_item_is_not_checked_again_for_i
     queues = {0: deque(Task(s, frozenset()) for s in steps)}
     unknown = {1: Prediction(1, None)}
     assert check_queues(state, queues, set(), unknown, set()) == (True, 0)
-    known = planned_in_hand(state, queues, unknown)
+    known = known_when_planned(state, queues, unknown)
     assert check_queues(state, queues, set(), unknown, set(known)) == (False, 0)
     # with a predicted target the plan was made from the state that bump leaves: no key
-    assert planned_in_hand(state, queues, {1: Prediction(1, state.geo.flat(1, 4))}) == set()
+    assert known_when_planned(state, queues, {1: Prediction(1, state.geo.flat(1, 4))}) == set()
     transition(state, [S, int(Action.UP)])  # the partner puts it on the counter above
     assert check_queues(state, queues, set(), unknown, set(known))[0]
 
@@ -659,7 +659,7 @@ def test_a_plan_that_counts_on_a_partner_to_bring_its_plate_is_not_checked_again
     steps = [PlanStep(0, 0, "plate", board, (plate,))]
     queues = {0: deque(Task(s, frozenset()) for s in steps)}
     unknown = {1: Prediction(1, None)}
-    known = planned_in_hand(state, queues, unknown)
+    known = known_when_planned(state, queues, unknown)
     assert check_queues(state, queues, set(), unknown, set()) == (True, 0)
     assert check_queues(state, queues, set(), unknown, set(known)) == (False, 0)
 
@@ -670,6 +670,6 @@ def test_a_bump_predicted_for_the_partner_holding_the_item_is_news():
     state, tomato = _carrying_partner()
     steps = [PlanStep(0, 0, "chop", state.geo.flat(0, 2), (tomato,))]
     queues = {0: deque(Task(s, frozenset()) for s in steps)}
-    known = planned_in_hand(state, queues, {1: Prediction(1, None)})
+    known = known_when_planned(state, queues, {1: Prediction(1, None)})
     onto_counter = {1: Prediction(1, state.geo.flat(0, 1))}
     assert check_queues(state, queues, set(), onto_counter, set(known)) == (True, 0)
