@@ -15,6 +15,7 @@ from .tasks import Task
 _HAND, _CELL, _PLATE = int(Where.HAND), int(Where.CELL), int(Where.PLATE)
 _WAITING = int(Where.WAITING)
 _PLATE_KIND = int(Item.PLATE)
+_UNPREDICTED = "unpredicted"  # the last field of the key of an item no bump is predicted for
 
 
 def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: set[int],
@@ -46,11 +47,11 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
         for i in task.step.items:
             # once per step, item and place: an item the partner put down and takes up
             # again later (it chopped it, then carries it on) is checked again
-            where, loc = state.item_where[i], state.item_loc[i]
-            key = _taken_key(state, task.step.index, i, predictions)
             if i in seen:
                 continue
             seen.add(i)  # only the first queued step that uses it (checked or not)
+            where, loc = state.item_where[i], state.item_loc[i]
+            key = _taken_key(state, task.step.index, i, predictions)
             if key in warned:
                 continue
             if where == _HAND and loc not in queues:
@@ -84,11 +85,11 @@ def _taken_key(state: State, index: int, item: int,
     where, loc = state.item_where[item], state.item_loc[item]
     pred = predictions.get(loc) if where == _HAND else None
     unpredicted = where == _HAND and (pred is None or pred.target is None)
-    return ("taken", index, item, where, loc) + (("unpredicted",) if unpredicted else ())
+    return ("taken", index, item, where, loc) + ((_UNPREDICTED,) if unpredicted else ())
 
 
 def known_when_planned(state: State, queues: Mapping[int, deque[Task]],
-                    predictions: Mapping[int, Prediction]) -> set:
+                       predictions: Mapping[int, Prediction]) -> set:
     """The answers a plan made from ``state`` holds already, as :func:`check_queues` keys
     them: every item the plan uses lay where it lies now when the plan was made (the planner
     counted on a partner for one in its hand with no predicted bump, or for carrying one to
@@ -103,9 +104,9 @@ def known_when_planned(state: State, queues: Mapping[int, deque[Task]],
             if i in seen:
                 continue
             seen.add(i)
-            pred = predictions.get(state.item_loc[i])
-            if state.item_where[i] != _HAND or pred is None or pred.target is None:
-                keys.add(_taken_key(state, task.step.index, i, predictions))
+            key = _taken_key(state, task.step.index, i, predictions)
+            if state.item_where[i] != _HAND or key[-1] == _UNPREDICTED:
+                keys.add(key)
     return keys
 
 
