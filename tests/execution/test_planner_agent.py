@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import os
 import warnings
+from concurrent.futures import ProcessPoolExecutor
+from multiprocessing import get_context
 
 import pytest
 
@@ -174,16 +176,28 @@ def test_three_cooks_in_a_one_lane_corridor_do_not_deadlock():
 SWEEP = [("easy", 1), ("easy", 2), ("medium", 1), ("medium", 2), ("hard", 1), ("hard", 2)]
 
 
+def _sweep_episode(preset: str, n_agents: int, seed: int) -> tuple[int, dict | None]:
+    """One episode of the sweep: (dishes, the planner's info when it served none)."""
+    warnings.simplefilter("ignore", UserWarning)
+    state = new_state(make_rules(preset, n_agents=n_agents), seed)
+    agent = PlannerAgent("fast-downward")
+    dishes = run_episode(state, [(agent, list(range(n_agents)))])["dishes_served"]
+    return dishes, None if dishes else agent.info()
+
+
 @pytest.mark.slow
 @needs_fd
 @pytest.mark.skipif(not os.environ.get("OCPLUS_SLOW"), reason="10-seed sweep: set OCPLUS_SLOW=1")
 @pytest.mark.parametrize("preset,n_agents", SWEEP)
 def test_every_seed_serves_a_dish(preset, n_agents):
-    for seed in range(10):
-        state = new_state(make_rules(preset, n_agents=n_agents), seed)
-        agent = PlannerAgent("fast-downward")
-        stats = run_episode(state, [(agent, list(range(n_agents)))])
-        assert stats["dishes_served"] >= 1, (preset, n_agents, seed, agent.info())
+    # the episodes run side by side, one process per core (planner calls are limited in CPU
+    # seconds, so an episode's dishes do not depend on what runs beside it)
+    seeds = range(10)
+    with ProcessPoolExecutor(max_workers=min(2, os.cpu_count() or 1),
+                             mp_context=get_context("spawn")) as pool:
+        runs = pool.map(_sweep_episode, [preset] * len(seeds), [n_agents] * len(seeds), seeds)
+        for seed, (dishes, info) in zip(seeds, runs):
+            assert dishes >= 1, (preset, n_agents, seed, info)
 
 
 def test_planner_options_field():
