@@ -29,7 +29,7 @@ def check_queues(state: State, queues: Mapping[int, deque[Task]], done_steps: se
     items, whose ingredient lies on its plate already is done (dropped, a repair)."""
     repairs, seen = 0, delivering(state, predictions)  # served next step: the plan
     # was made from the state the delivery leaves (the plate and its contents at home)
-    for task in sorted((t for q in queues.values() for t in q), key=lambda t: t.step.index):
+    for task in _in_plan_order(queues):
         if task.step.kind == "plate" and seen.isdisjoint(task.step.items) \
                 and _plated(state, task.step.items):
             # the ingredient lies on the step's plate already (a partner put it there):
@@ -99,7 +99,7 @@ def known_when_planned(state: State, queues: Mapping[int, deque[Task]],
     partner that carries a steak about (``gen:multiroom:test:0``, seed 4) the check
     answered ``taken`` at 67 steps, each a planner call for the same plan."""
     keys, seen = set(), delivering(state, predictions)
-    for task in sorted((t for q in queues.values() for t in q), key=lambda t: t.step.index):
+    for task in _in_plan_order(queues):
         for i in task.step.items:
             if i in seen:
                 continue
@@ -108,6 +108,11 @@ def known_when_planned(state: State, queues: Mapping[int, deque[Task]],
             if state.item_where[i] != _HAND or key[-1] == _UNPREDICTED:
                 keys.add(key)
     return keys
+
+
+def _in_plan_order(queues: Mapping[int, deque[Task]]) -> list[Task]:
+    """Every cook's queued tasks, in the plan's order (the first that uses an item first)."""
+    return sorted((t for q in queues.values() for t in q), key=lambda t: t.step.index)
 
 
 def _plated(state: State, items: tuple[int, ...]) -> bool:
