@@ -48,8 +48,8 @@ from .plans import (
     causal_dependencies,
 )
 from .livelock import Contests, LivelockWatch
-from .partner import (PartnerModel, Prediction, brings, hand_off, plan_around, reserved_walks,
-                      shut_out, vacate)
+from .partner import (PartnerModel, Prediction, await_partner_plates, brings, hand_off,
+                      plan_around, reserved_walks, shut_out, vacate)
 from .queue_check import check_queues, known_when_planned
 from .stall import STALL_PATIENCE, StallWatch
 from .strategy import give_way, rejoining, stall_strategy
@@ -400,6 +400,8 @@ class Executive:
         # where each item lies now is what the plan was made knowing: no news to the check
         self.warned = set() if state is None else \
             known_when_planned(state, queues, self._predict(state))
+        if state is not None and state.n_agents > len(self.agent_ids):
+            await_partner_plates(state, queues, self._predict(state))
         for a in self.agent_ids:
             if self.deliver_plan(a):
                 self.queues[a] = queues[a]

@@ -333,6 +333,22 @@ def await_on_plate(queues: Mapping[int, deque[Task]], plate: int, item: int) -> 
         first.step = replace(first.step, items=(*first.step.items, item))
 
 
+def await_partner_plates(state: State, queues: Mapping[int, deque[Task]],
+                         predictions: Mapping[int, Prediction]) -> None:
+    """A new plan made from the state the partners' predicted bumps leave: where such a
+    bump puts an item onto a plate the plan carries on (:func:`onto_our_plate`), our first
+    step that takes the plate waits for the item (:func:`await_on_plate`) from the plan's
+    first action on, not from the next check of the queued steps: taken at once, the plate
+    left before the partner got there (``gen:multiroom:test:0``, seed 0, beside greedy
+    with every cook's plan asked: our cook picked up the plate the partner was bringing
+    the lettuce to, and the plans flipped between serving it and clearing the other plate
+    for 12 steps)."""
+    for cook, pred in predictions.items():
+        item = state.agent_hand[cook]
+        if item >= 0 and onto_our_plate(state, queues, cook, item, pred.target):
+            await_on_plate(queues, state.cell_item[pred.target], item)
+
+
 def substitute(state: State, queues: Mapping[int, deque[Task]], item: int) -> bool:
     """Items of one kind in one state are interchangeable: when the plan's first step with
     ``item`` picks it up from a cell and somebody else has it, the plan takes the nearest
@@ -523,8 +539,8 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
     return out
 
 
-__all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken", "brings",
-           "blocked_geometry", "delivering", "expected_by_plan", "hand_off",
+__all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken",
+           "await_partner_plates", "brings", "blocked_geometry", "delivering", "expected_by_plan", "hand_off",
            "meeting_counters", "onto_our_plate", "ours_first", "partner_holding", "plan_around",
            "predicted_state", "repair_taken", "reserved_walks", "shut_out", "sooner_jointly",
            "substitute", "vacate"]

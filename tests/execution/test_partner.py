@@ -10,6 +10,7 @@ import pytest
 from ocplus_plan.agents import StayAgent
 from ocplus_plan.agents.greedy import GreedyAgent
 from ocplus_plan.agents.partner_model import PartnerModel
+from ocplus_plan.execution.executive import Executive
 from ocplus_plan.execution.partner import (
     Prediction,
     answer_taken,
@@ -490,6 +491,27 @@ def test_our_cook_waits_for_the_partner_to_put_its_item_on_our_plate_before_taki
     state.agent_hand[1] = -1
     state.item_where[tomato], state.item_loc[tomato] = int(Where.PLATE), plate
     assert ready(state, 0, queues[0][0], set())
+
+
+@pytest.mark.parametrize("onto_plate", [True, False])
+def test_a_new_plan_takes_the_plate_only_after_the_partners_item_from_its_first_action(
+        onto_plate):
+    """A plan made from the state the partner's bump leaves (its chopped tomato on the plate)
+    is installed: from the plan's first action on, our pickup of that plate waits for the
+    tomato, not only from the next check of the queued steps (taken at once, the plate left
+    before the partner got there: ``gen:multiroom:test:0``, seed 0, beside greedy). A
+    partner whose bump goes elsewhere leaves the pickup as the plan has it."""
+    state, tomato, plate, plate_cell, queues = _chopped_tomato_for_our_plate()
+    state.agent_pos[0] = state.geo.flat(1, 1)  # in front of the plate
+    target = plate_cell if onto_plate else state.geo.flat(0, 1)
+    ex = Executive(lambda *a: None)
+    ex.reset(state, [0])
+    ex.partner_model = lambda s: {1: Prediction(1, target)}
+    ex.install([t.step for t in queues[0]], state)
+    first = ex.queues[0][0]
+    assert first.step.kind == "pickup"
+    assert (tomato in first.step.items) is onto_plate
+    assert ready(state, 0, first, set()) is not onto_plate
 
 
 def _partner_serving():
