@@ -540,7 +540,8 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
 
 
 __all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken",
-           "await_partner_plates", "brings", "blocked_geometry", "delivering", "expected_by_plan", "hand_off",
+           "await_partner_plates", "brings", "blocked_geometry", "delivering",
+           "expected_by_plan", "hand_off",
            "meeting_counters", "onto_our_plate", "ours_first", "partner_holding", "plan_around",
            "predicted_state", "repair_taken", "reserved_walks", "shut_out", "sooner_jointly",
            "substitute", "vacate"]
