@@ -398,10 +398,11 @@ class Executive:
                 task.deps = frozenset(d for d in task.deps if d in mine)
         self.done_steps = set()
         # where each item lies now is what the plan was made knowing: no news to the check
-        self.warned = set() if state is None else \
-            known_when_planned(state, queues, self._predict(state))
-        if state is not None and state.n_agents > len(self.agent_ids):
-            await_partner_plates(state, queues, self._predict(state))
+        self.warned = set()
+        if state is not None:
+            predictions = self._predict(state)
+            self.warned = known_when_planned(state, queues, predictions)
+            await_partner_plates(state, queues, predictions)
         for a in self.agent_ids:
             if self.deliver_plan(a):
                 self.queues[a] = queues[a]

@@ -300,8 +300,7 @@ def answer_taken(state: State, task: Task, queues: Mapping[int, deque[Task]],
     target = None if pred is None else pred.target
     if expected_by_plan(queues, found[1], target):
         return "expected"
-    if onto_our_plate(state, queues, *found, target):
-        await_on_plate(queues, state.cell_item[target], found[1])
+    if await_on_plate(state, queues, *found, target):
         return "expected"
     if repair_taken(queues, done_steps, found[1], target) or substitute(state, queues, found[1]):
         return "repaired"
@@ -321,32 +320,37 @@ def onto_our_plate(state: State, queues: Mapping[int, deque[Task]], cook: int, i
     return first is not None and plate in first.step.items
 
 
-def await_on_plate(queues: Mapping[int, deque[Task]], plate: int, item: int) -> None:
-    """The partner's bump puts ``item`` onto ``plate``, which the plan takes on as if the
-    item lay there already: our first queued step that takes the plate waits for the item
-    too (:func:`~.tasks.ready` waits while another cook holds an item of the step), or the
-    cook carries the plate off before the partner gets there and serves it without the
-    item (hard seed 0 beside greedy: a refused delivery at step 177, the third dish lost)."""
+def await_on_plate(state: State, queues: Mapping[int, deque[Task]], cook: int, item: int,
+                   target: int | None) -> bool:
+    """Does the partner ``cook``'s predicted bump put ``item`` onto the plate at ``target``,
+    which the plan takes on as if the item lay there already (:func:`onto_our_plate`)? Then
+    our first queued step that takes the plate waits for the item too
+    (:func:`~.tasks.ready` waits while another cook holds an item of the step), or the cook
+    carries the plate off before the partner gets there and serves it without the item
+    (hard seed 0 beside greedy: a refused delivery at step 177, the third dish lost)."""
+    if not onto_our_plate(state, queues, cook, item, target):
+        return False
+    plate = state.cell_item[target]
     first = min((t for q in queues.values() for t in q if plate in t.step.items),
                 key=lambda t: t.step.index, default=None)
     if first is not None and item not in first.step.items:
         first.step = replace(first.step, items=(*first.step.items, item))
+    return True
 
 
 def await_partner_plates(state: State, queues: Mapping[int, deque[Task]],
                          predictions: Mapping[int, Prediction]) -> None:
     """A new plan made from the state the partners' predicted bumps leave: where such a
-    bump puts an item onto a plate the plan carries on (:func:`onto_our_plate`), our first
-    step that takes the plate waits for the item (:func:`await_on_plate`) from the plan's
-    first action on, not from the next check of the queued steps: taken at once, the plate
-    left before the partner got there (``gen:multiroom:test:0``, seed 0, beside greedy
+    bump puts an item onto a plate the plan carries on, our first step that takes the
+    plate waits for the item (:func:`await_on_plate`) from the plan's first action on, not
+    from the next check of the queued steps: taken at once, the plate left before the
+    partner got there (``gen:multiroom:test:0``, seed 0, beside greedy
     with every cook's plan asked: our cook picked up the plate the partner was bringing
     the lettuce to, and the plans flipped between serving it and clearing the other plate
     for 12 steps)."""
     for cook, pred in predictions.items():
-        item = state.agent_hand[cook]
-        if item >= 0 and onto_our_plate(state, queues, cook, item, pred.target):
-            await_on_plate(queues, state.cell_item[pred.target], item)
+        if state.agent_hand[cook] >= 0:
+            await_on_plate(state, queues, cook, state.agent_hand[cook], pred.target)
 
 
 def substitute(state: State, queues: Mapping[int, deque[Task]], item: int) -> bool:
