@@ -49,7 +49,7 @@ from .plans import (
 )
 from .livelock import Contests, LivelockWatch
 from .partner import (PartnerModel, Prediction, await_partner_plates, brings, hand_off,
-                      plan_around, reserved_walks, shut_out, vacate)
+                      handed_over, lying, plan_around, reserved_walks, shut_out, taken_on, vacate)
 from .queue_check import check_queues, known_when_planned
 from .stall import STALL_PATIENCE, StallWatch
 from .strategy import give_way, rejoining, stall_strategy
@@ -117,7 +117,8 @@ class Executive:
         self.prev_burns = state.stats["burns"]
         self.last_plan_t: int | None = None
         self.next_retry = 0
-        self.waited_on: tuple | None = None  # the items' places at the last ``waiting`` answer
+        self.waited_on: dict[int, int] | None = None  # items on cells when told ``waiting``
+        self.handed: set[int] = set()  # items our cooks handed off after a livelock
         self.warned: set[tuple[str, int]] = set()
         self.triggers: list[tuple[int, str]] = []
         self.unhandled: list[str] = []  # triggers not yet answered by a replan
@@ -266,8 +267,11 @@ class Executive:
 
     def _decide(self, state: State, reasons: list[str]) -> str | None:
         if self.last_plan_t is None:
-            return "initial" if state.t >= self.next_retry else None
-        if state.t < self.next_retry and not {"layout_switch", "stall"} & set(self.unhandled):
+            return "initial" if state.t >= self.next_retry or handed_over(
+                state, self.agent_ids, self.waited_on) else None
+        if state.t < self.next_retry and not {"layout_switch", "stall"} & set(self.unhandled) \
+                and not handed_over(state, self.agent_ids, self.waited_on) \
+                and not taken_on(state, self.handed, self.agent_ids):
             return None
         empty = not any(self.queues.values()) and bool(state.orders)
         kind = self.policy.kind
@@ -288,6 +292,7 @@ class Executive:
             # where a partner takes it on (:func:`~.partner.hand_off`), steps aside and waits
             self.replans.append((state.t, reason))
             self.unhandled.clear()
+            self.handed = {h for a in self.agent_ids if (h := state.agent_hand[a]) >= 0}
             for a in self.agent_ids:
                 self.queues[a].clear()
                 self.queues[a].extend(hand_off(state, a, self.plan_id * 100_000 + 99_999,
@@ -315,12 +320,12 @@ class Executive:
             self.triggers.append((state.t, "planner_failed"))
             self.failure_messages[f"{outcome.status}: {outcome.message}"[:300]] += 1
             self.failures_in_row += 1
-            items = (tuple(state.item_where), tuple(state.item_loc))
-            soon, self.waited_on = outcome.status == "waiting" and items != self.waited_on, items
+            items = lying(state) if outcome.status == "waiting" else None
+            soon, self.waited_on = items is not None and items != self.waited_on, items
             self.next_retry = state.t + (self.retry_after if soon else min(
                 4 * self.retry_after, self.retry_after * self.failures_in_row))
             return
-        self.failures_in_row = 0
+        self.failures_in_row, self.waited_on, self.handed = 0, None, set()
         self.last_plan_t = state.t
         self.plan_id += 1
         self.plan_relaxed = outcome.relaxed
@@ -359,14 +364,10 @@ class Executive:
     def _waiting_for_switch(self, state: State) -> bool:
         """With a plan that expects switches: is a driven agent's next target out of reach
         until the layout switches? Such a wait is in the plan, not a deadlock."""
-        if not self._waits_for_switches():
-            return False
-        for a in self.agent_ids:
-            task = self._current(a)
-            if task is not None and \
-                    self.oracle.to_station(state.layout_index, task.step.target)[state.agent_pos[a]] < 0:
-                return True
-        return False
+        return self._waits_for_switches() and any(
+            (task := self._current(a)) is not None and self.oracle.to_station(
+                state.layout_index, task.step.target)[state.agent_pos[a]] < 0
+            for a in self.agent_ids)
 
     def _out_of_reach(self, state: State, pos: int, target: int) -> bool:
         """Is ``target`` cut off from ``pos``? With a plan that expects switches, only if no
@@ -588,13 +589,5 @@ class Executive:
         }
 
 
-__all__ = [
-    "STEP_KINDS",
-    "Executive",
-    "PlanFunction",
-    "PlanOutcome",
-    "PlanStep",
-    "Policy",
-    "Task",
-    "causal_dependencies",
-]
+__all__ = ["STEP_KINDS", "Executive", "PlanFunction", "PlanOutcome", "PlanStep", "Policy", "Task",
+           "causal_dependencies"]

@@ -10,13 +10,15 @@ import pytest
 from ocplus_plan.agents import StayAgent
 from ocplus_plan.agents.greedy import GreedyAgent
 from ocplus_plan.agents.partner_model import PartnerModel
-from ocplus_plan.execution.executive import Executive
+from ocplus_plan.execution.executive import Executive, PlanOutcome
 from ocplus_plan.execution.partner import (
     Prediction,
     answer_taken,
     brings,
     delivering,
     hand_off,
+    handed_over,
+    lying,
     onto_our_plate,
     ours_first,
     predicted_state,
@@ -695,3 +697,71 @@ def test_a_bump_predicted_for_the_partner_holding_the_item_is_news():
     known = known_when_planned(state, queues, {1: Prediction(1, None)})
     onto_counter = {1: Prediction(1, state.geo.flat(0, 1))}
     assert check_queues(state, queues, set(), onto_counter, set(known)) == (True, 0)
+
+
+# the halves joined only by the middle counter (1, 2): crate and plate left, board and
+# window right
+WALLED = {"name": "walled", "max_n_agent": 2,
+          "game_map": [[1, 1, 1, 6, 1],
+                       [3, 0, 1, 0, 7],
+                       [1, 5, 1, 1, 1]],
+          "agent_spawn_points": [[1, 3], [1, 1]]}
+
+
+def test_a_hand_over_is_an_item_come_to_lie_where_our_cook_works():
+    """What our cook, told ``waiting``, is asked about again for: an item that comes to lie
+    on a cell it works, on the cell itself or on a plate lying there (the partner's dish on
+    the counter between the halves: gen:split:test:0, seed 2). Not an item that stays out of
+    its reach, and nothing when it is not waiting."""
+    state = _state(WALLED)
+    transition(state, [S, L])  # the partner takes a tomato from its crate
+    tomato = state.agent_hand[1]
+    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
+    before = lying(state)
+    assert before[plate] == state.geo.flat(2, 1) and tomato not in before
+    state.agent_hand[1] = -1  # onto the plate on its side: out of our cook's reach
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.PLATE), plate
+    assert lying(state)[tomato] == state.geo.flat(2, 1)
+    assert not handed_over(state, (0,), before)
+    middle = state.geo.flat(1, 2)  # the plate, tomato on it, on the middle counter
+    state.cell_item[state.item_loc[plate]], state.cell_item[middle] = -1, plate
+    state.item_loc[plate] = middle
+    assert handed_over(state, (0,), before)
+    assert not handed_over(state, (0,), None)
+    assert not handed_over(state, (0,), lying(state))  # already there at the last answer
+
+
+def test_a_cook_that_handed_its_item_off_is_planned_for_again_once_the_partner_has_it():
+    """After a livelock our lone cook puts what it holds where the partner takes it on and
+    stands aside for ``2 * block_patience`` steps; it is planned for again in the step the
+    partner has the item in hand (medium, seed 0, beside greedy: idle 8 steps with the
+    steak it handed off already in the partner's hand, twice in the episode)."""
+    state = _state(KITCHEN)
+    tomato = next(i for i, k in enumerate(state.geo.item_kind) if k == 3)
+    state.cell_item[state.item_loc[tomato]] = -1
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.HAND), 0
+    state.agent_hand[0] = tomato
+    asked: list[int] = []
+
+    def planner(st, agents, reason=""):
+        asked.append(st.t)
+        return PlanOutcome("solved", [], 0.0)
+
+    ex = Executive(planner)
+    ex.reset(state, [0])
+    ex.partner_model = lambda s: {1: Prediction(1, None)}
+    ex.act(state)  # the first plan
+    ex._replan(state, "livelock")  # a lone cook: it hands off
+    assert [t.step.kind for t in ex.queues[0]][0] == "putdown"
+    ex.queues[0].clear()  # put down, stood aside
+    state.agent_hand[0] = -1
+    counter = state.geo.flat(0, 3)
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.CELL), counter
+    state.cell_item[counter] = tomato
+    ex.act(state)
+    assert asked == [0]  # the item lies there: the cook still waits
+    state.cell_item[counter] = -1  # the partner takes it
+    state.item_where[tomato], state.item_loc[tomato] = int(Where.HAND), 1
+    state.agent_hand[1] = tomato
+    ex.act(state)
+    assert asked == [0, 0]
