@@ -734,8 +734,8 @@ def test_a_hand_over_is_an_item_come_to_lie_where_our_cook_works():
 def test_a_cook_that_handed_its_item_off_is_planned_for_again_once_the_partner_has_it():
     """After a livelock our lone cook puts what it holds where the partner takes it on and
     stands aside for ``2 * block_patience`` steps; it is planned for again in the step the
-    partner has the item in hand (medium, seed 0, beside greedy: idle 8 steps with the
-    steak it handed off already in the partner's hand, twice in the episode)."""
+    partner has the item in hand (medium, seed 0, beside greedy: it stood idle 4 steps
+    after the partner had taken the steak it handed off, twice in the episode)."""
     state = _state(KITCHEN)
     tomato = next(i for i, k in enumerate(state.geo.item_kind) if k == 3)
     state.cell_item[state.item_loc[tomato]] = -1
