@@ -49,7 +49,7 @@ from .plans import (
 )
 from .livelock import Contests, LivelockWatch
 from .partner import (PartnerModel, Prediction, await_partner_plates, brings, hand_off,
-                      handed_over, lying, plan_around, reserved_walks, shut_out, taken_on, vacate)
+                      plan_around, reserved_walks, shut_out, taken_on, vacate)
 from .queue_check import check_queues, known_when_planned
 from .stall import STALL_PATIENCE, StallWatch
 from .strategy import give_way, rejoining, stall_strategy
@@ -117,7 +117,7 @@ class Executive:
         self.prev_burns = state.stats["burns"]
         self.last_plan_t: int | None = None
         self.next_retry = 0
-        self.waited_on: dict[int, int] | None = None  # items on cells when told ``waiting``
+        self.waited_on: tuple | None = None  # the items' places at the last ``waiting`` answer
         self.handed: set[int] = set()  # items our cooks handed off after a livelock
         self.warned: set[tuple[str, int]] = set()
         self.triggers: list[tuple[int, str]] = []
@@ -267,10 +267,8 @@ class Executive:
 
     def _decide(self, state: State, reasons: list[str]) -> str | None:
         if self.last_plan_t is None:
-            return "initial" if state.t >= self.next_retry or handed_over(
-                state, self.agent_ids, self.waited_on) else None
+            return "initial" if state.t >= self.next_retry else None
         if state.t < self.next_retry and not {"layout_switch", "stall"} & set(self.unhandled) \
-                and not handed_over(state, self.agent_ids, self.waited_on) \
                 and not taken_on(state, self.handed, self.agent_ids):
             return None
         empty = not any(self.queues.values()) and bool(state.orders)
@@ -300,6 +298,7 @@ class Executive:
             self.next_retry = state.t + 2 * self.block_patience
             return
         self.planner_calls += 1
+        self.handed = set()  # asked once the partner took it on: not again while plans fail
         t0 = time.perf_counter()
         planned = tuple(a for a in self.agent_ids if self.yielding.get(a, -1) <= state.t)
         try:  # around the partners' predicted next bumps (:func:`~.partner.plan_around`)
@@ -320,12 +319,12 @@ class Executive:
             self.triggers.append((state.t, "planner_failed"))
             self.failure_messages[f"{outcome.status}: {outcome.message}"[:300]] += 1
             self.failures_in_row += 1
-            items = lying(state) if outcome.status == "waiting" else None
-            soon, self.waited_on = items is not None and items != self.waited_on, items
+            items = (tuple(state.item_where), tuple(state.item_loc))
+            soon, self.waited_on = outcome.status == "waiting" and items != self.waited_on, items
             self.next_retry = state.t + (self.retry_after if soon else min(
                 4 * self.retry_after, self.retry_after * self.failures_in_row))
             return
-        self.failures_in_row, self.waited_on, self.handed = 0, None, set()
+        self.failures_in_row = 0
         self.last_plan_t = state.t
         self.plan_id += 1
         self.plan_relaxed = outcome.relaxed

@@ -20,7 +20,7 @@ will bump next and the walk it takes there. The executive uses it three ways:
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Callable, Collection, Iterator, Mapping, Sequence
+from collections.abc import Callable, Collection, Iterator, Mapping
 from dataclasses import dataclass, replace
 
 from ..sim.codes import Cell, Item, ItemState, Where
@@ -444,28 +444,6 @@ def shut_out(state: State, spots: list[int], predictions: Mapping[int, Predictio
     return bool(spots) and all(n in still for n in spots)
 
 
-def lying(state: State) -> dict[int, int]:
-    """item -> cell of every item lying on a cell, or on a plate lying on a cell."""
-    where, loc = state.item_where, state.item_loc
-    return {i: int(loc[i] if w == _CELL else loc[loc[i]]) for i, w in enumerate(where)
-            if w == _CELL or (w == _PLATE and where[loc[i]] == _CELL)}
-
-
-def handed_over(state: State, agents: Sequence[int], before: Mapping[int, int] | None) -> bool:
-    """Has an item come to lie, since ``before`` (:func:`lying` when our cooks were last
-    told to wait for a partner's hand-over), on a cell one of ``agents`` works? Then the
-    hand-over they waited for may be there. False when they were not waiting (None)."""
-    if before is None:
-        return False
-    new = {c for i, c in lying(state).items() if before.get(i) != c}
-    if not new:
-        return False
-    walk = state.geo.walkables[state.layout_index]
-    reach = distances(state.geo.neighbors, walk, [state.agent_pos[a] for a in agents])
-    return any(reach[n] >= 0 for c in new
-               for n in interaction_spots(state.geo.neighbors, walk, c))
-
-
 def taken_on(state: State, items: Collection[int], agents: Collection[int]) -> bool:
     """Is one of ``items`` (what our cooks handed off, :func:`hand_off`) in the hand of a
     cook not in ``agents``? Then the partner has taken it on and our cooks are free again."""
@@ -574,7 +552,7 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
 
 __all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken",
            "await_partner_plates", "brings", "blocked_geometry", "delivering",
-           "expected_by_plan", "hand_off", "handed_over", "lying",
+           "expected_by_plan", "hand_off",
            "meeting_counters", "onto_our_plate", "ours_first", "partner_holding", "plan_around",
            "predicted_state", "repair_taken", "reserved_walks", "shut_out", "sooner_jointly",
            "substitute", "taken_on", "vacate"]
