@@ -49,7 +49,7 @@ from .plans import (
 )
 from .livelock import Contests, LivelockWatch
 from .partner import (PartnerModel, Prediction, await_partner_plates, brings, hand_off,
-                      plan_around, reserved_walks, shut_out, taken_on, vacate)
+                      held_by_partner, plan_around, reserved_walks, shut_out, vacate)
 from .queue_check import check_queues, known_when_planned
 from .stall import STALL_PATIENCE, StallWatch
 from .strategy import give_way, rejoining, stall_strategy
@@ -269,7 +269,7 @@ class Executive:
         if self.last_plan_t is None:
             return "initial" if state.t >= self.next_retry else None
         if state.t < self.next_retry and not {"layout_switch", "stall"} & set(self.unhandled) \
-                and not taken_on(state, self.handed, self.agent_ids):
+                and held_by_partner(state, self.handed, self.agent_ids) is None:
             return None
         empty = not any(self.queues.values()) and bool(state.orders)
         kind = self.policy.kind

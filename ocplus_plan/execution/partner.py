@@ -20,7 +20,7 @@ will bump next and the walk it takes there. The executive uses it three ways:
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Callable, Collection, Iterator, Mapping
+from collections.abc import Callable, Collection, Iterable, Iterator, Mapping
 from dataclasses import dataclass, replace
 
 from ..sim.codes import Cell, Item, ItemState, Where
@@ -280,12 +280,20 @@ def repair_taken(queues: Mapping[int, deque[Task]], done_steps: set[int], item: 
     return True
 
 
-def partner_holding(state: State, task: Task, driven: Mapping[int, object]) -> tuple[int, int] | None:
-    """(cook, item): an item of ``task`` in the hand of a cook not in ``driven``, or None."""
-    for i in task.step.items:
+def held_by_partner(state: State, items: Iterable[int],
+                    driven: Collection[int] | Mapping[int, object]) -> tuple[int, int] | None:
+    """(cook, item): one of ``items`` in the hand of a cook not in ``driven``, or None. Also
+    what frees a lone cook that handed its item off after a livelock: the partner has taken
+    it on (``Executive._decide``)."""
+    for i in items:
         if state.item_where[i] == _HAND and state.item_loc[i] not in driven:
             return state.item_loc[i], i
     return None
+
+
+def partner_holding(state: State, task: Task, driven: Mapping[int, object]) -> tuple[int, int] | None:
+    """(cook, item): an item of ``task`` in the hand of a cook not in ``driven``, or None."""
+    return held_by_partner(state, task.step.items, driven)
 
 
 def answer_taken(state: State, task: Task, queues: Mapping[int, deque[Task]],
@@ -444,13 +452,6 @@ def shut_out(state: State, spots: list[int], predictions: Mapping[int, Predictio
     return bool(spots) and all(n in still for n in spots)
 
 
-def taken_on(state: State, items: Collection[int], agents: Collection[int]) -> bool:
-    """Is one of ``items`` (what our cooks handed off, :func:`hand_off`) in the hand of a
-    cook not in ``agents``? Then the partner has taken it on and our cooks are free again."""
-    return any(state.item_where[i] == _HAND and state.item_loc[i] not in agents
-               for i in items)
-
-
 def meeting_counters(state: State) -> set[int]:
     """The free plain counters of the current layout (where a plan of every cook may meet a
     partner: :func:`ours_first`)."""
@@ -552,7 +553,7 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
 
 __all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken",
            "await_partner_plates", "brings", "blocked_geometry", "delivering",
-           "expected_by_plan", "hand_off",
+           "expected_by_plan", "hand_off", "held_by_partner",
            "meeting_counters", "onto_our_plate", "ours_first", "partner_holding", "plan_around",
            "predicted_state", "repair_taken", "reserved_walks", "shut_out", "sooner_jointly",
-           "substitute", "taken_on", "vacate"]
+           "substitute", "vacate"]
