@@ -60,6 +60,7 @@ from ocplus_plan.sim.generate import FAMILIES  # noqa: E402
 GROUPS = ("greedy-partner", "idle-partner", "learned-partner", "presets", "zero")
 PLANNER = "planner:"  # the default planner
 INFO = ("planner_calls", "statuses", "replans_by_reason", "planning_cpu_s", "partner_repairs",
+        "claimed_plans",
         "stall_strategies", "livelock_stretches", "all_cooks_fallbacks", "failure_fallbacks",
         "default_planner_fallbacks", "failure_messages")
 

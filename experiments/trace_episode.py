@@ -26,9 +26,10 @@ from experiments.bench_unseen import DYNAMIC  # noqa: E402
 from ocplus_plan.agents import Episode, make_controller, with_partner  # noqa: E402
 from ocplus_plan.agents.planner import make_planner_agent  # noqa: E402
 from ocplus_plan.sim import make_rules, new_state  # noqa: E402
+from ocplus_plan.sim.observe_text import kitchen_text  # noqa: E402
 
 INFO = ("planner_calls", "statuses", "replans_by_reason", "replan_log", "stall_stretches",
-        "stall_strategies", "planning_cpu_s", "partner_repairs")
+        "stall_strategies", "planning_cpu_s", "partner_repairs", "claimed_plans")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -42,6 +43,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--timeout", type=float, default=10.0, help="CPU seconds per planner call")
     p.add_argument("--map", default=None,
                    help="a generated kitchen (gen:FAMILY:SPLIT:INDEX:STATIONS) on PRESET's recipes")
+    p.add_argument("--show", default="",
+                   help="comma-separated steps after which the whole kitchen is printed "
+                        "(items, their states, the orders), as the text interface gives it")
     args = p.parse_args(argv)
     warnings.simplefilter("ignore")
     extra = {} if args.map is None else {"map": args.map,
@@ -54,6 +58,7 @@ def main(argv: list[str] | None = None) -> int:
         ctl = make_controller(args.agent, args.seed)
     ex = getattr(ctl, "executive", None)
     rc, seen, served = state.geo.rc, [0], []
+    show = {int(t) for t in args.show.split(",") if t}
 
     def on_step(ep: object, res: object) -> None:
         line = [f"t={state.t:3d} L{state.layout_index} d={state.stats['dishes_served']}"]
@@ -68,6 +73,8 @@ def main(argv: list[str] | None = None) -> int:
                 line.append(f"REPLAN {ex.replans[seen[0]:]}")
                 seen[0] = len(ex.replans)
         print(" ".join(line))
+        if state.t in show:
+            print(kitchen_text(state))
 
     Episode(state, with_partner(ctl, args.partner, args.cooks, args.seed)).run(on_step=on_step)
     print("dishes", state.stats["dishes_served"], "served at steps", served)

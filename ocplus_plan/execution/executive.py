@@ -47,6 +47,7 @@ from .plans import (
     Policy,
     causal_dependencies,
 )
+from .claims import PartnerClaims
 from .livelock import Contests, LivelockWatch
 from .partner import (PartnerModel, Prediction, await_partner_plates, brings, hand_off,
                       held_by_partner, plan_around, reserved_walks, shut_out, vacate)
@@ -133,6 +134,7 @@ class Executive:
         self.now = state.t
         self.livelock = LivelockWatch(2 * self.block_patience)
         self.contests = Contests()  # a cell a partner steps into as our cook does
+        self.claims = PartnerClaims()  # items a partner keeps taking up (:mod:`.claims`)
         #: cooks giving way after a livelock: left out of the plans until that step
         self.yielding: dict[int, int] = {}
         self.gave_way = 0
@@ -171,6 +173,7 @@ class Executive:
     def _monitor(self, state: State) -> list[str]:
         """Settle last step's bumps and compare the world with the plan's expectations."""
         out: list[str] = []
+        self.claims.see(state, self.agent_ids)
         # no progress toward any order (:mod:`.stall`), not counting steps the plan waits
         # for a layout switch that is still to come (a wait in the plan is no reason to
         # change strategy; one that is overdue, held up by a cook on a closing cell, is)
@@ -302,8 +305,10 @@ class Executive:
         t0 = time.perf_counter()
         planned = tuple(a for a in self.agent_ids if self.yielding.get(a, -1) <= state.t)
         try:  # around the partners' predicted next bumps (:func:`~.partner.plan_around`)
+            claims = self.claims.claimed()
+            self.claims.plans += bool(claims)
             outcome = plan_around(self.planner, state, planned or self.agent_ids, reason,
-                                  self._predict(state) if self.partner_model else None)
+                                  self._predict(state) if self.partner_model else None, claims)
         except Exception as exc:  # noqa: BLE001 - a planner must never crash the episode
             outcome = PlanOutcome("error", [], time.perf_counter() - t0, repr(exc))
         spent = outcome.planning_time or (time.perf_counter() - t0)
@@ -582,6 +587,7 @@ class Executive:
             "messages_lost": self.messages_lost,
             "gave_way": self.gave_way,
             "partner_repairs": self.repairs, "boards_vacated": self.vacated,
+            "claimed_plans": self.claims.plans,
             **self.livelock.info(),
             **self.stall.info(),
             "stall_strategies": dict(self.stall_strategies),

@@ -28,6 +28,7 @@ from ..sim.orders import matching_order, plate_recipe
 from ..sim.queries import Bump, bump_effect, distances, interaction_spots
 from ..sim.step import apply_bump
 from ..sim.state import Geometry, State
+from .claims import withhold
 from .plans import PlanFunction, PlanOutcome, PlanStep, causal_dependencies, touched
 from .proven import PROVEN_STATUSES
 from .tasks import Task
@@ -57,10 +58,18 @@ PartnerModel = Callable[[State], Mapping[int, Prediction]]
 
 
 def plan_around(planner: PlanFunction, state: State, agents: tuple[int, ...], reason: str,
-                predictions: Mapping[int, Prediction] | None) -> PlanOutcome:
+                predictions: Mapping[int, Prediction] | None,
+                claims: Mapping[int, int] | None = None) -> PlanOutcome:
     """Ask ``planner`` about the state the partners' predicted next bumps leave
     (:func:`predicted_state`); when that fails with a partner as a wall, ask again with the
-    partners' cells open (the partner may yet move). Without predictions: the state."""
+    partners' cells open (the partner may yet move). Without predictions: the state.
+    Items a partner keeps taking up (``claims``: item -> partner, :mod:`.claims`) are left
+    out of every problem asked; when no plan comes without them, it is asked with them."""
+    if claims:
+        outcome = plan_around(lambda s, a, r: planner(withhold(s, dict(claims)), a, r),
+                              state, agents, reason, predictions)
+        if outcome.ok:
+            return outcome
     if predictions is None:
         return planner(state.copy(), agents, reason)
     problem = predicted_state(state, predictions)
