@@ -9,7 +9,8 @@ which one open order asks for, and planned to add the onion the partner kept tak
 for 64 steps instead of serving it).
 
 :class:`PartnerClaims` watches the partners' hands: an item a cook we do not drive picked up
-:data:`CLAIM_PICKUPS` times within the last :data:`CLAIM_STEPS` steps is *claimed*.
+:data:`CLAIM_PICKUPS` times within the last :data:`CLAIM_STEPS` steps, the last of them
+within :data:`CLAIM_RECENT` steps, is *claimed*.
 :func:`withhold` leaves claimed items out of the problem the planner is asked about, as if
 they were in that partner's hand (the compiler gives an item in a hand no place, so no step
 uses it, and the cell it lies on stays taken). Where the plan needs the item all the same
@@ -26,8 +27,11 @@ from ..sim.state import State
 
 #: pickups of one item by partners ...
 CLAIM_PICKUPS = 3
-#: ... within this many steps make it claimed (the stall measure's stretch)
+#: ... within this many steps make it claimed (the stall measure's stretch) ...
 CLAIM_STEPS = 30
+#: ... while the last of them is at most this many steps old (a partner that has held the
+#: item longer is carrying it somewhere: its predicted bump says where)
+CLAIM_RECENT = 10
 
 _HAND, _CELL = int(Where.HAND), int(Where.CELL)
 
@@ -53,14 +57,15 @@ class PartnerClaims:
         while self.pickups and self.pickups[0][0] <= state.t - CLAIM_STEPS:
             self.pickups.popleft()
 
-    def claimed(self) -> dict[int, int]:
-        """item -> the partner that claims it (the last to take it up)."""
+    def claimed(self, now: int) -> dict[int, int]:
+        """item -> the partner that claims it at step ``now`` (the last to take it up)."""
         counts: dict[int, int] = {}
-        last: dict[int, int] = {}
-        for _t, cook, item in self.pickups:
+        last: dict[int, tuple[int, int]] = {}
+        for t, cook, item in self.pickups:
             counts[item] = counts.get(item, 0) + 1
-            last[item] = cook
-        return {i: last[i] for i, n in counts.items() if n >= CLAIM_PICKUPS}
+            last[item] = (t, cook)
+        return {i: last[i][1] for i, n in counts.items()
+                if n >= CLAIM_PICKUPS and now - last[i][0] <= CLAIM_RECENT}
 
 
 def withhold(state: State, claims: dict[int, int]) -> State:
@@ -91,4 +96,4 @@ def withhold(state: State, claims: dict[int, int]) -> State:
     return state
 
 
-__all__ = ["CLAIM_PICKUPS", "CLAIM_STEPS", "PartnerClaims", "withhold"]
+__all__ = ["CLAIM_PICKUPS", "CLAIM_RECENT", "CLAIM_STEPS", "PartnerClaims", "withhold"]

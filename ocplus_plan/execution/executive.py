@@ -305,7 +305,7 @@ class Executive:
         t0 = time.perf_counter()
         planned = tuple(a for a in self.agent_ids if self.yielding.get(a, -1) <= state.t)
         try:  # around the partners' predicted next bumps (:func:`~.partner.plan_around`)
-            claims = self.claims.claimed()
+            claims = self.claims.claimed(state.t)
             self.claims.plans += bool(claims)
             outcome = plan_around(self.planner, state, planned or self.agent_ids, reason,
                                   self._predict(state) if self.partner_model else None, claims)

@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import pytest
 
-from ocplus_plan.execution.claims import CLAIM_PICKUPS, CLAIM_STEPS, PartnerClaims, withhold
+from ocplus_plan.execution.claims import (CLAIM_PICKUPS, CLAIM_RECENT, CLAIM_STEPS, PartnerClaims,
+                                          withhold)
 from ocplus_plan.execution.executive import Executive, PlanOutcome
 from ocplus_plan.execution.partner import Prediction, plan_around
 from ocplus_plan.sim import make_rules, new_state
@@ -58,14 +59,14 @@ def test_an_item_a_partner_takes_up_again_and_again_is_claimed():
     state, lettuce, _plate = _kitchen()
     claims = PartnerClaims()
     _pickups(claims, state, lettuce, [2, 4, 6][:CLAIM_PICKUPS])
-    assert claims.claimed() == {lettuce: 1}
+    assert claims.claimed(state.t) == {lettuce: 1}
 
 
 def test_one_pickup_fewer_claims_nothing():
     state, lettuce, _plate = _kitchen()
     claims = PartnerClaims()
     _pickups(claims, state, lettuce, [2, 4, 6, 8][:CLAIM_PICKUPS - 1])
-    assert claims.claimed() == {}
+    assert claims.claimed(state.t) == {}
 
 
 def test_pickups_older_than_the_window_are_forgotten():
@@ -74,14 +75,26 @@ def test_pickups_older_than_the_window_are_forgotten():
     _pickups(claims, state, lettuce, [2, 4, 6][:CLAIM_PICKUPS])
     state.t += CLAIM_STEPS
     claims.see(state, (0,))
-    assert claims.claimed() == {}
+    assert claims.claimed(state.t) == {}
+
+
+def test_a_partner_that_has_held_the_item_a_while_since_is_carrying_it_not_claiming_it():
+    state, lettuce, _plate = _kitchen()
+    claims = PartnerClaims()
+    _pickups(claims, state, lettuce, [2, 4, 6][:CLAIM_PICKUPS])
+    last = state.t  # the partner takes it up once more now, and holds it on
+    for t in range(last, last + CLAIM_RECENT + 2):
+        state.t = t
+        state.agent_hand[1] = lettuce
+        claims.see(state, (0,))
+        assert bool(claims.claimed(t)) is (t - last <= CLAIM_RECENT)
 
 
 def test_holding_an_item_for_many_steps_is_one_pickup():
     state, lettuce, _plate = _kitchen()
     claims = PartnerClaims()
     _pickups(claims, state, lettuce, list(range(2, 12)))
-    assert claims.claimed() == {}
+    assert claims.claimed(state.t) == {}
 
 
 def test_our_own_cooks_pickups_claim_nothing():
@@ -91,7 +104,7 @@ def test_our_own_cooks_pickups_claim_nothing():
         state.t = t
         state.agent_hand[0] = lettuce if t % 2 else -1
         claims.see(state, (0,))
-    assert claims.claimed() == {}
+    assert claims.claimed(state.t) == {}
 
 
 def test_a_withheld_item_has_no_place_its_cell_is_free_and_its_orders_wait():
