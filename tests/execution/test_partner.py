@@ -108,6 +108,27 @@ def test_a_partner_that_takes_an_item_repairs_the_plan_instead_of_replacing_it()
     assert len(queues[0]) == 5
 
 
+def test_a_step_of_the_items_next_life_does_not_fit_a_partners_bump():
+    # two dishes from the crate's one tomato: the first is served (the tomato goes home),
+    # then the tomato is fetched again and, for the second, put down on the counter right of
+    # the crate. The partner carrying the tomato of the first dish to that counter does not
+    # fit: dropping the first dish's steps would drop its delivery too
+    state, tomato = _carrying_partner()
+    crate, board, window = state.geo.flat(1, 0), state.geo.flat(0, 2), state.geo.flat(1, 4)
+    counter = state.geo.flat(0, 3)
+    plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
+    first = [PlanStep(0, 0, "pickup", crate, (tomato,)), PlanStep(1, 0, "putdown", board, (tomato,)),
+             PlanStep(2, 0, "chop", board, (tomato,)), PlanStep(3, 0, "plate", board, (plate, tomato)),
+             PlanStep(4, 0, "deliver", window, (plate, tomato))]
+    second = [PlanStep(5, 0, "pickup", crate, (tomato,)),
+              PlanStep(6, 0, "putdown", counter, (tomato,))]
+    queues = {0: deque(Task(s, frozenset()) for s in first + second)}
+    assert not repair_taken(queues, set(), tomato, counter)
+    assert len(queues[0]) == 7
+    assert repair_taken(queues, done := set(), tomato, board)  # the first life fits
+    assert done == {0, 1} and [t.step.index for t in queues[0]] == [2, 3, 4, 5, 6]
+
+
 def test_a_partner_blocking_the_only_corridor_is_a_wall_in_the_plan_and_in_the_paths():
     state = _state(LANE)
     model = PartnerModel(StayAgent())
