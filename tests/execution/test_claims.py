@@ -167,16 +167,11 @@ def test_the_executive_plans_without_an_item_its_partner_keeps_taking_up():
     assert ex.info()["claimed_plans"] >= 1
 
 
-def _fd_ok() -> bool:
-    try:
-        from ocplus_plan.planning.engines import availability
-    except ImportError:  # pragma: no cover
-        return False
-    return availability("fast-downward").ok
-
-
-@pytest.mark.skipif(not _fd_ok(), reason="fast-downward unavailable")
 def test_with_the_lettuce_claimed_our_cook_serves_the_plate_it_holds():
+    from ocplus_plan.planning.engines import availability
+
+    if not availability("fast-downward").ok:
+        pytest.skip(availability("fast-downward").reason)
     from ocplus_plan.execution.planning_step import compile_and_solve
     from ocplus_plan.execution.spec import DEFAULT_PLANNER
 
