@@ -20,7 +20,8 @@ uses it, and the cell it lies on stays taken). Where the plan needs the item all
 from __future__ import annotations
 
 from collections import Counter, deque
-from collections.abc import Collection
+from collections.abc import Collection, Mapping
+from typing import Any
 
 from ..sim.codes import Where
 from ..sim.state import State
@@ -57,15 +58,22 @@ class PartnerClaims:
         while self.pickups and self.pickups[0][0] <= state.t - CLAIM_STEPS:
             self.pickups.popleft()
 
-    def claimed(self, now: int) -> dict[int, int]:
-        """item -> the partner that claims it at step ``now`` (the last to take it up)."""
+    def claimed(self, now: int,
+                predictions: Mapping[int, Any] | None = None) -> dict[int, int]:
+        """item -> the partner that claims it at step ``now`` (the last to take it up). A
+        partner predicted by its own policy (``predictions``: cook -> ``Prediction``, its
+        ``by_policy``: a greedy partner) claims nothing: what it takes up it takes for a
+        reason the prediction knows (a greedy partner passing items across a switching
+        kitchen takes them up again and again; left out, they cost
+        ``gen:switching:test:0`` seed 0 and ``gen:switching:test:1`` seed 1 a dish each)."""
+        known = {c for c, p in (predictions or {}).items() if p.by_policy}
         counts: dict[int, int] = {}
         last: dict[int, tuple[int, int]] = {}
         for t, cook, item in self.pickups:
             counts[item] = counts.get(item, 0) + 1
             last[item] = (t, cook)
-        return {i: last[i][1] for i, n in counts.items()
-                if n >= CLAIM_PICKUPS and now - last[i][0] <= CLAIM_RECENT}
+        return {i: last[i][1] for i, n in counts.items() if n >= CLAIM_PICKUPS
+                and now - last[i][0] <= CLAIM_RECENT and last[i][1] not in known}
 
 
 def withhold(state: State, claims: dict[int, int]) -> State:

@@ -305,10 +305,11 @@ class Executive:
         t0 = time.perf_counter()
         planned = tuple(a for a in self.agent_ids if self.yielding.get(a, -1) <= state.t)
         try:  # around the partners' predicted next bumps (:func:`~.partner.plan_around`)
-            claims = self.claims.claimed(state.t)
+            preds = self._predict(state) if self.partner_model else None
+            claims = self.claims.claimed(state.t, preds)
             self.claims.plans += bool(claims)
-            outcome = plan_around(self.planner, state, planned or self.agent_ids, reason,
-                                  self._predict(state) if self.partner_model else None, claims)
+            outcome = plan_around(self.planner, state, planned or self.agent_ids, reason, preds,
+                                  claims)
         except Exception as exc:  # noqa: BLE001 - a planner must never crash the episode
             outcome = PlanOutcome("error", [], time.perf_counter() - t0, repr(exc))
         spent = outcome.planning_time or (time.perf_counter() - t0)

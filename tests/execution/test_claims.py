@@ -62,6 +62,14 @@ def test_an_item_a_partner_takes_up_again_and_again_is_claimed():
     assert claims.claimed(state.t) == {lettuce: 1}
 
 
+def test_a_partner_predicted_by_its_own_policy_claims_nothing():
+    state, lettuce, _plate = _kitchen()
+    claims = PartnerClaims()
+    _pickups(claims, state, lettuce, [2, 4, 6][:CLAIM_PICKUPS])
+    assert claims.claimed(state.t, {1: Prediction(1, None, by_policy=True)}) == {}
+    assert claims.claimed(state.t, {1: Prediction(1, None)}) == {lettuce: 1}
+
+
 def test_one_pickup_fewer_claims_nothing():
     state, lettuce, _plate = _kitchen()
     claims = PartnerClaims()
