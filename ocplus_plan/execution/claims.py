@@ -13,8 +13,8 @@ for 64 steps instead of serving it).
 within :data:`CLAIM_RECENT` steps, is *claimed*.
 :func:`withhold` leaves claimed items out of the problem the planner is asked about, as if
 they were in that partner's hand (the compiler gives an item in a hand no place, so no step
-uses it, and the cell it lies on stays taken). Where the plan needs the item all the same
-(nothing else can make a dish), :func:`~.partner.plan_around` asks again with it.
+uses it). Where the plan needs the item all the same (nothing else can make a dish),
+:func:`~.partner.plan_around` asks again with it.
 """
 
 from __future__ import annotations
@@ -83,10 +83,10 @@ def withhold(state: State, claims: dict[int, int]) -> State:
     their crates, and the model serves only when each crate is free (the simulator lets an
     item wait for a taken crate), so an onion claimed on the steak crate would keep a plate
     of steak from being served. A claimed item in its partner's hand leaves that partner's
-    hand empty in the copy, so the problem models neither. An open order that needs more of an ingredient kind than
-    is left without the claimed items moves behind the others (the planner's goal is the
-    oldest open orders): the simulator serves a dish to the oldest order it matches, so the
-    plan serves the orders that can be made first."""
+    hand empty in the copy, so the problem models neither. An open order that needs more of
+    an ingredient kind than is left without the claimed items moves behind the others (the
+    planner's goal is the oldest open orders): the simulator serves a dish to the oldest
+    order it matches, so the plan serves the orders that can be made first."""
     hidden = [i for i, cook in claims.items() if state.item_where[i] == _CELL or (
         state.item_where[i] == _HAND and state.item_loc[i] == cook)]
     for item in hidden:

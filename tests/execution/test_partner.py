@@ -117,8 +117,10 @@ def test_a_step_of_the_items_next_life_does_not_fit_a_partners_bump():
     crate, board, window = state.geo.flat(1, 0), state.geo.flat(0, 2), state.geo.flat(1, 4)
     counter = state.geo.flat(0, 3)
     plate = next(i for i, k in enumerate(state.geo.item_kind) if k == 5)
-    first = [PlanStep(0, 0, "pickup", crate, (tomato,)), PlanStep(1, 0, "putdown", board, (tomato,)),
-             PlanStep(2, 0, "chop", board, (tomato,)), PlanStep(3, 0, "plate", board, (plate, tomato)),
+    first = [PlanStep(0, 0, "pickup", crate, (tomato,)),
+             PlanStep(1, 0, "putdown", board, (tomato,)),
+             PlanStep(2, 0, "chop", board, (tomato,)),
+             PlanStep(3, 0, "plate", board, (plate, tomato)),
              PlanStep(4, 0, "deliver", window, (plate, tomato))]
     second = [PlanStep(5, 0, "pickup", crate, (tomato,)),
               PlanStep(6, 0, "putdown", counter, (tomato,))]
