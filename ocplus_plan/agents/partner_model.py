@@ -15,29 +15,17 @@ controller does not drive, the cell it bumps next and the walk it takes there
   open orders need). Such a guess is dropped (the cook is expected to stay) once the cook
   has come no closer to the guessed target for ``doubt`` steps: a cook that carries an item
   round the kitchen is not on its way to the plate the guess names, and our cook would
-  otherwise keep the way clear for it and wait for an item that never comes. A guessed
-  cook that has put the item it holds down on one cell :data:`TOGGLES` times within
-  :data:`TOGGLE_STEPS` steps, and stands beside that cell, is expected to put it down there
-  again (a learned partner that takes the steak up and puts it back, step after step: the
-  plan waits for it there instead of being made again each time it is taken up).
+  otherwise keep the way clear for it and wait for an item that never comes.
 """
 
 from __future__ import annotations
 
-from collections import Counter, deque
 from collections.abc import Sequence
 
 from ..execution.partner import Prediction
-from ..sim.codes import Where
 from ..sim.state import State
 from .base import Controller
 from .greedy import GreedyAgent
-
-
-#: put-downs of one item on one cell ...
-TOGGLES = 2
-#: ... within this many steps make a guessed cook holding it again expected to put it there
-TOGGLE_STEPS = 30
 
 
 class PartnerModel:
@@ -64,8 +52,6 @@ class PartnerModel:
         self.seen_t = state.t
         #: cook -> (guessed target, closest walk to it, steps since it came closer, step seen)
         self.chase: dict[int, tuple[int, int, int, int]] = {}
-        #: cook -> (step, item, cell) of its put-downs within the last TOGGLE_STEPS steps
-        self.puts: dict[int, deque[tuple[int, int, int]]] = {c: deque() for c in self.cooks}
 
     def _watch(self, state: State) -> None:
         """Count the steps each cook has stood still with the same hand."""
@@ -75,23 +61,7 @@ class PartnerModel:
         for c in self.cooks:
             now = (state.agent_pos[c], state.agent_hand[c])
             self.still[c] = self.still[c] + 1 if now == self.last[c] else 0
-            held = self.last[c][1]
-            if held >= 0 and now[1] != held and state.item_where[held] == int(Where.CELL):
-                self.puts[c].append((state.t, held, state.item_loc[held]))
-            while self.puts[c] and self.puts[c][0][0] <= state.t - TOGGLE_STEPS:
-                self.puts[c].popleft()
             self.last[c] = now
-
-    def _toggled(self, state: State, cook: int) -> int | None:
-        """The cell a guessed ``cook`` keeps putting the item it holds down on, when it stands
-        beside that cell and the cell is free; else None."""
-        held = state.agent_hand[cook]
-        cells = Counter(cell for _t, item, cell in self.puts[cook] if item == held)
-        if held < 0 or not cells:
-            return None
-        cell, n = cells.most_common(1)[0]
-        near = cell in state.geo.neighbors[state.agent_pos[cook]]
-        return cell if n >= TOGGLES and near and state.cell_item[cell] < 0 else None
 
     def __call__(self, state: State) -> dict[int, Prediction]:
         self._watch(state)
@@ -101,10 +71,6 @@ class PartnerModel:
         out: dict[int, Prediction] = {}
         for c in self.cooks:
             goal = goals.get(c)
-            toggled = None if self.by_policy else self._toggled(state, c)
-            if toggled is not None:
-                out[c] = Prediction(c, toggled)
-                continue
             if goal is None or (not self.by_policy and self.still[c] >= self.patience):
                 out[c] = Prediction(c, None, by_policy=self.by_policy)
                 continue

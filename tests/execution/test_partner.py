@@ -71,30 +71,6 @@ def test_a_greedy_partner_carrying_the_needed_item_is_predicted_by_its_own_polic
     assert pred.path == (state.geo.flat(1, 2),)  # one step right, then it bumps up
 
 
-def test_a_guessed_partner_that_keeps_putting_its_item_back_is_expected_to_again():
-    # the partner takes the tomato from its crate, then puts it on the counter above it and
-    # takes it up again, twice: holding it, it is expected to put it back there
-    state = _state(KITCHEN)
-    model = PartnerModel(StayAgent())
-    model.reset(state, [0])
-    counter, up = state.geo.flat(0, 1), int(Action.UP)
-    for action in (L, up, up, up, up):
-        transition(state, [S, action])
-        pred = model(state)[1]
-    assert state.agent_hand[1] >= 0 and state.cell_item[counter] < 0
-    assert pred.target == counter and not pred.by_policy
-
-
-def test_a_partner_predicted_by_its_policy_is_not_guessed_from_its_put_downs():
-    state = _state(KITCHEN)
-    model = PartnerModel(GreedyAgent(0))
-    model.reset(state, [0])
-    counter, up = state.geo.flat(0, 1), int(Action.UP)
-    for action in (L, up, up, up, up):
-        transition(state, [S, action])
-    assert model(state)[1].target != counter
-
-
 def test_work_the_partner_is_about_to_do_is_not_planned_again():
     # the state the planner is asked about has the tomato on the board already: the plan
     # chops it there instead of fetching another one, and the partner is not modelled
