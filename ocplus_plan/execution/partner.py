@@ -66,7 +66,8 @@ def plan_around(planner: PlanFunction, state: State, agents: tuple[int, ...], re
     Items a partner keeps taking up (``claims``: item -> partner, :mod:`.claims`) are left
     out of every problem asked; when no plan comes without them, it is asked with them."""
     if claims:
-        outcome = plan_around(lambda s, a, r: planner(withhold(s, dict(claims)), a, r),
+        held = dict(claims)
+        outcome = plan_around(lambda s, a, r: planner(withhold(s, held), a, r),
                               state, agents, reason, predictions)
         if outcome.ok:
             return outcome
@@ -317,17 +318,12 @@ def held_by_partner(state: State, items: Iterable[int],
     return None
 
 
-def partner_holding(state: State, task: Task, driven: Mapping[int, object]) -> tuple[int, int] | None:
-    """(cook, item): an item of ``task`` in the hand of a cook not in ``driven``, or None."""
-    return held_by_partner(state, task.step.items, driven)
-
-
 def answer_taken(state: State, task: Task, queues: Mapping[int, deque[Task]],
                  done_steps: set[int], predictions: Mapping[int, Prediction]) -> str | None:
     """A partner holds an item of ``task``: ``expected`` (its predicted bump puts the item
     where the plan uses it), ``repaired`` (:func:`repair_taken` fitted the plan to it) or
     ``taken`` (the plan does not fit: plan again). None when no partner holds one."""
-    found = partner_holding(state, task, queues)
+    found = held_by_partner(state, task.step.items, queues)
     if found is None:
         return None
     pred = predictions.get(found[0])
@@ -468,7 +464,7 @@ def brings(state: State, task: Task, predictions: Mapping[int, Prediction],
            driven: Mapping[int, object]) -> bool:
     """Does a partner carry an item of ``task`` to the task's own station (its predicted
     bump is there)? A cook of ours waiting for it there stands in the partner's way."""
-    found = partner_holding(state, task, driven)
+    found = held_by_partner(state, task.step.items, driven)
     pred = None if found is None else predictions.get(found[0])
     return pred is not None and pred.target == task.step.target
 
@@ -582,6 +578,6 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
 __all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken",
            "await_partner_plates", "brings", "blocked_geometry", "delivering",
            "expected_by_plan", "hand_off", "held_by_partner",
-           "meeting_counters", "onto_our_plate", "ours_first", "partner_holding", "plan_around",
+           "meeting_counters", "onto_our_plate", "ours_first", "plan_around",
            "predicted_state", "repair_taken", "reserved_walks", "shut_out", "sooner_jointly",
            "substitute", "this_life", "vacate"]
