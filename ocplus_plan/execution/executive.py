@@ -277,7 +277,8 @@ class Executive:
         empty = not any(self.queues.values()) and bool(state.orders)
         kind = self.policy.kind
         if kind == "on_event" and self.unhandled:
-            first = [r for r in ("livelock", "stall") if r in self.unhandled]
+            # a deadlock beside a stall first: it is the stations abstraction that failed
+            first = [r for r in ("livelock", "deadlock", "stall") if r in self.unhandled]
             return first[0] if first else self.unhandled[0]
         if kind == "periodic" and state.t - self.last_plan_t >= self.policy.period:
             return "periodic"

@@ -80,3 +80,27 @@ def test_a_move_into_a_cell_a_partner_stands_on_is_no_contest():
     for _ in range(4):  # waiting behind a cook that stays is the paths' business, not this
         assert watch.settle(state, {0: int(Action.UP)}) == {0: int(Action.UP)}
         transition(state, [int(Action.UP), int(Action.STAY)])
+
+
+def test_a_deadlock_that_comes_with_a_stall_is_planned_for_as_a_deadlock():
+    """A stall and a deadlock seen on one step: the planner is asked for the deadlock (a plan
+    with cells, which respects who stands where), not for the stall's give-way, which plans
+    with stations again and so gets back the plan that deadlocked."""
+    from ocplus_plan.execution.executive import Executive
+
+    from .toy_planner import toy_planner
+
+    asked = []
+
+    def planner(state, agents, reason=""):
+        asked.append(reason)
+        return toy_planner(state, agents, reason)
+
+    state = new_state(make_rules("easy", map=KITCHEN, n_agents=2, recipes=["tomato"]), 0)
+    ex = Executive(planner)
+    ex.reset(state)
+    ex.act(state)
+    assert asked == ["initial"]
+    ex.unhandled += ["stall", "deadlock"]
+    ex.act(state)
+    assert asked == ["initial", "deadlock"]
