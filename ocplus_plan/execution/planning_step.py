@@ -213,11 +213,12 @@ class _Pipeline:
         # a deadlock means the stations abstraction (agents jump past each other) failed
         # here: plan this once with cells, whose moves respect occupancy, and follow them;
         # so does every plan for several cooks on one lane (:func:`.paths.cooks_in_one_lane`)
+        # and a stall that lasts (``stall_all``: every driven cook modelled, one order at a
+        # time), which leaves a cook and a partner waiting for each other to pass
         lane = cooks_in_one_lane(state, agents)
-        gran = "cells" if (reason == "deadlock" or lane) and not self.anticipate \
-            else self.granularity
-        # a stall that lasts (``stall_all``): every driven cook modelled, one order at a time
         every = reason == "stall_all"
+        gran = "cells" if (reason == "deadlock" or every or lane) and not self.anticipate \
+            else self.granularity
         cap = 1 if every else orders_to_plan(state, self.orders_per_plan)
         attempts = [(cap, state)] if cap == 1 or len(state.orders) <= 1 else [(cap, state),
                                                                                  (1, state)]
@@ -245,7 +246,7 @@ class _Pipeline:
                 return self.solved(compiled, result.plan, state, problem_state, agents,
                                    max_orders, gran, relaxed, t0)
             outcome = PlanOutcome(result.status, [], time.perf_counter() - t0, result.reason)
-            if lane and not attempts and gran != self.granularity \
+            if (lane or every) and not attempts and gran != self.granularity \
                     and result.status not in PROVEN_STATUSES:
                 gran, attempts = self.granularity, [(1, state)]  # no cells plan in time
         return outcome

@@ -34,13 +34,15 @@ def give_way(ex: Any, state: State) -> bool:
 
 def stall_strategy(ex: Any, state: State, stalled: int) -> str:
     """A stall of ``stalled`` steps changes strategy, a new one each time it lasts on:
-    give way, model every cook with one order at a time (``stall_all``), re-allocate.
-    Returns the reason the next planner call is made for."""
+    give way (a lone cook beside partners hands off what it holds; with a free hand it has
+    nothing to hand off), model every cook with one order at a time on cells
+    (``stall_all``), re-allocate. Returns the reason the next planner call is made for."""
     turn = stalled // STALL_PATIENCE - 1
     if turn % 3 == 0 and give_way(ex, state):
         ex.stall_strategies["give_way"] += 1
         return "stall"
-    if turn % 3 == 0 and len(ex.agent_ids) == 1 < state.n_agents:
+    if turn % 3 == 0 and len(ex.agent_ids) == 1 < state.n_agents \
+            and state.agent_hand[ex.agent_ids[0]] >= 0:
         ex.stall_strategies["hand_off"] += 1
         return "livelock"  # one cook of ours beside partners: hand off and wait
     if turn % 3 <= 1:

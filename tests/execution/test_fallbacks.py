@@ -86,3 +86,18 @@ def test_cooks_on_an_open_floor_are_planned_with_stations(monkeypatch):
     asked = _granularities(pipeline)
     pipeline(state, (0, 1), "initial")
     assert asked and set(asked) == {"stations"}
+
+
+@pytest.mark.parametrize("reason", ["stall_all", "deadlock"])
+def test_a_lasting_stall_and_a_deadlock_are_planned_with_cells(monkeypatch, reason):
+    """On an open floor too: the stations abstraction lets cooks jump past each other, so a
+    cook and a partner that wait for each other to pass get the same plan again from it;
+    a lasting stall falls back to stations when no cells plan comes in time."""
+    _timeouts(monkeypatch)
+    state = new_state(make_rules("easy", n_agents=2, horizon=50), 0)
+    pipeline = compile_and_solve("fast-downward")
+    asked = _granularities(pipeline)
+    pipeline(state, (0, 1), reason)
+    assert asked[0] == "cells"
+    if reason == "stall_all":
+        assert asked == ["cells", "stations"]
