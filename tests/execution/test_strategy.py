@@ -48,7 +48,6 @@ def test_a_stall_gives_way_first_then_models_every_cook():
     assert not any(ex.queues.values())  # re-allocated from scratch
 
 
-
 def test_a_lone_cook_hands_off_in_a_stall_only_what_it_holds():
     """Beside a partner, the first strategy of a lone cook is to hand off what it holds; with
     a free hand there is nothing to hand off, and it goes straight to a plan with cells."""
@@ -61,6 +60,7 @@ def test_a_lone_cook_hands_off_in_a_stall_only_what_it_holds():
     state.agent_hand[0] = 0  # (only the hand is read)
     assert stall_strategy(ex, state, 18) == "livelock"
     assert ex.stall_strategies["hand_off"] == 1
+
 
 # our cook below the free cell (1, 2), a partner left of it: both step into it
 CROSS = {"name": "cross", "max_n_agent": 2,
