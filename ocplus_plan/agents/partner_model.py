@@ -50,8 +50,9 @@ class PartnerModel:
         self.last = {c: (state.agent_pos[c], state.agent_hand[c]) for c in self.cooks}
         self.still = dict.fromkeys(self.cooks, 0)
         self.seen_t = state.t
-        #: cook -> (guessed target, closest walk to it, steps since it came closer, step seen)
-        self.chase: dict[int, tuple[int, int, int, int]] = {}
+        #: (cook, guessed target) -> (closest walk to it, step it was first that close,
+        #: step it was last guessed)
+        self.chase: dict[tuple[int, int], tuple[int, int, int]] = {}
 
     def _watch(self, state: State) -> None:
         """Count the steps each cook has stood still with the same hand."""
@@ -93,15 +94,15 @@ class PartnerModel:
 
     def _astray(self, t: int, cook: int, target: int, walk: int) -> bool:
         """Has ``cook`` come no closer to the guessed ``target`` (``walk`` steps away now)
-        for :attr:`doubt` steps? Counted once per step, whatever the number of calls."""
-        last, best, since, seen = self.chase.get(cook, (-1, 0, 0, -1))
-        if t != seen:
-            if last != target or walk < best:
-                best, since = walk, 0
-            else:
-                since += 1
-            self.chase[cook] = (target, best, since, t)
-        return self.chase[cook][2] >= self.doubt
+        for :attr:`doubt` steps? The count goes on while the guess turns to other targets
+        and back within :attr:`patience` steps (a cook that keeps taking an item up and
+        putting it down is guessed to carry it somewhere every other step, and comes no
+        closer); it starts again at a new closest walk or after a longer turn away."""
+        best, since, seen = self.chase.get((cook, target), (walk, t, t))
+        if t - seen > self.patience or walk < best:
+            best, since = walk, t
+        self.chase[(cook, target)] = (best, since, t)
+        return t - since >= self.doubt
 
 
 __all__ = ["PartnerModel"]

@@ -201,6 +201,26 @@ def test_a_guess_the_partner_does_not_follow_is_dropped():
     assert model(state)[1].target == board
 
 
+def test_a_partner_that_keeps_putting_its_item_down_and_taking_it_up_is_not_followed():
+    # it puts the tomato down on the counter above it and takes it up again, over and over:
+    # the guess turns from the board (while it holds the tomato) to the tomato (while it
+    # lies there) and back every step, and the partner never comes closer to the board
+    state, model, board = _wandering_partner()
+    guesses = []
+    for _ in range(2 * model.doubt):
+        transition(state, [S, int(Action.UP)])
+        if state.agent_hand[1] >= 0:
+            guesses.append(model(state)[1].target)
+        else:
+            model(state)
+    assert guesses[0] == board
+    assert guesses[-1] is None  # expected to stay: our cook no longer waits for its tomato
+    # once it heads for the board the guess holds again
+    for _ in range(model.patience + 1):
+        transition(state, [S, int(Action.RIGHT)])
+    assert state.agent_hand[1] >= 0 and model(state)[1].target == board
+
+
 def test_a_partner_on_its_way_keeps_its_guessed_target():
     state, model, board = _wandering_partner()
     for _ in range(4):  # right along the row to the board: closer every step
