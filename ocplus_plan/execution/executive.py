@@ -549,7 +549,7 @@ class Executive:
             requests.sort(key=lambda x: x[0])
             # agents we do not drive, and our agents that bump this step, stay where they are
             others = {b: state.agent_pos[b] for b in actions}
-            others.update(reserved_walks(state, self._predict(state), self.queues, self.done_steps))
+            others.update(reserved_walks(state, self._predict(state), self.queues))
             walk_at = layout_schedule(state, self._waits_for_switches())
             paths = plan_paths(geo, [r for _, r in requests], others,
                                horizon=self.path_horizon, walk_at=walk_at)

@@ -31,7 +31,7 @@ from ..sim.state import Geometry, State
 from .claims import withhold
 from .plans import PlanFunction, PlanOutcome, PlanStep, causal_dependencies, touched
 from .proven import PROVEN_STATUSES
-from .tasks import Task, ready
+from .tasks import Task
 
 _HAND, _CELL, _PLATE = int(Where.HAND), int(Where.CELL), int(Where.PLATE)
 _WAITING = int(Where.WAITING)
@@ -556,16 +556,13 @@ def _out_of_the_way(state: State, cook: int, counter: int) -> int | None:
 
 
 def reserved_walks(state: State, predictions: Mapping[int, Prediction],
-                   driven: Mapping[int, object], done: Collection[int] | None = None,
-                   steps: int = PREDICT_STEPS) -> dict[int, object]:
+                   driven: Mapping[int, object], steps: int = PREDICT_STEPS) -> dict[int, object]:
     """What the executive's paths hold for every cook it does not drive: its predicted walk
     (cells per step from now, its current cell first) when it has one that none of our
     cooks with work (``driven``: cook -> its queued steps) stands on, else its current cell
     (it stays). A cook of ours with nothing to do steps off a partner's walk: one that has
     just handed an item off and stands in front of that counter lets the partner take it;
-    one whose next step waits for the item a partner brings (:func:`brings`) lets it by.
-    A guessed walk to the cell our cook's next step works, which our cook reaches and
-    works first (:func:`first_come`, with ``done``: the steps done), ends a step short."""
+    one whose next step waits for the item a partner brings (:func:`brings`) lets it by."""
     ours = {state.agent_pos[a] for a, work in driven.items() if work and not (
         isinstance(work, deque) and brings(state, work[0], predictions, driven))}
     out: dict[int, object] = {}
@@ -574,39 +571,13 @@ def reserved_walks(state: State, predictions: Mapping[int, Prediction],
             continue
         pred = predictions.get(b)
         walk = (state.agent_pos[b], *pred.path[:steps]) if pred is not None else ()
-        if done is not None and len(walk) > 2 and first_come(state, pred, driven, done):
-            walk = walk[:-1]
         out[b] = walk if len(walk) > 1 and not ours & set(walk) else state.agent_pos[b]
     return out
 
 
-def first_come(state: State, pred: Prediction, driven: Mapping[int, object],
-               done: Collection[int]) -> bool:
-    """Is a cook of ours, whose next step works the cell a guessed partner is predicted to
-    bump (``pred``) and could be worked now (its item lies there and :func:`~.tasks.ready`:
-    a pickup of what lies there, not a chop of what the partner is to bring), at that
-    cell's spot and working it before the partner's walk gets there? First come, first served: the partner's walk is
-    a guess, our step a plan (a partner predicted by its own policy is left its walk)."""
-    if pred.by_policy or pred.target is None:
-        return False
-    geo = state.geo
-    walk = geo.walkables[state.layout_index]
-    for a, work in driven.items():
-        task = work[0] if isinstance(work, deque) and work else None
-        if task is None or task.step.target != pred.target or \
-                state.cell_item[pred.target] not in task.step.items or \
-                not ready(state, a, task, set(done)):
-            continue
-        near = distances(geo.neighbors, walk, [state.agent_pos[a]])
-        spots = [n for n in interaction_spots(geo.neighbors, walk, pred.target) if near[n] >= 0]
-        if spots and min(near[n] for n in spots) + 1 < len(pred.path):
-            return True
-    return False
-
-
 __all__ = ["PREDICT_STEPS", "PartnerModel", "Prediction", "answer_taken",
            "await_partner_plates", "brings", "blocked_geometry", "delivering",
-           "expected_by_plan", "first_come", "hand_off", "held_by_partner",
+           "expected_by_plan", "hand_off", "held_by_partner",
            "meeting_counters", "onto_our_plate", "ours_first", "plan_around",
            "predicted_state", "repair_taken", "reserved_walks", "shut_out", "sooner_jointly",
            "substitute", "this_life", "vacate"]

@@ -228,35 +228,6 @@ def test_a_partner_on_its_way_keeps_its_guessed_target():
         assert model(state)[1].target == board
 
 
-def test_a_guessed_walk_to_the_cell_our_cook_works_first_ends_a_step_short():
-    # our cook stands a step from the plate counter's spot, to take the plate; the partner
-    # is guessed to walk five steps to the same plate: our cook gets there and takes it
-    # first, so the guess's last cell (the spot our cook needs) is not held for it
-    state = _state(WANDER)
-    rc = state.geo.flat
-    transition(state, [L, S])
-    counter, board = rc(3, 5), rc(1, 6)
-    assert state.agent_pos == [rc(2, 4), rc(1, 1)] and state.cell_item[counter] >= 0
-    take = Task(PlanStep(0, 0, "pickup", counter, (state.cell_item[counter],)), frozenset())
-    walk = (rc(1, 2), rc(1, 3), rc(1, 4), rc(1, 5), rc(2, 5))
-    mine = {0: deque([take])}
-    guess = Prediction(1, counter, walk)
-    assert reserved_walks(state, {1: guess}, mine, set())[1] == (rc(1, 1), *walk[:-1])
-    # a partner predicted by its own policy keeps its walk, and so does one that gets there
-    # first, and one our cook's step waits for (a step not done yet)
-    assert reserved_walks(state, {1: Prediction(1, counter, walk, True)}, mine, set())[1] == \
-        (rc(1, 1), *walk)
-    near = Prediction(1, counter, walk[3:])
-    assert reserved_walks(state, {1: near}, mine, set())[1] == (rc(1, 1), *walk[3:])
-    later = {0: deque([Task(take.step, frozenset({7}))])}
-    assert reserved_walks(state, {1: guess}, later, set())[1] == (rc(1, 1), *walk)
-    # nor a step that cannot be worked yet: a chop at the board before anything lies there
-    # (the partner is guessed to bring it)
-    chop = {0: deque([Task(PlanStep(0, 0, "chop", board, (0,)), frozenset())])}
-    to_board = Prediction(1, board, walk[:4])
-    assert reserved_walks(state, {1: to_board}, chop, set())[1] == (rc(1, 1), *walk[:4])
-
-
 def test_a_taken_item_is_replaced_by_an_equivalent_one_in_the_plan():
     # two tomato crates: the partner takes the tomato of the left one, which the plan
     # meant to fetch; the plan fetches the right one instead and keeps every other step
