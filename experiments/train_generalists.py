@@ -20,7 +20,8 @@ that chain again (2,400 s of continued PPO, then ``ppogreedy2long2_2agent_s2`` 1
 cloned from the greedy cook with its hand-over
 and plate rules.
 ``experiments/checkpoints/generalists/NAME.json`` records the command, wall and CPU seconds, the load, and the training summary, and
-``NAME.episodes.csv`` the training log. The runs named in SHIPPED are exported weights-only
+``NAME.episodes.csv`` the training log. ``choice_2agent_s*`` are PPO from scratch on
+``--obs choice``: the policy picks each free cook's subtask, the greedy cook's skills move. The runs named in SHIPPED are exported weights-only
 (rl/npz_export.py) to ``experiments/checkpoints/generalist_{n}agent/`` (``policy.npz`` +
 ``train.json``), which a bare ``ppo`` plays on kitchens without a checkpoint of their own.
 """
@@ -113,6 +114,15 @@ def _resumed(args: list[str], checkpoint: str, wall: str) -> list[str]:
     return out
 
 
+def _choice(seed: int) -> list[str]:
+    """PPO from scratch on ``--obs choice``: each free cook's action picks one of the subtasks
+    the greedy cook would consider, whose skills then walk and work (1M agent-steps, the
+    shaping annealed over 80% of them; at most 1,000 s of wall)."""
+    return ["--preset", PRESET, "--n-agents", "2", "--maps", maps(2), "--timesteps",
+            "1000000", "--seed", str(seed), "--obs", "choice", "--lr", "3e-4", "--ent-coef",
+            "0.01", "--max-wall", "1000", *LOOP]
+
+
 RUNS: dict[str, list[str]] = {
     "clonefeat_2agent_s0": ["--preset", PRESET, "--n-agents", "2", "--maps", maps(2),
                             "--timesteps", "1", "--seed", "0", *CLONE_FEATURES, *FAST],
@@ -158,6 +168,8 @@ RUNS: dict[str, list[str]] = {
     "ppogreedy2long2_2agent_s2": [*_resumed(_ppo_greedy2(2), "experiments/runs/"
                                             "ppogreedy2long_2agent_s2/policy.zip", "1100"),
                                   "--checkpoint-every", "2000000"],
+    # PPO from scratch choosing subtasks (--obs choice: agents/task_choice.py), 1M agent-steps
+    **{f"choice_2agent_s{s}": _choice(s) for s in (0, 1, 2)},
     "clone_1agent_s0": _run(1, 0, True),
     "clone_3agent_s0": _run(3, 0, True),
 }

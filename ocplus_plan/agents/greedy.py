@@ -25,12 +25,16 @@ finishes, instead of walking over the switches itself (two cooks that each cross
 trade rooms and wait for every switch). A cook holding a vegetable in the only way in to a
 board on which a partner's raw vegetable lies puts its own down and chops that one, instead of
 waiting there for the board to be free (nobody else can get to it).
-Movement: breadth-first paths on the current layout with the other agents' cells
-and the cells already claimed this step as obstacles (so the controller itself
+Movement (:mod:`.greedy_moves`): breadth-first paths on the current layout with the other
+agents' cells and the cells already claimed this step as obstacles (so the controller itself
 never causes a swap or a contested move); an agent whose way is blocked steps
 aside at random after waiting, and an idle agent steps off a busy agent's path, and away from
 a cook it does not drive that has stood beside it for ``_WAITING`` steps (waiting, perhaps, for
 the cell it holds: the only way to a station or along a one-lane corridor).
+The choice of subtasks is split in steps another controller reuses
+(:mod:`.task_choice`, where a learned policy picks each free cook's subtask): the holders'
+goals (``_holders``), the subtasks by cell (``_task_cells``), a cook's cost of one
+(``_cost``) and taking it (``_take``).
 Nothing here re-implements a rule: where a held item can go is what
 ``sim.queries.bump_effect`` says a bump there does; plateability is ``is_plateable``.
 """
@@ -43,33 +47,27 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..sim.codes import COUNTERS, Action, Cell, Item, ItemState, Where
+from ..sim.codes import COUNTERS, Cell, Item, ItemState, Where
 from ..sim.queries import (
     Bump,
     bump_effect,
-    direction,
     distances,
-    interaction_spots,
     is_plateable,
     ticks_until_burnt,
-    walk_to,
-    walks,
 )
 from ..sim.state import State
 from .base import Controller
+from .greedy_moves import _STUCK, GreedyMoves
 from .greedy_view import _VEG, KitchenView
 
-_STAY = int(Action.STAY)
 _COUNTER_CODES = frozenset(int(c) for c in COUNTERS)
 _STEAK, _PLATE = int(Item.STEAK), int(Item.PLATE)
 _FRESH, _COOKED = int(ItemState.FRESH), int(ItemState.COOKED)
 _BURNT, _CLEAN, _DIRTY = int(ItemState.BURNT), int(ItemState.CLEAN), int(ItemState.DIRTY)
 #: destinations only one cook should head for at a time (many may bump a plate or the window)
 _EXCLUSIVE = frozenset({"to_board", "to_pan", "to_sink", "put_down", "handover", "relay", "pass"})
-_STUCK = 4  # blocked steps (net) before a cook relays what it carries through a counter
 _MARGIN = 4  # spare steps a cook keeps between reaching a cooked steak and its burning
 _PASSES = 2  # items passed to cooks this controller does not drive that may lie untaken
-_WAITING = 3  # steps a cook it does not drive stands beside an idle cook before that one moves off
 #: a partner that has neither moved nor changed what it holds for this many steps is not
 #: counted on as a teammate on a switching kitchen (an idle cook would never take anything)
 _IDLE_PARTNER = 30
@@ -86,7 +84,7 @@ class Subtask:
     budget: tuple[str, int] | None = None  # a shared, limited need this task uses up
 
 
-class GreedyAgent(Controller):
+class GreedyAgent(GreedyMoves, Controller):
     """Scripted task-allocation controller (see the module docstring)."""
 
     name = "greedy"
@@ -125,12 +123,21 @@ class GreedyAgent(Controller):
     def goals(self, state: State) -> tuple[KitchenView, dict[int, tuple[int, str]]]:
         """Where each driven cook heads this step: cook -> (cell to bump, label); a cook
         with nothing to do has none. (A partner model runs this to predict a greedy cook.)"""
+        v, goals, claimed, budget, partners = self._holders(state)
+        self._assign(v, [a for a in self.agent_ids if state.agent_hand[a] < 0], claimed,
+                     budget, goals, partners)
+        return v, goals
+
+    def _holders(self, state: State) -> tuple[KitchenView, dict[int, tuple[int, str]], set[int],
+                                              Counter, list[int]]:
+        """The goals of the driven cooks that hold something (their destinations are claims
+        too): ``(view, goals, claimed cells, budgets, partners)`` for the free cooks' pass."""
         v = KitchenView(state, driven=len(self.agent_ids) + len(self._active(state)))
         goals: dict[int, tuple[int, str]] = {}  # agent -> (cell to bump, label)
         claimed: set[int] = set()
         budget = self._budgets(v)
         partners = self._partners(v)
-        for a in self.agent_ids:  # holders first: their destinations are claims too
+        for a in self.agent_ids:
             if state.agent_hand[a] >= 0:
                 goal = self._carry(v, a, claimed, budget, partners)
                 if goal is not None:
@@ -139,9 +146,7 @@ class GreedyAgent(Controller):
                         claimed.add(goal[0])
                     if goal[1] == "pass" and goal[0] in v.nbrs[state.agent_pos[a]]:
                         self.passed[state.agent_hand[a]] = goal[0]  # its bump puts it there
-        self._assign(v, [a for a in self.agent_ids if state.agent_hand[a] < 0], claimed,
-                     budget, goals, partners)
-        return v, goals
+        return v, goals, claimed, budget, partners
 
     def _active(self, state: State) -> list[int]:
         """The cooks this controller does not drive that moved or changed what they hold in
@@ -421,25 +426,13 @@ class GreedyAgent(Controller):
     def _assign(self, v: KitchenView, free: list[int], claimed: set[int], budget: Counter,
                 goals: dict[int, tuple[int, str]], partners: list[int]) -> None:
         """Match free agents to subtasks: priority first, then distance (kept tasks win ties)."""
-        by_cell: dict[int, list[Subtask]] = {}
-        for t in self._candidates(v, budget):
-            by_cell.setdefault(t.cell, []).append(t)
-        for a, pan in list(self.pan_duty.items()):
-            if pan not in by_cell or by_cell[pan][0].kind != "rescue":
-                del self.pan_duty[a]  # the steak is off the pan: duty done
+        by_cell = self._task_cells(v, budget)
         options = []
         for a in free:
             prev = self.tasks.get(a)
             for cell, ts in by_cell.items():
-                if cell in claimed:
-                    continue
-                owner, until = self.hands_off.get(ts[0].item, (-1, -1))
-                if (owner == a and until > v.s.t) or not v.near_pan(cell):
-                    continue
-                d = v.reach_now(a, cell)
-                if d == float("inf"):  # behind another cook: possible, but costs a detour
-                    d = v.reach(a, cell) + 20
-                if d == float("inf") or not self._useful_for(v, a, ts[0], partners):
+                d = self._cost(v, a, cell, ts, claimed, partners)
+                if d is None:
                     continue
                 keep = prev is not None and prev.cell == cell and prev.kind == ts[0].kind
                 duty = self.pan_duty.get(a) == cell and ts[0].kind == "rescue"
@@ -447,24 +440,56 @@ class GreedyAgent(Controller):
         options.sort()
         taken: set[int] = set()
         for _, _, a, cell in options:
-            if a in taken or cell in claimed:
-                continue
-            ts = by_cell[cell]
-            if any(t.budget is not None and budget[t.budget] <= 0 for t in ts):
-                continue
-            for t in ts:
-                if t.budget is not None:
-                    budget[t.budget] -= 1
-            taken.add(a)
-            claimed.add(cell)
-            goals[a] = (cell, ts[0].kind)
-            if self.tasks.get(a) is None or self.tasks[a].cell != cell:
-                self.counts[f"task_{ts[0].kind}"] += 1
-            self.tasks[a] = ts[0]
+            if a not in taken and self._take(v, a, cell, by_cell[cell], claimed, budget, goals):
+                taken.add(a)
         for a in free:
             if a not in taken:
                 self.tasks[a] = None
                 self.counts["idle_steps"] += 1
+
+    def _task_cells(self, v: KitchenView, budget: Counter) -> dict[int, list[Subtask]]:
+        """The subtasks of this step by the cell they bump (a pan's duty ends with its steak)."""
+        by_cell: dict[int, list[Subtask]] = {}
+        for t in self._candidates(v, budget):
+            by_cell.setdefault(t.cell, []).append(t)
+        for a, pan in list(self.pan_duty.items()):
+            if pan not in by_cell or by_cell[pan][0].kind != "rescue":
+                del self.pan_duty[a]  # the steak is off the pan: duty done
+        return by_cell
+
+    def _cost(self, v: KitchenView, a: int, cell: int, ts: list[Subtask], claimed: set[int],
+              partners: list[int]) -> float | None:
+        """Steps for free cook ``a`` to the subtasks ``ts`` at ``cell`` (a way behind another
+        cook costs 20 more), or None where they are not a choice for it: claimed, an item it
+        relayed and leaves alone a while, out of a pan's reach, no way there, or of no use
+        (:meth:`_useful_for`)."""
+        if cell in claimed:
+            return None
+        owner, until = self.hands_off.get(ts[0].item, (-1, -1))
+        if (owner == a and until > v.s.t) or not v.near_pan(cell):
+            return None
+        d = v.reach_now(a, cell)
+        if d == float("inf"):  # behind another cook: possible, but costs a detour
+            d = v.reach(a, cell) + 20
+        if d == float("inf") or not self._useful_for(v, a, ts[0], partners):
+            return None
+        return d
+
+    def _take(self, v: KitchenView, a: int, cell: int, ts: list[Subtask], claimed: set[int],
+              budget: Counter, goals: dict[int, tuple[int, str]]) -> bool:
+        """Give free cook ``a`` the subtasks ``ts`` at ``cell`` if the cell is not claimed and
+        their shared budgets last (using them up); False if not."""
+        if cell in claimed or any(t.budget is not None and budget[t.budget] <= 0 for t in ts):
+            return False
+        for t in ts:
+            if t.budget is not None:
+                budget[t.budget] -= 1
+        claimed.add(cell)
+        goals[a] = (cell, ts[0].kind)
+        if self.tasks.get(a) is None or self.tasks[a].cell != cell:
+            self.counts[f"task_{ts[0].kind}"] += 1
+        self.tasks[a] = ts[0]
+        return True
 
     def _useful_for(self, v: KitchenView, a: int, task: Subtask, partners: list[int]) -> bool:
         """Whether ``a`` should pick this up: it can finish the job, or it is the hand-over
@@ -497,102 +522,6 @@ class GreedyAgent(Controller):
             if finishers:
                 return all(v.reach(b, task.cell) == float("inf") for b in finishers)
         return False
-
-    # ---------------------------------------------------------------- movement
-    def _moves(self, v: KitchenView, goals: dict[int, tuple[int, str]]) -> list[int]:
-        s = v.s
-        actions: dict[int, int] = {}
-        reserved: set[int] = set()
-        paths: set[int] = set()
-        busy = sorted(goals, key=lambda a: (v.reach(a, goals[a][0]), a))
-        for a in busy:
-            cell, label = goals[a]
-            pos = s.agent_pos[a]
-            if cell in v.nbrs[pos]:
-                actions[a] = direction(s.geo, pos, cell)
-                self.waited[a] = self.stuck[a] = 0
-                if label in ("handover", "relay", "pass"):
-                    self.counts[label + ("es" if label == "pass" else "s")] += 1
-                if label in ("relay", "pass"):  # left there a while for the taker
-                    self.hands_off[s.agent_hand[a]] = (a, s.t + 2 * _STUCK + 8)
-                continue
-            others = frozenset(p for b, p in enumerate(s.agent_pos) if b != a) | reserved
-            step, path = self.step_towards(v, pos, cell, others)
-            if step is None:
-                paths.update(self.step_towards(v, pos, cell, frozenset())[1])
-                self.waited[a] += 1
-                self.stuck[a] += 1
-                step = self._sidestep(v, a, others) if self.waited[a] > self.patience else None
-                if step is not None:
-                    self.counts["yields"] += 1
-            else:
-                self.waited[a] = 0
-                self.stuck[a] = max(0, self.stuck[a] - 1)
-                paths.update(path)
-            if step is None:
-                actions[a] = _STAY
-            else:
-                actions[a] = direction(s.geo, pos, step)
-                reserved.add(step)
-        for a in self.agent_ids:
-            if a in actions:
-                continue
-            pos = s.agent_pos[a]
-            actions[a] = _STAY
-            reserved.add(pos)
-            waiting = [c for c, _, t in self.seen.values()  # (``seen``: as of ``goals``)
-                       if s.t - t >= _WAITING and c in v.nbrs[pos]]
-            if pos in paths or waiting:  # idle and in the way: step off the path, or back along it
-                others = frozenset(p for b, p in enumerate(s.agent_pos) if b != a) | reserved
-                step = self._sidestep(v, a, others | paths | {
-                    n for c in waiting for n in v.nbrs[c]})  # not to stay beside the waiting cook
-                if step is None:
-                    step = self._retreat(v, a, others, [s.agent_pos[b] for b in busy] + waiting)
-                if step is not None:
-                    actions[a] = direction(s.geo, pos, step)
-                    reserved.add(step)
-                    self.counts["yields"] += 1
-        return [int(actions[a]) for a in self.agent_ids]
-
-    def step_towards(self, v: KitchenView, pos: int, cell: int, blocked: frozenset[int],
-                     walk: tuple[bool, ...] | None = None) -> tuple[int | None, list[int]]:
-        """First step of a shortest path to a floor cell next to ``cell`` avoiding ``blocked``.
-
-        When the current layout has no path but a switch would open one, head along the
-        path over both layouts' floors as far as the current layout allows."""
-        walkable = v.walk if walk is None else walk
-        goals = set(interaction_spots(v.nbrs, walkable, cell))
-        found = walks(v.nbrs, walkable, [pos], blocked)
-        goal = next((f for f in found.order if f in goals), None)  # the nearest, first found
-        path = walk_to(found, goal) if goal is not None else None
-        if path:
-            return path[0], path
-        if walk is None and v.dynamic:
-            step, path = self.step_towards(v, pos, cell, blocked, v.walk_any)
-            if step is not None and v.walk[step]:
-                return step, path
-            if step is not None:  # wait for the switch off the cells that it changes
-                return None, path
-        return None, []
-
-    def _retreat(self, v: KitchenView, a: int, blocked: frozenset[int], busy: list[int]) -> int | None:
-        """The free neighbouring cell farthest from the busy cooks, if farther than here."""
-        def gap(f: int) -> int:
-            r, c = v.s.geo.rc(f)
-            return min((abs(r - br) + abs(c - bc) for br, bc in map(v.s.geo.rc, busy)),
-                       default=0)
-
-        pos = v.s.agent_pos[a]
-        opts = [n for n in interaction_spots(v.nbrs, v.walk, pos) if n not in blocked]
-        best = max(opts, key=gap, default=None)
-        return best if best is not None and gap(best) > gap(pos) else None
-
-    def _sidestep(self, v: KitchenView, a: int, blocked: frozenset[int] | set[int]) -> int | None:
-        pos = v.s.agent_pos[a]
-        opts = [n for n in interaction_spots(v.nbrs, v.walk, pos) if n not in blocked]
-        if not opts:
-            return None
-        return int(opts[int(self.rng.integers(len(opts)))])
 
 
 __all__ = ["GreedyAgent", "Subtask"]

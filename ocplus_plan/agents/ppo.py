@@ -114,6 +114,7 @@ class PPOAgent(Controller):
         self.rng: np.random.Generator | None = None
         self._encoders: dict[int, Any] = {}
         self._encoder: Any = None
+        self._chooser: Any = None
 
     def _load(self, path: str) -> Any:
         if path not in self._loaded:
@@ -142,6 +143,12 @@ class PPOAgent(Controller):
                     self.policy = self._load(chosen)
                     self._encoders = {}
         meta = self.policy.meta
+        sample = self.mode == "sample"
+        self.rng = np.random.default_rng([self.seed, state.seed or 0]) if sample else None
+        self._chooser = None
+        if meta["obs"] == "choice":  # the policy picks subtasks, the greedy cook's skills move
+            self._encoder = self._chooser = self._choice(state, meta)
+            return
         key = id(state.rules)
         enc = self._encoders.get(key)
         if enc is None and meta.get("engine") == "jax":
@@ -161,14 +168,28 @@ class PPOAgent(Controller):
                 )
             self._encoders = {key: enc}  # keeps the rules alive, so the id stays unique
         self._encoder = enc
-        sample = self.mode == "sample"
-        self.rng = np.random.default_rng([self.seed, state.seed or 0]) if sample else None
+
+    def _choice(self, state: State, meta: dict[str, Any]) -> Any:
+        """A checkpoint trained with ``--obs choice``: a task-choice controller whose free
+        cooks take the subtasks the policy picks (:mod:`.task_choice`)."""
+        from .task_choice import TaskChoice
+
+        size = TaskChoice.obs_size(state.rules)
+        if size != meta["obs_size"]:
+            raise ConfigError(f"checkpoint {str(self.policy.path)!r} expects observations of "
+                              f"size {meta['obs_size']} (choice) but this package's task-choice "
+                              f"controller gives {size}: retrain it with this version")
+        chooser = TaskChoice(self.seed, lambda rows: self.policy.act(rows, self.rng))
+        chooser.reset(state, self.agent_ids)
+        return chooser
 
     def act(self, state: State) -> list[int]:
         if self._encoder is None:
             raise ConfigError("PPOAgent.act called before reset(state)")
         if not self.agent_ids:
             return []
+        if self._chooser is not None:
+            return self._chooser.act(state)
         obs = self._encoder.encode_all(state, self.agent_ids)
         return self.policy.act(obs, self.rng)
 

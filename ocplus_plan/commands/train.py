@@ -48,10 +48,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="with --maps: a curriculum that widens the pool from the smallest "
                         "kitchens to all in this many stages over --curriculum-fraction")
     g.add_argument("--obs", default="auto",
-                   choices=("auto", "features", "grid", "window", "tasks"),
+                   choices=("auto", "features", "grid", "window", "tasks", "choice"),
                    help="features: egocentric paths; grid: SPEC one-hot grid; window: features "
                         "+ a grid window (one size on every map); tasks: features + what orders "
-                        "still lack (loop engine); auto: window with --maps, else features")
+                        "still lack (loop engine); choice: tasks + the subtasks a free cook may "
+                        "take, and the actions choose one (the greedy cook's skills do the "
+                        "moves; loop engine); auto: window with --maps, else features")
     g.add_argument("--obs-radius", type=_types.whole("--obs-radius", 0, 64), default=0,
                    help="grid window radius (0 = whole map; window observations: 0 means 2)")
     g.add_argument("--n-kitchens", type=_types.whole("--n-kitchens", 1, 65536), default=8,
@@ -252,8 +254,13 @@ def run(args: argparse.Namespace) -> int:
         if args.partner is not None:
             parts += ["--partner", args.partner]
         command = "ocplus " + shlex.join(parts)
+    chooser = None
+    if config.obs == "choice":
+        from ..agents.task_choice import TaskChoice
+
+        chooser = TaskChoice
     summary = train(config, command=command, progress=not args.quiet, teacher=teacher,
-                    partner=partner)
+                    partner=partner, chooser=chooser)
     emit({k: summary[k] for k in (
         "policy", "timesteps", "stopped_by_wall_budget", "episodes",
         "dishes_per_episode_last50", "wall_time_s", "steps_per_s")}, args)

@@ -3,7 +3,9 @@ default), ``grid`` (the SPEC section 8 ``vector`` encoding of :mod:`ocplus_plan.
 or ``window`` (both: the features, then the grid encoding of an ``obs_radius`` window around
 the cook, whose size is the same on every map: the default for a kitchen distribution)
 or ``tasks`` (the features, then what a task-allocating cook decides on: what the orders
-still lack, the nearest such ingredient, free boards and pans; :mod:`.task_features`).
+still lack, the nearest such ingredient, free boards and pans; :mod:`.task_features`)
+or ``choice`` (the ``tasks`` vector and the subtasks a free cook may choose, whose actions
+pick one of them: encoded by :mod:`ocplus_plan.agents.task_choice`, not here).
 
 Both are wrapped to one small interface, :class:`ObsEncoder`: ``size`` and
 ``encode_all(state, agents)`` -> ``(len(agents), size)`` float32.
@@ -22,7 +24,7 @@ from ..sim.state import State
 from .features import FeatureEncoder
 from .task_features import TaskEncoder
 
-OBS_KINDS: tuple[str, ...] = ("features", "grid", "window", "tasks")
+OBS_KINDS: tuple[str, ...] = ("features", "grid", "window", "tasks", "choice")
 #: the window radius of ``window`` observations when none is given
 DEFAULT_WINDOW = 2
 
@@ -78,6 +80,9 @@ def make_encoder(kind: str, rules: Rules, obs_radius: int = 0) -> ObsEncoder:
         return WindowEncoder(rules, obs_radius)
     if kind == "tasks":
         return TaskEncoder(rules)
+    if kind == "choice":
+        raise ConfigError("obs 'choice' is encoded by the task-choice controller that chooses "
+                          "the subtasks (ocplus_plan.agents.task_choice), not by an encoder")
     raise ConfigError(f"unknown observation kind {kind!r}; choose one of {', '.join(OBS_KINDS)}")
 
 

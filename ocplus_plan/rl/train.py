@@ -141,7 +141,8 @@ class TrainConfig:
         if self.engine == "auto":
             from ..sim.fast.batch import numba_available
 
-            batch = numba_available() and self.obs != "tasks" and self.partner is None
+            batch = numba_available() and self.obs not in ("tasks", "choice") \
+                and self.partner is None
             object.__setattr__(self, "engine", "batch" if batch else "loop")
 
     def validate(self) -> None:
@@ -159,9 +160,13 @@ class TrainConfig:
             )
         if self.engine not in ("loop", "batch"):
             raise ConfigError(f"engine must be 'loop', 'batch' or 'auto', got {self.engine!r}")
-        if self.engine == "batch" and self.obs == "tasks":
+        if self.engine == "batch" and self.obs in ("tasks", "choice"):
             raise ConfigError("the batched engine computes the path features only: train "
-                              "obs 'tasks' with --engine loop (or auto)")
+                              f"obs {self.obs!r} with --engine loop (or auto)")
+        if self.obs == "choice" and (self.bc is not None or self.algo != "sb3"):
+            raise ConfigError("obs 'choice' (a policy choosing subtasks) trains with PPO "
+                              "(--algo sb3) from scratch or --init: --bc clones moves, not "
+                              "choices; drop --bc and --algo lean")
         if isinstance(self.torch_threads, bool) or not isinstance(self.torch_threads, int) \
                 or self.torch_threads < 1:
             raise ConfigError(
@@ -265,14 +270,18 @@ def _lr_schedule(initial: float):
 
 
 def build(config: TrainConfig, partner: Callable[[int], Any] | None = None,
-          ) -> tuple[Any, Any, list[Rules], Rules]:
+          chooser: Any = None) -> tuple[Any, Any, list[Rules], Rules]:
     """The PPO model and its vec env for ``config`` (no training yet): ``(model, venv,
     curriculum stages, target rules)``; ``partner`` (``seed -> Controller``) with
-    ``config.partner``. Also used by experiments/bench_train.py."""
+    ``config.partner``, ``chooser`` (the task-choice controller's class) with
+    ``obs="choice"``. Also used by experiments/bench_train.py."""
     config.validate()
     if config.partner is not None and partner is None:
         raise ConfigError(f"partner={config.partner!r} needs the partner's factory "
                           "(train(..., partner=))")
+    if config.obs == "choice" and chooser is None:
+        raise ConfigError("obs 'choice' needs the task-choice controller (train(..., "
+                          "chooser=TaskChoice): ocplus train passes it)")
     pool = _pool(config)
     target = pool[0] if pool else _rules(config, config.preset, with_map=True)
     stages = [_rules(config, p, with_map=config.map is not None) for p in config.curriculum]
@@ -301,6 +310,7 @@ def build(config: TrainConfig, partner: Callable[[int], Any] | None = None,
         team_reward=config.team_reward, reward_scale=config.reward_scale, engine=config.engine,
         threads=config.torch_threads, draw=bool(pool),
         partner=partner, partner_kitchens=config.partner_kitchens(),
+        chooser=chooser if config.obs == "choice" else None,
     )
     venv.rule_labels = {id(r): spec for r, spec in zip(stages, config.curriculum)}
     venv.rule_labels[id(target)] = config.preset
@@ -318,15 +328,17 @@ def build(config: TrainConfig, partner: Callable[[int], Any] | None = None,
 
 
 def train(config: TrainConfig, *, command: str | None = None, progress: bool = True,
-          teacher: Teacher | None = None, partner: Callable[[int], Any] | None = None) -> dict:
+          teacher: Teacher | None = None, partner: Callable[[int], Any] | None = None,
+          chooser: Any = None) -> dict:
     """Run one training; return the summary that is also written to ``OUT/train.json``.
     With ``config.bc``, ``teacher`` (``seed -> Controller``) is behaviour-cloned first
     (``OUT/bc_policy.zip`` keeps the imitation-only policy), then PPO continues. With
     ``config.partner``, ``partner`` (``seed -> Controller``) plays the last cook of its
-    share of the kitchens."""
+    share of the kitchens; with ``obs="choice"``, ``chooser`` (the task-choice controller's
+    class) turns the policy's subtask choices into moves."""
     if config.bc is not None and teacher is None:
         raise ConfigError(f"bc={config.bc!r} needs the teacher's factory (train(..., teacher=))")
-    model, venv, stages, target = build(config, partner)
+    model, venv, stages, target = build(config, partner, chooser)
     import torch
 
     from .callbacks import TrainingMonitor

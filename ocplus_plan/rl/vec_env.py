@@ -25,6 +25,10 @@ it acts on the kitchen's state before each step, as in an evaluation with ``--pa
 and its cook has no slot, so its steps are never the learner's samples. The other cooks of
 those kitchens, and every cook of the rest, are the policy's slots.
 
+With ``obs="choice"`` a task-choice controller per kitchen (``chooser``, the caller's:
+:class:`ocplus_plan.agents.task_choice.TaskChoice`) encodes the learner cooks' observations
+and turns the policy's actions, one subtask slot per cook, into moves (loop engine).
+
 Imports stable-baselines3 at module level: import it only where the ``rl`` extra is
 known to be installed (:mod:`ocplus_plan.rl.train` does so lazily).
 """
@@ -45,6 +49,13 @@ from ..sim.state import State, new_state
 from ..sim.step import transition
 from .obs import make_encoder
 from .shaping import RewardShaper, Shaping
+
+
+class _Size:
+    """The observation size of a rule set where the chooser encodes (``obs="choice"``)."""
+
+    def __init__(self, size: int) -> None:
+        self.size = size
 
 
 class KitchenVecEnv(VecEnv):
@@ -78,6 +89,7 @@ class KitchenVecEnv(VecEnv):
         draw: bool = False,
         partner: Callable[[int], Any] | None = None,
         partner_kitchens: int = 0,
+        chooser: Any = None,
     ) -> None:
         rule_list = [rules] if isinstance(rules, Rules) else list(rules)
         if not rule_list:
@@ -98,6 +110,7 @@ class KitchenVecEnv(VecEnv):
         self.n_agents = n_agents.pop()
         self.n_kitchens = n_kitchens
         self._partner_slots(partner, partner_kitchens, engine, seed)
+        self._choice_slots(chooser, obs, engine, seed)
         self.rule_list = rule_list
         self._obs_kind, self._obs_radius = obs, obs_radius
         self._encoders: dict[int, Any] = {}  # id(rules) -> encoder (Rules holds arrays)
@@ -128,7 +141,8 @@ class KitchenVecEnv(VecEnv):
         if obs != "features":
             obs_space = spaces.Box(-np.inf, np.inf, shape=(self.obs_size,), dtype=np.float32)
         self.render_mode = None  # nothing to render (SB3 warns when the attribute is missing)
-        super().__init__(self._n_slots, obs_space, spaces.Discrete(5))
+        actions = 5 if chooser is None else chooser.n_actions
+        super().__init__(self._n_slots, obs_space, spaces.Discrete(actions))
 
     def _partner_slots(self, partner: Callable[[int], Any] | None, kitchens: int, engine: str,
                        seed: int) -> None:
@@ -152,9 +166,25 @@ class KitchenVecEnv(VecEnv):
         self._n_slots = int(sum(self._cooks))
         self.partner_name = self.partners[0].name if self.partners else ""
 
+    def _choice_slots(self, chooser: Any, obs: str, engine: str, seed: int) -> None:
+        """With ``obs="choice"``, one task-choice controller per kitchen (``chooser``:
+        ``seed -> controller`` with ``obs_size(rules)``, ``n_actions``, ``prepare`` and
+        ``drive``) drives its learner cooks: the policy's actions choose subtasks."""
+        if (chooser is None) != (obs != "choice"):
+            raise ConfigError("obs 'choice' goes with a task-choice controller (chooser=: "
+                              "ocplus train passes it), and a chooser with obs 'choice'")
+        if chooser is not None and engine != "loop":
+            raise ConfigError(f"obs 'choice' runs the greedy cook's skills on the simulator's "
+                              f"state: it needs the loop engine, not {engine!r}")
+        self._chooser = chooser
+        self.choosers = [] if chooser is None else \
+            [chooser(seed + j) for j in range(self.n_kitchens)]
+
     # ------------------------------------------------------------ kitchens
     def _encoder(self, rules: Rules) -> Any:
         enc = self._encoders.get(id(rules))
+        if enc is None and self._chooser is not None:
+            enc = self._encoders[id(rules)] = _Size(self._chooser.obs_size(rules))
         if enc is None:
             enc = self._encoders[id(rules)] = make_encoder(self._obs_kind, rules, self._obs_radius)
         return enc
@@ -177,6 +207,8 @@ class KitchenVecEnv(VecEnv):
         self.shapers[kitchen].reset(state)
         if kitchen < self.partner_kitchens:
             self.partners[kitchen].reset(state, [self.n_agents - 1])
+        if self.choosers:
+            self.choosers[kitchen].reset(state, list(range(self._cooks[kitchen])))
         self._game_return[kitchen] = 0.0
         self._train_return[kitchen] = 0.0
         return state
@@ -191,6 +223,8 @@ class KitchenVecEnv(VecEnv):
     def _encode(self, kitchen: int) -> np.ndarray:
         """The observations of kitchen ``kitchen``'s learner cooks."""
         state = self.states[kitchen]
+        if self.choosers:  # its learner cooks are 0..m-1: the rows are theirs
+            return self.choosers[kitchen].prepare(state)
         return self._encoder(state.rules).encode_all(state)[: self._cooks[kitchen]]
 
     def _batch_engine(self, engine: str, shaping: Shaping, seed: int,
@@ -243,6 +277,8 @@ class KitchenVecEnv(VecEnv):
         for j, state in enumerate(self.states):
             lo, m = self._lo[j], self._cooks[j]
             joint = self._actions[lo : lo + m].tolist()
+            if self.choosers:
+                joint = self.choosers[j].drive(state, joint)
             if m < n:
                 joint += [int(a) for a in self.partners[j].act(state)]
             result = transition(state, joint)

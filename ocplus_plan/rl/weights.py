@@ -58,6 +58,14 @@ _HEADER_BYTES = 4096
 _KINDS = "fiub"  # float, signed, unsigned, bool: never objects, strings or void
 ACTIVATIONS = ("tanh", "relu")
 N_ACTIONS = 5
+#: subtask slots a free cook chooses from with ``obs="choice"`` (its actions: a slot, or none)
+CHOICE_SLOTS = 6
+
+
+def n_actions(obs: str) -> int:
+    """The actions of a policy trained on observation kind ``obs``: the 5 moves, or with
+    ``choice`` one of :data:`CHOICE_SLOTS` subtasks or none."""
+    return CHOICE_SLOTS + 1 if obs == "choice" else N_ACTIONS
 
 
 def pickled_trusted() -> bool:
@@ -168,8 +176,9 @@ def _meta(path: Path, arrays: Mapping[str, np.ndarray]) -> dict[str, Any]:
     return meta
 
 
-def _layers(path: Path, arrays: Mapping[str, np.ndarray], size: int) -> list[tuple]:
-    """The policy's (weight, bias) pairs, shapes chained from ``size`` to the 5 actions."""
+def _layers(path: Path, arrays: Mapping[str, np.ndarray], size: int, actions: int
+            ) -> list[tuple]:
+    """The policy's (weight, bias) pairs, shapes chained from ``size`` to ``actions``."""
     names = sorted((int(k.split(".")[2]), k.rsplit(".", 1)[0]) for k in arrays
                    if k.startswith("mlp_extractor.policy_net.") and k.endswith(".weight")
                    and k.split(".")[2].isdigit())
@@ -182,9 +191,9 @@ def _layers(path: Path, arrays: Mapping[str, np.ndarray], size: int) -> list[tup
                               f"take {size} inputs")
         layers.append((np.asarray(w, np.float32).T.copy(), np.asarray(b, np.float32)))
         size = w.shape[0]
-    if size != N_ACTIONS:
+    if size != actions:
         raise ConfigError(f"checkpoint {str(path)!r}: {size} action logits, expected "
-                          f"{N_ACTIONS}")
+                          f"{actions}")
     return layers
 
 
@@ -196,13 +205,14 @@ class WeightsPolicy:
         self.path = Path(path)
         arrays = read_arrays(self.path) if arrays is None else arrays
         self.meta = _meta(self.path, arrays)
-        self.layers = _layers(self.path, arrays, self.meta["obs_size"])
+        self.layers = _layers(self.path, arrays, self.meta["obs_size"],
+                              n_actions(self.meta["obs"]))
         self.tensors = {k: v for k, v in arrays.items() if k != META}
         self._act = np.tanh if self.meta["activation"] == "tanh" else \
             (lambda h: np.maximum(h, 0.0))
 
     def probs(self, obs: np.ndarray) -> np.ndarray:
-        """``(batch, 5)`` action probabilities."""
+        """``(batch, actions)`` action probabilities."""
         h = np.asarray(obs, np.float32)
         for w, b in self.layers[:-1]:
             h = self._act(h @ w + b)
@@ -219,7 +229,7 @@ class WeightsPolicy:
             return [int(a) for a in p.argmax(axis=1)]
         u = rng.random(len(p))
         cum = np.cumsum(p, axis=1)
-        return [int(min(np.searchsorted(c, x * c[-1], side="right"), N_ACTIONS - 1))
+        return [int(min(np.searchsorted(c, x * c[-1], side="right"), len(c) - 1))
                 for c, x in zip(cum, u)]
 
 

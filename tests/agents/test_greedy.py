@@ -221,7 +221,7 @@ def test_an_idle_cook_moves_off_for_a_cook_it_does_not_drive_that_waits_beside_i
     """Greedy knows nothing of a partner's goal: an idle greedy cook standing on the only
     cell in front of the plate crate, beside a partner that has stood still there for
     ``_WAITING`` steps, moves off it, and not to another cell beside that partner."""
-    from ocplus_plan.agents.greedy import _WAITING
+    from ocplus_plan.agents.greedy_moves import _WAITING
     from ocplus_plan.agents.greedy_view import KitchenView
 
     m = {"name": "t", "game_map": WAY, "max_n_agent": 2, "agent_spawn_points": [[1, 1], [1, 2]]}
