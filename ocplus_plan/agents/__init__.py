@@ -1,6 +1,8 @@
 """Controllers with one interface (see :mod:`.base`) and a registry by name.
 
-Names: ``random``, ``stay``, ``greedy``, ``planner:NAME``, ``ppo:PATH`` and
+Names: ``random``, ``stay``, ``greedy``, ``nearest`` (the greedy cook's skills, each free cook
+on its current or nearest subtask: :mod:`.task_choice` without a policy), ``planner:NAME``,
+``ppo:PATH`` and
 ``llm:MODULE:FUNCTION[:MODE]`` (a language model given as a callable) in
 :data:`FACTORIES` (``kind`` -> factory taking the text after the colon).
 """
@@ -27,6 +29,7 @@ FACTORIES: dict[str, Callable[[str | None, int], Controller]] = {
     "stay": lambda arg, seed: StayAgent(),
     "planner": lambda arg, seed: __import__("ocplus_plan.agents.planner", fromlist=["x"]).make_planner_agent(arg, seed),
     "greedy": lambda arg, seed: __import__("ocplus_plan.agents.greedy", fromlist=["x"]).GreedyAgent(seed),
+    "nearest": lambda arg, seed: __import__("ocplus_plan.agents.task_choice", fromlist=["x"]).TaskChoice(seed),
     "llm": lambda arg, seed: __import__("ocplus_plan.agents.llm", fromlist=["x"]).make_llm_agent(arg, seed),
     "ppo": lambda arg, seed: __import__("ocplus_plan.agents.ppo", fromlist=["x"]).make_ppo_agent(arg, seed),
 }

@@ -21,14 +21,12 @@ where it is useful. :class:`TaskChoice` keeps the second and hands the first to 
 
 A cook that holds something carries it as the greedy cook does (its action is not used).
 Without a policy (``choose`` None) every free cook takes slot 0: its current subtask, else
-the nearest one.
+the nearest one (the agent ``nearest``: what the options give with no learning).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import Any
-
 import numpy as np
 
 from ..rl.task_features import TaskEncoder
@@ -55,7 +53,7 @@ class TaskChoice(GreedyAgent):
     """The greedy cook with each free cook's subtask chosen by ``choose`` (rows of
     :meth:`prepare` -> one slot index per driven cook), or slot 0 without it."""
 
-    name = "task_choice"
+    name = "nearest"
 
     def __init__(self, seed: int = 0,
                  choose: Callable[[np.ndarray], Sequence[int]] | None = None) -> None:
@@ -142,13 +140,4 @@ class TaskChoice(GreedyAgent):
         return row
 
 
-def make_task_choice(seed: int = 0, policy: Any = None,
-                     rng: np.random.Generator | None = None) -> TaskChoice:
-    """A :class:`TaskChoice` whose choices are ``policy.act(rows, rng)`` (an
-    :class:`~ocplus_plan.rl.npz_policy.NpzPolicy`), or slot 0 without a policy."""
-    if policy is None:
-        return TaskChoice(seed)
-    return TaskChoice(seed, lambda rows: policy.act(rows, rng))
-
-
-__all__ = ["FEATURES", "KINDS", "SLOTS", "TaskChoice", "make_task_choice"]
+__all__ = ["FEATURES", "KINDS", "SLOTS", "TaskChoice"]
