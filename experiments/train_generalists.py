@@ -21,7 +21,8 @@ cloned from the greedy cook with its hand-over
 and plate rules.
 ``experiments/checkpoints/generalists/NAME.json`` records the command, wall and CPU seconds, the load, and the training summary, and
 ``NAME.episodes.csv`` the training log. ``choice_2agent_s*`` are PPO from scratch on
-``--obs choice``: the policy picks each free cook's subtask, the greedy cook's skills move. The runs named in SHIPPED are exported weights-only
+``--obs choice``: the policy picks each free cook's subtask, the greedy cook's skills move;
+``choicepartner_2agent_s*`` continue them beside the greedy cook (``--partner greedy:0.5``). The runs named in SHIPPED are exported weights-only
 (rl/npz_export.py) to ``experiments/checkpoints/generalist_{n}agent/`` (``policy.npz`` +
 ``train.json``), which a bare ``ppo`` plays on kitchens without a checkpoint of their own.
 """
@@ -170,6 +171,10 @@ RUNS: dict[str, list[str]] = {
                                   "--checkpoint-every", "2000000"],
     # PPO from scratch choosing subtasks (--obs choice: agents/task_choice.py), 1M agent-steps
     **{f"choice_2agent_s{s}": _choice(s) for s in (0, 1, 2)},
+    # those, 1M agent-steps more with the greedy cook driving cook 1 in half of the kitchens
+    **{f"choicepartner_2agent_s{s}": [*_choice(s), "--init",
+                                      f"experiments/runs/choice_2agent_s{s}/policy.npz",
+                                      "--partner", "greedy:0.5"] for s in (0, 1, 2)},
     "clone_1agent_s0": _run(1, 0, True),
     "clone_3agent_s0": _run(3, 0, True),
 }
