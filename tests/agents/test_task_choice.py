@@ -13,24 +13,10 @@ from ocplus_plan.sim import Item, make_rules, new_state, transition
 from ocplus_plan.sim.codes import Action
 from ocplus_plan.sim.records import Order
 
-from ..sim.helpers import give, item_of
+from ..sim.helpers import give, item_of, tomato_kitchen
 
 R, D, L, U, S = (int(a) for a in Action)
-# tomato spawn (0, 1), board (0, 3), plate spawn (2, 0), window (2, 5), lettuce spawn (3, 1)
-GRID = [
-    [1, 3, 1, 6, 1, 1],
-    [1, 0, 0, 0, 0, 1],
-    [5, 0, 0, 0, 0, 7],
-    [1, 4, 1, 1, 1, 1],
-]
-
-
-def _kitchen(spawns=([1, 1], [2, 4])):
-    spec = {"name": "test", "game_map": GRID, "agent_spawn_points": [list(p) for p in spawns]}
-    rules = make_rules("easy", map=spec, n_agents=len(spawns))
-    state = new_state(rules, 0)
-    state.orders = [Order(0, (int(Item.TOMATO),), 0, 10_000)]  # one order: a tomato salad
-    return rules, state
+_kitchen = tomato_kitchen
 
 
 def _slots(rules, obs: np.ndarray) -> np.ndarray:

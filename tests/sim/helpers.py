@@ -81,3 +81,26 @@ def sampled_states(preset: str, n_agents: int, count: int, seed: int = 0,
             transition(state, joint)
         out.append(state)
     return out
+
+
+# tomato spawn (0, 1), board (0, 3), plate spawn (2, 0), window (2, 5), lettuce spawn (3, 1)
+TOMATO_GRID = [
+    [1, 3, 1, 6, 1, 1],
+    [1, 0, 0, 0, 0, 1],
+    [5, 0, 0, 0, 0, 7],
+    [1, 4, 1, 1, 1, 1],
+]
+
+
+def tomato_kitchen(spawns=([1, 1], [2, 4])):
+    """A 6x4 easy kitchen (:data:`TOMATO_GRID`) with one open order, a tomato salad:
+    ``(rules, state)``, a cook at each of ``spawns``."""
+    from ocplus_plan.sim import make_rules, new_state
+    from ocplus_plan.sim.records import Order
+
+    spec = {"name": "test", "game_map": TOMATO_GRID,
+            "agent_spawn_points": [list(p) for p in spawns]}
+    rules = make_rules("easy", map=spec, n_agents=len(spawns))
+    state = new_state(rules, 0)
+    state.orders = [Order(0, (int(Item.TOMATO),), 0, 10_000)]
+    return rules, state
