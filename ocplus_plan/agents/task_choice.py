@@ -27,6 +27,7 @@ the nearest one (the agent ``nearest``: what the options give with no learning).
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+
 import numpy as np
 
 from ..rl.task_features import TaskEncoder
