@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from ocplus_plan.agents import make_controller
 from ocplus_plan.agents.greedy import GreedyAgent
 from ocplus_plan.agents.task_choice import FEATURES, KINDS, SLOTS, TaskChoice
 from ocplus_plan.rl.task_features import TaskEncoder
@@ -104,7 +105,8 @@ def test_drive_needs_prepare_on_the_same_state():
 def test_without_a_policy_it_takes_the_current_or_nearest_subtask_and_serves():
     rules = make_rules("easy", n_agents=2)
     state = new_state(rules, 0)
-    chooser = TaskChoice(0)
+    chooser = make_controller("nearest", 0)  # the registered agent: the options, no learning
+    assert isinstance(chooser, TaskChoice) and chooser.choose is None
     chooser.reset(state)
     while not state.done:
         transition(state, chooser.act(state))
