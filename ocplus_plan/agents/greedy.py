@@ -429,12 +429,11 @@ class GreedyAgent(GreedyMoves, Controller):
         by_cell = self._task_cells(v, budget)
         options = []
         for a in free:
-            prev = self.tasks.get(a)
             for cell, ts in by_cell.items():
                 d = self._cost(v, a, cell, ts, claimed, partners)
                 if d is None:
                     continue
-                keep = prev is not None and prev.cell == cell and prev.kind == ts[0].kind
+                keep = self._kept(a, cell, ts)
                 duty = self.pan_duty.get(a) == cell and ts[0].kind == "rescue"
                 options.append((-1 if duty else ts[0].priority, d - (3 if keep else 0), a, cell))
         options.sort()
@@ -479,7 +478,7 @@ class GreedyAgent(GreedyMoves, Controller):
               budget: Counter, goals: dict[int, tuple[int, str]]) -> bool:
         """Give free cook ``a`` the subtasks ``ts`` at ``cell`` if the cell is not claimed and
         their shared budgets last (using them up); False if not."""
-        if cell in claimed or any(t.budget is not None and budget[t.budget] <= 0 for t in ts):
+        if cell in claimed or self._spent(ts, budget):
             return False
         for t in ts:
             if t.budget is not None:
@@ -490,6 +489,16 @@ class GreedyAgent(GreedyMoves, Controller):
             self.counts[f"task_{ts[0].kind}"] += 1
         self.tasks[a] = ts[0]
         return True
+
+    @staticmethod
+    def _spent(ts: list[Subtask], budget: Counter) -> bool:
+        """Has a shared budget the subtasks ``ts`` use run out?"""
+        return any(t.budget is not None and budget[t.budget] <= 0 for t in ts)
+
+    def _kept(self, a: int, cell: int, ts: list[Subtask]) -> bool:
+        """Are the subtasks ``ts`` at ``cell`` the ones cook ``a`` already works on?"""
+        prev = self.tasks.get(a)
+        return prev is not None and prev.cell == cell and prev.kind == ts[0].kind
 
     def _useful_for(self, v: KitchenView, a: int, task: Subtask, partners: list[int]) -> bool:
         """Whether ``a`` should pick this up: it can finish the job, or it is the hand-over

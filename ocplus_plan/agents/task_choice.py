@@ -31,7 +31,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..rl.task_features import TaskEncoder
-from ..rl.weights import CHOICE_SLOTS
+from ..rl.weights import CHOICE_SLOTS, n_actions as actions_of
 from ..sim.codes import Item
 from ..sim.rules import Rules
 from ..sim.state import State
@@ -66,7 +66,7 @@ class TaskChoice(GreedyAgent):
         """The length of one cook's observation on ``rules``."""
         return TaskEncoder(rules).size + SLOTS * FEATURES
 
-    n_actions = SLOTS + 1
+    n_actions = actions_of("choice")  # the slots and none
 
     def _reset(self, state: State) -> None:
         super()._reset(state)
@@ -89,15 +89,12 @@ class TaskChoice(GreedyAgent):
             options[a] = []
             if state.agent_hand[a] >= 0:
                 continue
-            prev = self.tasks.get(a)
             ranked = []
             for cell, ts in by_cell.items():
-                if any(t.budget is not None and budget[t.budget] <= 0 for t in ts):
-                    continue
-                d = self._cost(v, a, cell, ts, claimed, partners)
+                d = None if self._spent(ts, budget) else \
+                    self._cost(v, a, cell, ts, claimed, partners)
                 if d is not None:
-                    keep = prev is not None and prev.cell == cell and prev.kind == ts[0].kind
-                    ranked.append((not keep, d, cell))
+                    ranked.append((not self._kept(a, cell, ts), d, cell))
             for k, (other, d, cell) in enumerate(sorted(ranked)[:SLOTS]):
                 options[a].append(cell)
                 slots[i, k] = self._slot(v, a, by_cell[cell][0], d, not other)
